@@ -1,0 +1,36 @@
+// moreau: constrained motion of particles and spring networks, from the command line.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "moreau/common/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"moreau " MOREAU_VERSION
+               ": position-based dynamics and optimal control of particles and spring networks"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", MOREAU_VERSION);
+  moreau::cli::AddRunCommand(app);
+  moreau::cli::AddStudyCommand(app);
+  moreau::cli::AddControlCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // A subcommand that finished with a non-zero status.
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const moreau::InputError& e) {
+    std::fprintf(stderr, "moreau: error: %s\n", e.what());
+    return 2;
+  } catch (const moreau::NumericalError& e) {
+    std::fprintf(stderr, "moreau: numerical failure: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "moreau: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,230 @@
+#include "scenario.h"
+
+#include <cmath>
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+
+namespace moreau::cli {
+namespace {
+
+std::vector<std::string> SplitKey(std::string_view key) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = key.find('.', start);
+    parts.emplace_back(key.substr(start, dot == std::string_view::npos ? dot : dot - start));
+    if (dot == std::string_view::npos) break;
+    start = dot + 1;
+  }
+  return parts;
+}
+
+// Parses the right-hand side of "key=value" as a TOML value, or keeps it as a string.
+toml::table ParseOverrideValue(const std::string& value) {
+  try {
+    return toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    toml::table t;
+    t.insert("v", value);
+    return t;
+  }
+}
+
+const char* TypeName(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::table: return "a table";
+    default: return "a date or time";
+  }
+}
+
+void CollectLeafKeys(const toml::table& table, const std::string& prefix,
+                     std::vector<std::string>* keys) {
+  for (const auto& [k, node] : table) {
+    const std::string full = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const toml::table* sub = node.as_table()) {
+      CollectLeafKeys(*sub, full, keys);
+    } else {
+      keys->push_back(full);
+    }
+  }
+}
+
+}  // namespace
+
+Scenario Scenario::Load(const std::string& path, const std::vector<std::string>& overrides) {
+  Scenario s;
+  s.path_ = path;
+  try {
+    s.table_ = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto& where = e.source().begin;
+    if (where.line == 0) {
+      throw InputError(fmt::format("{}: cannot read the file ({})", path, e.description()));
+    }
+    throw InputError(fmt::format("{}: line {}, column {}: {}", path, where.line, where.column,
+                                 e.description()));
+  }
+  for (const std::string& item : overrides) {
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw InputError(fmt::format("--set {}: expected key=value", item));
+    }
+    const std::string key = item.substr(0, eq);
+    const std::vector<std::string> parts = SplitKey(key);
+    toml::table* table = &s.table_;
+    for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+      toml::node* child = table->get(parts[i]);
+      if (child == nullptr) {
+        table->insert(parts[i], toml::table{});
+        child = table->get(parts[i]);
+      }
+      table = child->as_table();
+      if (table == nullptr) {
+        throw InputError(fmt::format("--set {}: {} is not a table", item, parts[i]));
+      }
+    }
+    toml::table parsed = ParseOverrideValue(item.substr(eq + 1));
+    table->insert_or_assign(parts.back(), std::move(*parsed.get("v")));
+  }
+  return s;
+}
+
+const toml::node* Scenario::Find(std::string_view key) const {
+  const toml::node* node = &table_;
+  for (const std::string& part : SplitKey(key)) {
+    const toml::table* t = node->as_table();
+    if (t == nullptr) return nullptr;
+    node = t->get(part);
+    if (node == nullptr) return nullptr;
+  }
+  return node;
+}
+
+void Scenario::MarkUsed(std::string_view key) { used_.emplace(key); }
+
+bool Scenario::Has(std::string_view key) const { return Find(key) != nullptr; }
+
+void Scenario::Fail(std::string_view key, std::string_view reason) const {
+  throw InputError(fmt::format("{}: {}: {}", path_, key, reason));
+}
+
+double Scenario::GetDouble(std::string_view key, double fallback) {
+  MarkUsed(key);
+  const toml::node* node = Find(key);
+  if (node == nullptr) return fallback;
+  if (auto v = node->value_exact<double>()) {
+    if (!std::isfinite(*v)) Fail(key, "must be a finite number");
+    return *v;
+  }
+  if (auto v = node->value_exact<std::int64_t>()) return static_cast<double>(*v);
+  Fail(key, fmt::format("expected a number, got {}", TypeName(*node)));
+}
+
+double Scenario::RequireDouble(std::string_view key) {
+  if (!Has(key)) Fail(key, "required key is missing");
+  return GetDouble(key, 0.0);
+}
+
+std::optional<double> Scenario::GetOptionalDouble(std::string_view key) {
+  if (!Has(key)) {
+    MarkUsed(key);
+    return std::nullopt;
+  }
+  return GetDouble(key, 0.0);
+}
+
+std::int64_t Scenario::GetInt(std::string_view key, std::int64_t fallback) {
+  MarkUsed(key);
+  const toml::node* node = Find(key);
+  if (node == nullptr) return fallback;
+  if (auto v = node->value_exact<std::int64_t>()) return *v;
+  Fail(key, fmt::format("expected an integer, got {}", TypeName(*node)));
+}
+
+std::int64_t Scenario::RequireInt(std::string_view key) {
+  if (!Has(key)) Fail(key, "required key is missing");
+  return GetInt(key, 0);
+}
+
+bool Scenario::GetBool(std::string_view key, bool fallback) {
+  MarkUsed(key);
+  const toml::node* node = Find(key);
+  if (node == nullptr) return fallback;
+  if (auto v = node->value_exact<bool>()) return *v;
+  Fail(key, fmt::format("expected true or false, got {}", TypeName(*node)));
+}
+
+std::string Scenario::GetString(std::string_view key, const std::string& fallback) {
+  MarkUsed(key);
+  const toml::node* node = Find(key);
+  if (node == nullptr) return fallback;
+  if (auto v = node->value_exact<std::string>()) return *v;
+  Fail(key, fmt::format("expected a string, got {}", TypeName(*node)));
+}
+
+std::string Scenario::RequireString(std::string_view key) {
+  if (!Has(key)) Fail(key, "required key is missing");
+  return GetString(key, "");
+}
+
+std::vector<double> Scenario::GetDoubleArray(std::string_view key,
+                                             const std::vector<double>& fallback) {
+  MarkUsed(key);
+  const toml::node* node = Find(key);
+  if (node == nullptr) return fallback;
+  const toml::array* arr = node->as_array();
+  if (arr == nullptr) Fail(key, fmt::format("expected an array of numbers, got {}", TypeName(*node)));
+  std::vector<double> out;
+  for (const toml::node& item : *arr) {
+    if (auto v = item.value<double>()) {
+      if (!std::isfinite(*v)) Fail(key, "entries must be finite numbers");
+      out.push_back(*v);
+    } else {
+      Fail(key, fmt::format("expected an array of numbers, found {}", TypeName(item)));
+    }
+  }
+  return out;
+}
+
+const toml::node* Scenario::GetNode(std::string_view key) {
+  MarkUsed(key);
+  return Find(key);
+}
+
+double Scenario::RequirePositive(std::string_view key, double value) const {
+  if (!(value > 0.0)) Fail(key, fmt::format("must be > 0 (got {})", value));
+  return value;
+}
+
+std::int64_t Scenario::RequirePositive(std::string_view key, std::int64_t value) const {
+  if (value <= 0) Fail(key, fmt::format("must be > 0 (got {})", value));
+  return value;
+}
+
+void Scenario::CheckAllKeysUsed() const {
+  std::vector<std::string> keys;
+  CollectLeafKeys(table_, "", &keys);
+  for (const std::string& key : keys) {
+    // A key is used when it, or a table above it, was asked for.
+    bool used = false;
+    std::string prefix = key;
+    while (true) {
+      if (used_.count(prefix) != 0) {
+        used = true;
+        break;
+      }
+      const std::size_t dot = prefix.rfind('.');
+      if (dot == std::string::npos) break;
+      prefix.resize(dot);
+    }
+    if (!used) Fail(key, "unknown key");
+  }
+}
+
+}  // namespace moreau::cli

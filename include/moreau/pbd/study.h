@@ -1,0 +1,86 @@
+// Convergence and precision–work studies: error against an exact or reference solution over a set
+// of step sizes and methods, the observed order, and errors at equal work.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "moreau/pbd/stepper.h"
+
+namespace moreau::pbd {
+
+// A method with its parameter, as named on the command line: "pbd", "pngs", "pgs",
+// "penalty:GAMMA" (plain "penalty" uses the scenario's solver.penalty).
+struct MethodSpec {
+  Method method = Method::kPBD;
+  double penalty = 0.0;  // 0: take StepperOptions::penalty
+  std::string label;     // "pbd", "penalty:100", …
+};
+// Throws InputError for an unknown method or a bad γ.
+MethodSpec ParseMethodSpec(const std::string& text);
+
+// States sampled every dt from t = 0, linearly interpolated in between.
+class SampledTrajectory {
+ public:
+  SampledTrajectory() = default;
+  explicit SampledTrajectory(double dt) : dt_(dt) {}
+  void Append(ConstVectorRef x) { states_.emplace_back(x); }
+  double dt() const { return dt_; }
+  double end_time() const { return dt_ * static_cast<double>(states_.size() - 1); }
+  std::size_t size() const { return states_.size(); }
+  const Vector& state(std::size_t k) const { return states_[k]; }
+  // x(t); exact on the samples. t must lie in [0, end_time()] (to within 1e−9 dt).
+  Vector At(double t) const;
+
+ private:
+  double dt_ = 0.0;
+  std::vector<Vector> states_;
+};
+
+// Everything a study needs about a problem. make_constraints gives a fresh Constraints per run
+// (they hold workspace).
+struct StudyProblem {
+  std::function<std::unique_ptr<Constraints>()> make_constraints;
+  std::shared_ptr<const Drift> drift;
+  Vector x0;
+  double T = 0.0;
+  // The exact or reference solution x(t).
+  std::function<Vector(double)> solution;
+};
+
+// A reference solution by one run of `options` (normally PNGS with tight tolerances and small h),
+// sampled every sample_dt (a whole multiple of options.h). Throws NumericalError if it fails.
+SampledTrajectory ComputeReference(const StudyProblem& problem, const StepperOptions& options,
+                                   double sample_dt);
+
+struct StudyRow {
+  std::string label;
+  Method method = Method::kPBD;
+  double h = 0.0;
+  double error = 0.0;  // max_k ‖x_k − x(t_k)‖ over the time grid; +inf when the run failed
+  std::int64_t constraint_evaluations = 0;
+  std::int64_t sweeps = 0;
+  double max_violation = 0.0;
+  double wall_seconds = 0.0;
+  bool ok = true;
+  std::string message;
+};
+
+// Runs every method at every h (from `base` for tolerances and γ). progress, if set, is called
+// after each run with (runs done, runs in all).
+std::vector<StudyRow> RunStudy(const StudyProblem& problem, const std::vector<MethodSpec>& methods,
+                               const std::vector<double>& hs, const StepperOptions& base,
+                               const std::function<void(int, int)>& progress = {});
+
+// The least-squares slope of log(error) against log(h) through the given points (finite, positive
+// errors only); NaN with fewer than two such points.
+double ObservedOrder(const std::vector<double>& h, const std::vector<double>& error);
+
+// The error of one method's precision–work curve at `budget` constraint evaluations, by linear
+// interpolation of log(error) in log(evaluations); NaN outside the range the rows cover.
+double ErrorAtBudget(const std::vector<StudyRow>& rows, const std::string& label, double budget);
+
+}  // namespace moreau::pbd

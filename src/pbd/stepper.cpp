@@ -1,0 +1,162 @@
+#include "moreau/pbd/stepper.h"
+
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+
+namespace moreau::pbd {
+
+std::string_view MethodName(Method method) {
+  switch (method) {
+    case Method::kPBD: return "pbd";
+    case Method::kPNGS: return "pngs";
+    case Method::kPGS: return "pgs";
+    case Method::kPenalty: return "penalty";
+  }
+  return "unknown";
+}
+
+Method ParseMethod(std::string_view name) {
+  for (Method m : {Method::kPBD, Method::kPNGS, Method::kPGS, Method::kPenalty}) {
+    if (name == MethodName(m)) return m;
+  }
+  throw InputError(fmt::format("unknown method '{}' (expected pbd, pngs, pgs or penalty)", name));
+}
+
+void StepperOptions::Validate() const {
+  if (!(h > 0.0) || !std::isfinite(h)) throw InputError(fmt::format("h must be > 0 (got {})", h));
+  if (!(abstol >= 0.0) || !(reltol >= 0.0) || (abstol == 0.0 && reltol == 0.0)) {
+    throw InputError(fmt::format("abstol and reltol must be ≥ 0 and not both 0 (got {}, {})",
+                                 abstol, reltol));
+  }
+  if (max_sweeps < 1) throw InputError(fmt::format("max_sweeps must be ≥ 1 (got {})", max_sweeps));
+  if (!(penalty > 0.0)) throw InputError(fmt::format("penalty must be > 0 (got {})", penalty));
+}
+
+std::string SimulationSummary::BriefReport() const {
+  std::string s = fmt::format(
+      "{}: h = {:g}, {} steps, {} constraint evaluations, {} sweeps, max violation {:.3e}, {:.3f} s",
+      MethodName(method), h, counters.steps, counters.constraint_evaluations, counters.sweeps,
+      max_violation, wall_seconds);
+  if (counters.capped_steps > 0) s += fmt::format(", {} steps hit max_sweeps", counters.capped_steps);
+  if (!ok()) s += ": " + message;
+  return s;
+}
+
+TimeStepper::TimeStepper(const Drift& drift, Constraints& constraints,
+                         const StepperOptions& options)
+    : drift_(drift),
+      constraints_(constraints),
+      options_(options),
+      f_(constraints.dimension()),
+      previous_(constraints.dimension()) {
+  options_.Validate();
+}
+
+bool TimeStepper::Converged(const Vector& before, const Vector& after) const {
+  return (after - before).norm() <= options_.abstol + options_.reltol * before.norm();
+}
+
+void TimeStepper::Step(VectorRef x) {
+  MOREAU_ASSERT(x.size() == constraints_.dimension());
+  const std::int64_t m = constraints_.num_sets();
+  const double h = options_.h;
+  drift_.Evaluate(x, f_);
+  ++counters_.steps;
+  switch (options_.method) {
+    case Method::kPBD:
+      x += h * f_;
+      constraints_.Sweep(x);
+      counters_.constraint_evaluations += m;
+      ++counters_.sweeps;
+      break;
+    case Method::kPNGS:
+    case Method::kPGS: {
+      x += h * f_;
+      const bool linear = options_.method == Method::kPGS;
+      if (linear) {
+        constraints_.Linearize(x, &linearized_);
+        counters_.constraint_evaluations += m;
+      }
+      int sweep = 0;
+      bool converged = false;
+      while (sweep < options_.max_sweeps && !converged) {
+        previous_ = x;
+        if (linear) {
+          linearized_.Sweep(x);
+        } else {
+          constraints_.Sweep(x);
+        }
+        ++sweep;
+        counters_.constraint_evaluations += m;
+        converged = Converged(previous_, x);
+      }
+      counters_.sweeps += sweep;
+      if (!converged) ++counters_.capped_steps;
+      break;
+    }
+    case Method::kPenalty:
+      previous_.setZero();
+      constraints_.AddPenaltyDirection(x, previous_);
+      x += h * (f_ - options_.penalty * previous_);
+      counters_.constraint_evaluations += m;
+      ++counters_.sweeps;
+      break;
+  }
+}
+
+std::int64_t StepCount(double T, double h) {
+  if (!(T > 0.0) || !std::isfinite(T)) throw InputError(fmt::format("T must be > 0 (got {})", T));
+  if (!(h > 0.0) || !std::isfinite(h)) throw InputError(fmt::format("h must be > 0 (got {})", h));
+  const double ratio = T / h;
+  const double n = std::round(ratio);
+  if (n < 1.0 || std::abs(ratio - n) > 1e-9 * std::max(1.0, ratio)) {
+    throw InputError(fmt::format("T / h must be a whole number (T = {}, h = {})", T, h));
+  }
+  return static_cast<std::int64_t>(n);
+}
+
+SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
+                           const StepperOptions& options, ConstVectorRef x0, double T,
+                           const Observer& observer, Vector* final_state) {
+  if (x0.size() != constraints.dimension()) {
+    throw InputError(fmt::format("initial state has size {}, the problem has dimension {}",
+                                 x0.size(), constraints.dimension()));
+  }
+  const std::int64_t n = StepCount(T, options.h);
+  TimeStepper stepper(drift, constraints, options);
+  SimulationSummary summary;
+  summary.method = options.method;
+  summary.h = options.h;
+
+  const auto start = std::chrono::steady_clock::now();
+  Vector x = x0;
+  Vector last_good = x0;
+  if (observer) observer(0, 0.0, x);
+  for (std::int64_t k = 1; k <= n; ++k) {
+    stepper.Step(x);
+    if (!x.allFinite()) {
+      summary.termination = Termination::kNonFinite;
+      summary.failed_step = k;
+      summary.message = fmt::format("state became non-finite at step {} (t = {:g}); kept step {}",
+                                    k, static_cast<double>(k) * options.h, k - 1);
+      x = last_good;
+      break;
+    }
+    if (options.monitor_violation) {
+      summary.max_violation = std::max(summary.max_violation, constraints.MaxViolation(x));
+    }
+    summary.final_time = static_cast<double>(k) * options.h;
+    if (observer) observer(k, summary.final_time, x);
+    last_good = x;
+  }
+  summary.counters = stepper.counters();
+  summary.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (final_state != nullptr) *final_state = x;
+  return summary;
+}
+
+}  // namespace moreau::pbd
