@@ -108,7 +108,8 @@ int Run(const RunArgs& args) {
   out.WriteText("summary.json", j.dump(2) + "\n");
   out.WriteText("trajectory.csv", fmt::to_string(csv));
   RunPlotScript("plot_run.py", {out.Stage("trajectory.png").string(),
-                                out.StagedPath("trajectory.csv").string(), pbd_scenario.kind});
+                                out.StagedPath("trajectory.csv").string(), pbd_scenario.kind,
+                                fmt::format("{}", particles ? pbd_scenario.disks->radius : 0.0)});
   out.Commit();
 
   std::printf("%s\n", summary.BriefReport().c_str());
