@@ -34,15 +34,19 @@ test-asan: deps
 # The flagship examples: studies and figures under out/.
 demo: build
 	@mkdir -p $(OUT)
-	$(MOREAU) study examples/sliding.toml --methods pbd,pngs,pgs,penalty:100,penalty:1000 \
-	  --h 0.4,0.2,0.1,0.05,0.025,0.0125,0.00625,0.003125,0.0015625,0.00078125,0.000390625 \
-	  --out $(OUT)/sliding
-	$(MOREAU) study examples/sliding_d5.toml --methods pbd,pngs,pgs,penalty:1000 \
-	  --h 0.2,0.1,0.05,0.025,0.0125,0.00625,0.003125,0.0015625,0.00078125 --out $(OUT)/sliding_d5
-	$(MOREAU) study examples/disks.toml --methods pbd,pngs,pgs,penalty:100,penalty:1000 \
-	  --h 0.1,0.05,0.025,0.0125,0.00625,0.003125,0.0015625,0.00078125 --out $(OUT)/disks
+	$(MOREAU) study examples/sliding.toml --methods pbd,pngs,pgs,penalty:100,penalty:1000,penalty:10000 \
+	  --h $(SLIDING_H) --out $(OUT)/sliding
+	$(MOREAU) study examples/sliding_d5.toml --methods pbd,pngs,pgs,penalty:10000 \
+	  --h $(SLIDING_H) --out $(OUT)/sliding_d5
+	$(MOREAU) study examples/disks.toml --methods pbd,pngs,pgs,penalty:100,penalty:1000,penalty:10000 \
+	  --h $(DISKS_H) --out $(OUT)/disks
 	$(MOREAU) run examples/disks.toml --out $(OUT)/disks_run
-	@echo "demo: figures are in $(OUT)/ (see README.md for how to read them)"
+	$(MOREAU) run examples/sliding.toml --out $(OUT)/sliding_run
+	@echo "demo: figures are in $(OUT)/ (README.md says how to read them)"
+
+# Step sizes of the studies: h0 / 2^k.
+SLIDING_H := 0.4,0.2,0.1,0.05,0.025,0.0125,0.00625,0.003125,0.0015625,0.00078125,0.000390625,0.0001953125,0.00009765625,0.000048828125,0.0000244140625
+DISKS_H := 0.125,0.0625,0.03125,0.015625,0.0078125,0.00390625,0.001953125,0.0009765625,0.00048828125,0.000244140625,0.0001220703125,0.00006103515625,0.000030517578125
 
 bench: build
 	$(BUILD)/pbd_bench
