@@ -1,0 +1,71 @@
+// Trajectory writers for particle simulations: an HDF5 file with an XDMF sidecar, or a series of
+// VTU files with a PVD index. Both open in ParaView; docs/io.md describes the layouts.
+//
+// A writer is created for one run, receives frames in time order through Write() and finishes its
+// files in Close(). The library never prints: every failure is an exception whose one-line message
+// names the file.
+//
+//   InputError          bad output path (missing directory, file that cannot be created), or a
+//                       frame that does not fit the run (dimension not 2 or 3, null arrays, the
+//                       particle count or dimension changing in an HDF5 trajectory, time going
+//                       backwards)
+//   std::runtime_error  a write that fails part-way (disk full, HDF5 error)
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace moreau::io {
+
+// One frame of N particles in dimension k ∈ {2, 3}. The writer copies what it needs during
+// Write(); the arrays are not retained.
+struct ParticleFrame {
+  std::int64_t step = 0;              // time-step index of the frame
+  double time = 0.0;                  // simulated time t
+  int dimension = 2;                  // k
+  const double* positions = nullptr;  // N·k, particle-major: x0, y0[, z0], x1, …
+  const std::int64_t* ids = nullptr;  // N stable particle ids
+  const double* radii = nullptr;      // N radii
+  std::int64_t count = 0;             // N ≥ 0 (the arrays may be null when N = 0)
+};
+
+class TrajectoryWriter {
+ public:
+  virtual ~TrajectoryWriter() = default;
+
+  // Appends one frame. Frames come in time order (time non-decreasing). Throws InputError for a
+  // frame that does not fit (see above), std::runtime_error when writing fails, and
+  // std::logic_error after Close().
+  virtual void Write(const ParticleFrame& frame) = 0;
+
+  // Finishes the files (index/sidecar written, handles closed). Idempotent; the destructor calls
+  // it too but swallows errors, so call it explicitly to see them.
+  virtual void Close() = 0;
+};
+
+// HDF5 trajectory at `path` (e.g. out/trajectory.h5), created (truncated) now, plus an XDMF 3
+// sidecar next to it with the extension replaced by .xdmf (out/trajectory.xdmf), written at
+// Close(). Datasets, all chunked and extensible along the frame axis F:
+//   /time (F) float64, /step (F) int64, /positions (F×N×k) float64, /ids (F×N) int64,
+//   /radii (F×N) float64;
+// root attributes: format = "moreau-trajectory", format_version = 1, dimension = k, count = N.
+// N and k are fixed by the first frame; a later frame with another N or k throws InputError.
+// The file is flushed after every frame, so it stays readable up to the last frame written even
+// if the run stops without Close().
+// Throws InputError if the parent directory does not exist, if `path` ends in .xdmf, or if the
+// file cannot be created.
+std::unique_ptr<TrajectoryWriter> MakeHdf5Writer(const std::filesystem::path& path);
+
+// VTU series in the existing directory `dir`: frame i is written at once to
+// DIR/PREFIX_iiiiii.vtu (six digits or more), an UnstructuredGrid of N VTK_VERTEX cells with
+// 3-component float64 points (z = 0 in 2D) and point data "radius" (float64) and "id" (int64),
+// arrays inline as base64 binary with UInt64 headers; DIR/PREFIX.pvd lists the files with their
+// times (created empty now, completed at Close()). N may change between frames.
+// Throws InputError if `dir` is not an existing directory, if `prefix` is empty or contains a
+// path separator, or if DIR/PREFIX.pvd cannot be created.
+std::unique_ptr<TrajectoryWriter> MakeVtuSeriesWriter(const std::filesystem::path& dir,
+                                                      const std::string& prefix);
+
+}  // namespace moreau::io

@@ -1,0 +1,113 @@
+#include "io/io_util.h"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "moreau/common/error.h"
+
+namespace moreau::io::internal {
+
+void ValidateFrame(const ParticleFrame& frame, const std::filesystem::path& file) {
+  const std::string where = fmt::format("{}: frame at step {}", file.string(), frame.step);
+  if (frame.dimension != 2 && frame.dimension != 3) {
+    throw InputError(fmt::format("{} has dimension {} (expected 2 or 3)", where, frame.dimension));
+  }
+  if (frame.count < 0) {
+    throw InputError(fmt::format("{} has a negative particle count {}", where, frame.count));
+  }
+  if (frame.count > 0 &&
+      (frame.positions == nullptr || frame.ids == nullptr || frame.radii == nullptr)) {
+    throw InputError(fmt::format("{} has {} particles but a null positions, ids or radii array",
+                                 where, frame.count));
+  }
+  if (!std::isfinite(frame.time)) {
+    throw InputError(fmt::format("{} has a non-finite time {}", where, frame.time));
+  }
+}
+
+void CheckParentDirectory(const std::filesystem::path& file) {
+  std::filesystem::path parent = file.parent_path();
+  if (parent.empty()) parent = ".";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(parent, ec)) {
+    throw InputError(fmt::format("cannot create {}: directory {} does not exist", file.string(),
+                                 parent.string()));
+  }
+}
+
+std::string XmlEscape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string FormatDouble(double value) { return fmt::format("{}", value); }
+
+void AppendBase64(const void* data, std::size_t size, std::string& out) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  const std::size_t start = out.size();
+  out.resize(start + 4 * ((size + 2) / 3));
+  char* o = out.data() + start;
+  std::size_t i = 0;
+  for (; i + 3 <= size; i += 3) {
+    const unsigned v = (unsigned{bytes[i]} << 16) | (unsigned{bytes[i + 1]} << 8) | bytes[i + 2];
+    *o++ = kAlphabet[(v >> 18) & 63u];
+    *o++ = kAlphabet[(v >> 12) & 63u];
+    *o++ = kAlphabet[(v >> 6) & 63u];
+    *o++ = kAlphabet[v & 63u];
+  }
+  if (i < size) {
+    const bool two = i + 1 < size;
+    const unsigned v = (unsigned{bytes[i]} << 16) | (two ? unsigned{bytes[i + 1]} << 8 : 0u);
+    *o++ = kAlphabet[(v >> 18) & 63u];
+    *o++ = kAlphabet[(v >> 12) & 63u];
+    *o++ = two ? kAlphabet[(v >> 6) & 63u] : '=';
+    *o++ = '=';
+  }
+}
+
+void WriteWholeFile(const std::filesystem::path& file, std::string_view content) {
+  std::FILE* f = std::fopen(file.c_str(), "wb");
+  if (f == nullptr) {
+    throw std::runtime_error(
+        fmt::format("cannot write {}: {}", file.string(), std::strerror(errno)));
+  }
+  const std::size_t written = std::fwrite(content.data(), 1, content.size(), f);
+  const int write_errno = errno;
+  const bool write_ok = written == content.size();
+  const bool close_ok = std::fclose(f) == 0;
+  if (!write_ok || !close_ok) {
+    throw std::runtime_error(fmt::format("cannot write {}: {}", file.string(),
+                                         std::strerror(write_ok ? errno : write_errno)));
+  }
+}
+
+}  // namespace moreau::io::internal

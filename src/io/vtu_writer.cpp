@@ -1,0 +1,176 @@
+// VTU series with a PVD index (layout in include/moreau/io/trajectory.h, docs/io.md).
+#include <fmt/format.h>
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "io/io_util.h"
+#include "moreau/common/error.h"
+#include "moreau/io/trajectory.h"
+
+namespace moreau::io {
+namespace {
+
+constexpr const char* kByteOrder =
+    std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
+constexpr std::uint8_t kVtkVertex = 1;
+
+// Appends one inline binary DataArray: base64 of (UInt64 byte count, raw values).
+template <typename T>
+void AppendDataArray(const char* type, const char* name, int components, const T* values,
+                     std::size_t value_count, std::string& out) {
+  out += fmt::format(
+      "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
+      "format=\"binary\">\n          ",
+      type, name, components);
+  const std::uint64_t bytes = value_count * sizeof(T);
+  // Header and data form one base64 stream, as VTK's own writer encodes them.
+  std::vector<unsigned char> raw(sizeof(bytes) + bytes);
+  std::memcpy(raw.data(), &bytes, sizeof(bytes));
+  if (bytes > 0) std::memcpy(raw.data() + sizeof(bytes), values, bytes);
+  internal::AppendBase64(raw.data(), raw.size(), out);
+  out += "\n        </DataArray>\n";
+}
+
+class VtuSeriesWriter final : public TrajectoryWriter {
+ public:
+  VtuSeriesWriter(std::filesystem::path dir, std::string prefix);
+  ~VtuSeriesWriter() override {
+    try {
+      Close();
+    } catch (...) {  // NOLINT(bugprone-empty-catch): the destructor must not throw
+    }
+  }
+  VtuSeriesWriter(const VtuSeriesWriter&) = delete;
+  VtuSeriesWriter& operator=(const VtuSeriesWriter&) = delete;
+
+  void Write(const ParticleFrame& frame) override;
+  void Close() override;
+
+ private:
+  std::string PvdText() const;
+
+  std::filesystem::path dir_;
+  std::string prefix_;
+  std::filesystem::path pvd_path_;
+  std::vector<std::pair<double, std::string>> files_;  // (time, file name) per frame
+  bool closed_ = false;
+  // Workspace reused between frames.
+  std::vector<double> points_;
+  std::vector<std::int64_t> connectivity_, offsets_;
+  std::vector<std::uint8_t> types_;
+  std::string text_;
+};
+
+VtuSeriesWriter::VtuSeriesWriter(std::filesystem::path dir, std::string prefix)
+    : dir_(std::move(dir)), prefix_(std::move(prefix)), pvd_path_(dir_ / (prefix_ + ".pvd")) {
+  if (prefix_.empty() || prefix_.find('/') != std::string::npos) {
+    throw InputError(
+        fmt::format("VTU series prefix '{}' must be a non-empty file name without '/'", prefix_));
+  }
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir_, ec)) {
+    throw InputError(fmt::format("cannot write the VTU series {}: directory {} does not exist",
+                                 pvd_path_.string(), dir_.string()));
+  }
+  try {
+    internal::WriteWholeFile(pvd_path_, PvdText());
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+}
+
+void VtuSeriesWriter::Write(const ParticleFrame& frame) {
+  if (closed_) throw std::logic_error(fmt::format("{}: Write after Close", pvd_path_.string()));
+  const std::string name = fmt::format("{}_{:06d}.vtu", prefix_, files_.size());
+  const std::filesystem::path path = dir_ / name;
+  internal::ValidateFrame(frame, path);
+  if (!files_.empty() && frame.time < files_.back().first) {
+    throw InputError(fmt::format("{}: frame at step {} has time {} before the previous frame's {}",
+                                 path.string(), frame.step, frame.time, files_.back().first));
+  }
+  const auto n = static_cast<std::size_t>(frame.count);
+  const auto k = static_cast<std::size_t>(frame.dimension);
+  points_.assign(3 * n, 0.0);
+  connectivity_.resize(n);
+  offsets_.resize(n);
+  types_.assign(n, kVtkVertex);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t a = 0; a < k; ++a) points_[3 * i + a] = frame.positions[k * i + a];
+    connectivity_[i] = static_cast<std::int64_t>(i);
+    offsets_[i] = static_cast<std::int64_t>(i + 1);
+  }
+
+  std::string& out = text_;
+  out.clear();
+  out += "<?xml version=\"1.0\"?>\n";
+  out += fmt::format(
+      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"{}\" "
+      "header_type=\"UInt64\">\n",
+      kByteOrder);
+  out += "  <UnstructuredGrid>\n";
+  out += "    <FieldData>\n";
+  out += fmt::format(
+      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">{}</DataArray>\n",
+      internal::FormatDouble(frame.time));
+  out += fmt::format(
+      "      <DataArray type=\"Int64\" Name=\"step\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">{}</DataArray>\n",
+      frame.step);
+  out += "    </FieldData>\n";
+  out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
+  out += "      <PointData Scalars=\"radius\">\n";
+  AppendDataArray("Float64", "radius", 1, frame.radii, n, out);
+  AppendDataArray("Int64", "id", 1, frame.ids, n, out);
+  out += "      </PointData>\n";
+  out += "      <Points>\n";
+  AppendDataArray("Float64", "Points", 3, points_.data(), 3 * n, out);
+  out += "      </Points>\n";
+  out += "      <Cells>\n";
+  AppendDataArray("Int64", "connectivity", 1, connectivity_.data(), n, out);
+  AppendDataArray("Int64", "offsets", 1, offsets_.data(), n, out);
+  AppendDataArray("UInt8", "types", 1, types_.data(), n, out);
+  out += "      </Cells>\n";
+  out += "    </Piece>\n";
+  out += "  </UnstructuredGrid>\n";
+  out += "</VTKFile>\n";
+  internal::WriteWholeFile(path, out);
+  files_.emplace_back(frame.time, name);
+}
+
+void VtuSeriesWriter::Close() {
+  if (closed_) return;
+  closed_ = true;
+  std::string().swap(text_);
+  internal::WriteWholeFile(pvd_path_, PvdText());
+}
+
+std::string VtuSeriesWriter::PvdText() const {
+  std::string out;
+  out += "<?xml version=\"1.0\"?>\n";
+  out +=
+      fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n", kByteOrder);
+  out += "  <Collection>\n";
+  for (const auto& [time, name] : files_) {
+    out += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+                       internal::FormatDouble(time), internal::XmlEscape(name));
+  }
+  out += "  </Collection>\n";
+  out += "</VTKFile>\n";
+  return out;
+}
+
+}  // namespace
+
+std::unique_ptr<TrajectoryWriter> MakeVtuSeriesWriter(const std::filesystem::path& dir,
+                                                      const std::string& prefix) {
+  return std::make_unique<VtuSeriesWriter>(dir, prefix);
+}
+
+}  // namespace moreau::io

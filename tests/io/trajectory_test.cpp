@@ -1,0 +1,710 @@
+// Trajectory writers: HDF5 read back bit for bit through the HDF5 C API, the XDMF sidecar, the
+// VTU files decoded from base64, the PVD index, and the errors.
+#include "moreau/io/trajectory.h"
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+// moreau links HDF5 privately, so its include directory does not reach the tests; Debian keeps
+// the headers in hdf5/serial/ (their own includes are relative, so this path works).
+#if __has_include(<hdf5.h>)
+#include <hdf5.h>
+#else
+#include <hdf5/serial/hdf5.h>
+#endif
+
+#include "io/io_util.h"
+#include "moreau/common/error.h"
+
+namespace moreau::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory under the system temp directory, removed with everything in it.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("moreau_io_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + "_" +
+             (info != nullptr ? std::string(info->name()) : std::string("test")));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::permissions(path_, fs::perms::owner_all, fs::perm_options::add, ec);
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// Frames with their own storage; frame(i) views frame i.
+struct FrameSet {
+  int dimension = 2;
+  std::int64_t count = 0;
+  std::vector<std::int64_t> steps;
+  std::vector<double> times;
+  std::vector<std::vector<double>> positions, radii;
+  std::vector<std::vector<std::int64_t>> ids;
+
+  std::size_t size() const { return times.size(); }
+  ParticleFrame frame(std::size_t i) const {
+    ParticleFrame f;
+    f.step = steps[i];
+    f.time = times[i];
+    f.dimension = dimension;
+    f.positions = positions[i].data();
+    f.ids = ids[i].data();
+    f.radii = radii[i].data();
+    f.count = count;
+    return f;
+  }
+};
+
+// `frames` frames of `count` particles in dimension k with random (seeded) values, including
+// awkward doubles (negative zero, subnormal, large exponents) to check bit-exact storage.
+FrameSet RandomFrames(int k, std::int64_t count, int frames, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-10.0, 10.0);
+  std::uniform_real_distribution<double> r(0.01, 0.5);
+  FrameSet s;
+  s.dimension = k;
+  s.count = count;
+  const auto n = static_cast<std::size_t>(count);
+  std::vector<std::int64_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::int64_t>(1000 + 7 * i);
+  double t = 0.0;
+  for (int f = 0; f < frames; ++f) {
+    s.steps.push_back(10 * f + 3);
+    s.times.push_back(t);
+    t += 0.1 * (1.0 + r(rng));  // non-representable decimals
+    std::vector<double> x(n * static_cast<std::size_t>(k));
+    for (double& v : x) v = u(rng);
+    if (x.size() >= 3) {
+      x[0] = -0.0;
+      x[1] = 4.9e-324;
+      x[2] = -1.7976931348623157e308;
+    }
+    std::vector<double> rad(n);
+    for (double& v : rad) v = r(rng);
+    std::shuffle(order.begin(), order.end(), rng);
+    s.positions.push_back(std::move(x));
+    s.radii.push_back(std::move(rad));
+    s.ids.push_back(order);
+  }
+  return s;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::size_t CountOccurrences(const std::string& text, const std::string& needle) {
+  std::size_t n = 0;
+  for (std::size_t p = text.find(needle); p != std::string::npos; p = text.find(needle, p + 1)) ++n;
+  return n;
+}
+
+// Checks that start and end tags nest properly (enough XML for our own files: no CDATA, no '>'
+// inside attribute values). Returns an empty string when they do, else what went wrong.
+std::string XmlNestingError(const std::string& text) {
+  std::vector<std::string> open;
+  std::size_t p = 0;
+  while ((p = text.find('<', p)) != std::string::npos) {
+    const std::size_t end = text.find('>', p);
+    if (end == std::string::npos) return "unterminated tag";
+    const std::string tag = text.substr(p + 1, end - p - 1);
+    p = end + 1;
+    if (tag.empty()) return "empty tag";
+    if (tag[0] == '?' || tag[0] == '!') continue;
+    if (tag[0] == '/') {
+      const std::string name = tag.substr(1);
+      if (open.empty() || open.back() != name) return "unexpected </" + name + ">";
+      open.pop_back();
+      continue;
+    }
+    if (tag.back() == '/') continue;
+    open.push_back(tag.substr(0, tag.find_first_of(" \t\n")));
+  }
+  return open.empty() ? std::string() : "unclosed <" + open.back() + ">";
+}
+
+// The value of attribute `name` in the first element at or after `from` that has it.
+std::string AttributeValue(const std::string& text, const std::string& name, std::size_t from = 0) {
+  const std::string key = " " + name + "=\"";
+  const std::size_t p = text.find(key, from);
+  if (p == std::string::npos) return {};
+  const std::size_t start = p + key.size();
+  return text.substr(start, text.find('"', start) - start);
+}
+
+std::vector<unsigned char> DecodeBase64(const std::string& text) {
+  auto value = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+') return 62;
+    if (c == '/') return 63;
+    return -1;
+  };
+  std::vector<unsigned char> out;
+  unsigned buffer = 0;
+  int bits = 0;
+  for (const char c : text) {
+    const int v = value(c);
+    if (v < 0) continue;  // whitespace and '=' padding
+    buffer = (buffer << 6) | static_cast<unsigned>(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<unsigned char>((buffer >> bits) & 0xFFu));
+    }
+  }
+  return out;
+}
+
+// The values of the inline binary DataArray `name` of a VTU file: checks the format and the
+// UInt64 byte-count header, returns the payload as T.
+template <typename T>
+std::vector<T> VtuArray(const std::string& vtu, const std::string& name, const std::string& type,
+                        int components) {
+  const std::size_t p = vtu.find("Name=\"" + name + "\"");
+  EXPECT_NE(p, std::string::npos) << name;
+  if (p == std::string::npos) return {};
+  const std::size_t tag_start = vtu.rfind('<', p);
+  EXPECT_EQ(AttributeValue(vtu, "type", tag_start), type) << name;
+  EXPECT_EQ(AttributeValue(vtu, "format", tag_start), "binary") << name;
+  EXPECT_EQ(AttributeValue(vtu, "NumberOfComponents", tag_start), std::to_string(components));
+  const std::size_t body = vtu.find('>', p) + 1;
+  const std::vector<unsigned char> raw =
+      DecodeBase64(vtu.substr(body, vtu.find("</DataArray>", body) - body));
+  std::uint64_t bytes = 0;
+  EXPECT_GE(raw.size(), sizeof(bytes));
+  if (raw.size() < sizeof(bytes)) return {};
+  std::memcpy(&bytes, raw.data(), sizeof(bytes));
+  EXPECT_EQ(bytes, raw.size() - sizeof(bytes)) << name;
+  EXPECT_EQ(bytes % sizeof(T), 0u) << name;
+  std::vector<T> values((raw.size() - sizeof(bytes)) / sizeof(T));
+  if (!values.empty())
+    std::memcpy(values.data(), raw.data() + sizeof(bytes), values.size() * sizeof(T));
+  return values;
+}
+
+template <typename T>
+bool SameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+// --- HDF5 reading through the C API -----------------------------------------------------------
+
+class H5 {
+ public:
+  H5(hid_t id, herr_t (*closer)(hid_t)) : id_(id), closer_(closer) {}
+  ~H5() {
+    if (id_ >= 0) closer_(id_);
+  }
+  H5(const H5&) = delete;
+  H5& operator=(const H5&) = delete;
+  hid_t get() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*closer_)(hid_t);
+};
+
+struct DatasetInfo {
+  std::vector<hsize_t> dims, max_dims, chunk;
+  bool chunked = false;
+  bool file_type_ok = false;
+};
+
+// Reads the whole dataset `name` as `memory_type` into `values` and describes it; checks that
+// the stored type equals `file_type`.
+template <typename T>
+DatasetInfo ReadDataset(hid_t file, const char* name, hid_t memory_type, hid_t file_type,
+                        std::vector<T>& values) {
+  DatasetInfo info;
+  H5 dataset(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
+  EXPECT_GE(dataset.get(), 0) << name;
+  if (dataset.get() < 0) return info;
+  H5 space(H5Dget_space(dataset.get()), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  info.dims.resize(static_cast<std::size_t>(rank));
+  info.max_dims.resize(static_cast<std::size_t>(rank));
+  H5Sget_simple_extent_dims(space.get(), info.dims.data(), info.max_dims.data());
+  H5 type(H5Dget_type(dataset.get()), H5Tclose);
+  info.file_type_ok = H5Tequal(type.get(), file_type) > 0;
+  H5 properties(H5Dget_create_plist(dataset.get()), H5Pclose);
+  info.chunked = H5Pget_layout(properties.get()) == H5D_CHUNKED;
+  if (info.chunked) {
+    info.chunk.resize(static_cast<std::size_t>(rank));
+    H5Pget_chunk(properties.get(), rank, info.chunk.data());
+  }
+  hsize_t elements = 1;
+  for (const hsize_t d : info.dims) elements *= d;
+  values.assign(elements, T{});
+  if (elements > 0) {
+    EXPECT_GE(H5Dread(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  }
+  return info;
+}
+
+template <typename T>
+T ReadScalarAttribute(hid_t file, const char* name, hid_t memory_type) {
+  T value{};
+  H5 attribute(H5Aopen(file, name, H5P_DEFAULT), H5Aclose);
+  EXPECT_GE(attribute.get(), 0) << name;
+  if (attribute.get() >= 0) {
+    EXPECT_GE(H5Aread(attribute.get(), memory_type, &value), 0) << name;
+  }
+  return value;
+}
+
+std::string ReadStringAttribute(hid_t file, const char* name) {
+  H5 attribute(H5Aopen(file, name, H5P_DEFAULT), H5Aclose);
+  EXPECT_GE(attribute.get(), 0) << name;
+  if (attribute.get() < 0) return {};
+  H5 type(H5Aget_type(attribute.get()), H5Tclose);
+  std::string value(H5Tget_size(type.get()), '\0');
+  EXPECT_GE(H5Aread(attribute.get(), type.get(), value.data()), 0);
+  return value.substr(0, value.find('\0'));
+}
+
+// Reads `path` back and compares every value of every frame, bit for bit, with `expected`.
+void ExpectHdf5Matches(const fs::path& path, const FrameSet& expected) {
+  H5 file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  ASSERT_GE(file.get(), 0) << path;
+  const auto frames = static_cast<hsize_t>(expected.size());
+  const auto n = static_cast<hsize_t>(expected.count);
+  const auto k = static_cast<hsize_t>(expected.dimension);
+
+  std::vector<double> time, positions, radii;
+  std::vector<std::int64_t> step, ids;
+  const DatasetInfo ti = ReadDataset(file.get(), "/time", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, time);
+  const DatasetInfo si = ReadDataset(file.get(), "/step", H5T_NATIVE_INT64, H5T_STD_I64LE, step);
+  const DatasetInfo pi =
+      ReadDataset(file.get(), "/positions", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, positions);
+  const DatasetInfo ii = ReadDataset(file.get(), "/ids", H5T_NATIVE_INT64, H5T_STD_I64LE, ids);
+  const DatasetInfo ri =
+      ReadDataset(file.get(), "/radii", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, radii);
+
+  EXPECT_EQ(ti.dims, (std::vector<hsize_t>{frames}));
+  EXPECT_EQ(si.dims, (std::vector<hsize_t>{frames}));
+  EXPECT_EQ(pi.dims, (std::vector<hsize_t>{frames, n, k}));
+  EXPECT_EQ(ii.dims, (std::vector<hsize_t>{frames, n}));
+  EXPECT_EQ(ri.dims, (std::vector<hsize_t>{frames, n}));
+  for (const DatasetInfo* info : {&ti, &si, &pi, &ii, &ri}) {
+    EXPECT_TRUE(info->chunked);
+    EXPECT_TRUE(info->file_type_ok);
+    ASSERT_FALSE(info->max_dims.empty());
+    EXPECT_EQ(info->max_dims[0], H5S_UNLIMITED);
+    for (std::size_t a = 1; a < info->dims.size(); ++a) EXPECT_EQ(info->max_dims[a], info->dims[a]);
+  }
+
+  std::vector<double> want_positions, want_radii;
+  std::vector<std::int64_t> want_ids;
+  for (std::size_t f = 0; f < expected.size(); ++f) {
+    want_positions.insert(want_positions.end(), expected.positions[f].begin(),
+                          expected.positions[f].end());
+    want_radii.insert(want_radii.end(), expected.radii[f].begin(), expected.radii[f].end());
+    want_ids.insert(want_ids.end(), expected.ids[f].begin(), expected.ids[f].end());
+  }
+  EXPECT_TRUE(SameBits(time, expected.times));
+  EXPECT_TRUE(SameBits(step, expected.steps));
+  EXPECT_TRUE(SameBits(positions, want_positions));
+  EXPECT_TRUE(SameBits(radii, want_radii));
+  EXPECT_TRUE(SameBits(ids, want_ids));
+
+  EXPECT_EQ(ReadScalarAttribute<int>(file.get(), "dimension", H5T_NATIVE_INT), expected.dimension);
+  EXPECT_EQ(ReadScalarAttribute<std::int64_t>(file.get(), "count", H5T_NATIVE_INT64),
+            expected.count);
+  EXPECT_EQ(ReadScalarAttribute<int>(file.get(), "format_version", H5T_NATIVE_INT), 1);
+  EXPECT_EQ(ReadStringAttribute(file.get(), "format"), "moreau-trajectory");
+}
+
+// Checks the XDMF sidecar against the frames: nesting, one grid per frame with its time, the
+// hyperslab of its frame, and the dataset references and dimensions.
+void ExpectXdmfMatches(const fs::path& xdmf, const std::string& h5_name, const FrameSet& expected) {
+  ASSERT_TRUE(fs::exists(xdmf)) << xdmf;
+  const std::string text = ReadText(xdmf);
+  EXPECT_EQ(XmlNestingError(text), "");
+  EXPECT_NE(text.find("<Xdmf Version=\"3.0\""), std::string::npos);
+  EXPECT_NE(text.find("CollectionType=\"Temporal\""), std::string::npos);
+  const std::size_t frames = expected.size();
+  const std::string n = std::to_string(expected.count);
+  const std::string k = std::to_string(expected.dimension);
+  EXPECT_EQ(CountOccurrences(text, "<Grid Name=\"frame_"), frames);
+  EXPECT_EQ(CountOccurrences(text, "<Time Value="), frames);
+  EXPECT_EQ(CountOccurrences(text, "TopologyType=\"Polyvertex\" NumberOfElements=\"" + n + "\""),
+            frames);
+  EXPECT_EQ(CountOccurrences(text, "GeometryType=\"" + std::string(k == "2" ? "XY\"" : "XYZ\"")),
+            frames);
+  const std::string f = std::to_string(frames);
+  EXPECT_EQ(CountOccurrences(text, "Dimensions=\"" + f + " " + n + " " + k +
+                                       "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" +
+                                       h5_name + ":/positions<"),
+            frames);
+  EXPECT_EQ(CountOccurrences(text, "Dimensions=\"" + f + " " + n +
+                                       "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" +
+                                       h5_name + ":/radii<"),
+            frames);
+  EXPECT_EQ(CountOccurrences(text, "Dimensions=\"" + f + " " + n +
+                                       "\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" +
+                                       h5_name + ":/ids<"),
+            frames);
+  EXPECT_EQ(CountOccurrences(text, "<Attribute Name=\"radius\""), frames);
+  EXPECT_EQ(CountOccurrences(text, "<Attribute Name=\"id\""), frames);
+  std::size_t p = 0;
+  for (std::size_t i = 0; i < frames; ++i) {
+    p = text.find("<Time Value=", p);
+    ASSERT_NE(p, std::string::npos);
+    const double t = std::stod(AttributeValue(text, "Value", p - 1));
+    EXPECT_TRUE(SameBits(std::vector<double>{t}, std::vector<double>{expected.times[i]})) << i;
+    const std::string fi = std::to_string(i);
+    EXPECT_NE(text.find(">" + fi + " 0 0 1 1 1 1 " + n + " " + k + "<", p), std::string::npos);
+    EXPECT_NE(text.find(">" + fi + " 0 1 1 1 " + n + "<", p), std::string::npos);
+    ++p;
+  }
+}
+
+void WriteAll(TrajectoryWriter& writer, const FrameSet& frames) {
+  for (std::size_t i = 0; i < frames.size(); ++i) writer.Write(frames.frame(i));
+}
+
+// --- HDF5 ---------------------------------------------------------------------------------------
+
+TEST(Hdf5Writer, RoundTripsEveryValueBitForBit2D) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(2, 37, 5, 11);
+  const fs::path path = dir.path() / "trajectory.h5";
+  auto writer = MakeHdf5Writer(path);
+  WriteAll(*writer, frames);
+  writer->Close();
+  ExpectHdf5Matches(path, frames);
+  ExpectXdmfMatches(dir.path() / "trajectory.xdmf", "trajectory.h5", frames);
+}
+
+TEST(Hdf5Writer, RoundTripsEveryValueBitForBit3D) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(3, 12, 3, 12);
+  const fs::path path = dir.path() / "run.h5";
+  auto writer = MakeHdf5Writer(path);
+  WriteAll(*writer, frames);
+  writer->Close();
+  writer->Close();  // idempotent
+  ExpectHdf5Matches(path, frames);
+  ExpectXdmfMatches(dir.path() / "run.xdmf", "run.h5", frames);
+}
+
+TEST(Hdf5Writer, LargeFramesSpanSeveralChunks) {
+  // 70 000 particles in 2D: 1.1 MB per frame, more than one chunk along the particle axis.
+  TempDir dir;
+  const FrameSet frames = RandomFrames(2, 70000, 2, 13);
+  const fs::path path = dir.path() / "big.h5";
+  auto writer = MakeHdf5Writer(path);
+  WriteAll(*writer, frames);
+  writer->Close();
+  ExpectHdf5Matches(path, frames);
+}
+
+TEST(Hdf5Writer, DestructorClosesAndWritesTheSidecar) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(2, 4, 2, 14);
+  {
+    auto writer = MakeHdf5Writer(dir.path() / "t.h5");
+    WriteAll(*writer, frames);
+  }
+  ExpectHdf5Matches(dir.path() / "t.h5", frames);
+  ExpectXdmfMatches(dir.path() / "t.xdmf", "t.h5", frames);
+}
+
+TEST(Hdf5Writer, NoFramesGivesEmptyTimeAxis) {
+  TempDir dir;
+  MakeHdf5Writer(dir.path() / "empty.h5")->Close();
+  H5 file(H5Fopen((dir.path() / "empty.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  ASSERT_GE(file.get(), 0);
+  std::vector<double> time;
+  const DatasetInfo info =
+      ReadDataset(file.get(), "/time", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, time);
+  EXPECT_EQ(info.dims, (std::vector<hsize_t>{0}));
+  const std::string xdmf = ReadText(dir.path() / "empty.xdmf");
+  EXPECT_EQ(XmlNestingError(xdmf), "");
+  EXPECT_EQ(CountOccurrences(xdmf, "<Grid Name=\"frame_"), 0u);
+}
+
+TEST(Hdf5Writer, ChangingParticleCountThrowsAndKeepsEarlierFrames) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(2, 6, 2, 15);
+  const FrameSet other = RandomFrames(2, 5, 1, 16);
+  const fs::path path = dir.path() / "t.h5";
+  auto writer = MakeHdf5Writer(path);
+  WriteAll(*writer, frames);
+  ParticleFrame bad = other.frame(0);
+  bad.time = 10.0;
+  try {
+    writer->Write(bad);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("5 particles"), std::string::npos) << message;
+  }
+  writer->Close();
+  ExpectHdf5Matches(path, frames);
+}
+
+TEST(Hdf5Writer, ChangingDimensionThrows) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(2, 6, 1, 17);
+  const FrameSet other = RandomFrames(3, 6, 1, 18);
+  auto writer = MakeHdf5Writer(dir.path() / "t.h5");
+  writer->Write(frames.frame(0));
+  ParticleFrame bad = other.frame(0);
+  bad.time = 1.0;
+  EXPECT_THROW(writer->Write(bad), InputError);
+}
+
+TEST(Hdf5Writer, RejectsBadFrames) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(2, 3, 2, 19);
+  auto writer = MakeHdf5Writer(dir.path() / "t.h5");
+  ParticleFrame f = frames.frame(0);
+  f.dimension = 4;
+  EXPECT_THROW(writer->Write(f), InputError);
+  f = frames.frame(0);
+  f.radii = nullptr;
+  EXPECT_THROW(writer->Write(f), InputError);
+  writer->Write(frames.frame(1));
+  EXPECT_THROW(writer->Write(frames.frame(0)), InputError);  // time goes backwards
+  writer->Close();
+  EXPECT_THROW(writer->Write(frames.frame(1)), std::logic_error);
+}
+
+TEST(Hdf5Writer, MissingDirectoryThrowsNamingThePath) {
+  TempDir dir;
+  const fs::path path = dir.path() / "no_such_dir" / "trajectory.h5";
+  try {
+    MakeHdf5Writer(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+  }
+  // A regular file where the directory should be.
+  { std::ofstream(dir.path() / "file") << "x"; }
+  const fs::path under_file = dir.path() / "file" / "trajectory.h5";
+  try {
+    MakeHdf5Writer(under_file);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(under_file.string()), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(MakeHdf5Writer(dir.path() / "t.xdmf"), InputError);
+}
+
+TEST(Hdf5Writer, UnwritableDirectoryThrowsNamingThePath) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root can write into any directory";
+  TempDir dir;
+  const fs::path locked = dir.path() / "locked";
+  fs::create_directory(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+  const fs::path path = locked / "trajectory.h5";
+  try {
+    MakeHdf5Writer(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+  }
+  fs::permissions(locked, fs::perms::owner_all);
+}
+
+// --- VTU series ---------------------------------------------------------------------------------
+
+void ExpectVtuSeriesMatches(const fs::path& dir, const std::string& prefix,
+                            const FrameSet& expected) {
+  const std::string pvd = ReadText(dir / (prefix + ".pvd"));
+  EXPECT_EQ(XmlNestingError(pvd), "");
+  EXPECT_NE(pvd.find("type=\"Collection\""), std::string::npos);
+  EXPECT_EQ(CountOccurrences(pvd, "<DataSet "), expected.size());
+  std::size_t p = 0;
+  for (std::size_t f = 0; f < expected.size(); ++f) {
+    p = pvd.find("<DataSet ", p);
+    ASSERT_NE(p, std::string::npos);
+    char name[64];
+    std::snprintf(name, sizeof(name), "%s_%06zu.vtu", prefix.c_str(), f);
+    EXPECT_EQ(AttributeValue(pvd, "file", p), name);
+    const double t = std::stod(AttributeValue(pvd, "timestep", p));
+    EXPECT_TRUE(SameBits(std::vector<double>{t}, std::vector<double>{expected.times[f]}));
+    ++p;
+
+    const std::string vtu = ReadText(dir / name);
+    EXPECT_EQ(XmlNestingError(vtu), "") << name;
+    EXPECT_NE(vtu.find("type=\"UnstructuredGrid\""), std::string::npos);
+    EXPECT_NE(vtu.find("header_type=\"UInt64\""), std::string::npos);
+    const std::size_t n = static_cast<std::size_t>(expected.count);
+    const std::size_t k = static_cast<std::size_t>(expected.dimension);
+    EXPECT_EQ(AttributeValue(vtu, "NumberOfPoints"), std::to_string(n));
+    EXPECT_EQ(AttributeValue(vtu, "NumberOfCells"), std::to_string(n));
+    std::vector<double> points(3 * n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t a = 0; a < k; ++a) points[3 * i + a] = expected.positions[f][k * i + a];
+    }
+    EXPECT_TRUE(SameBits(VtuArray<double>(vtu, "Points", "Float64", 3), points)) << name;
+    EXPECT_TRUE(SameBits(VtuArray<double>(vtu, "radius", "Float64", 1), expected.radii[f]));
+    EXPECT_TRUE(SameBits(VtuArray<std::int64_t>(vtu, "id", "Int64", 1), expected.ids[f]));
+    std::vector<std::int64_t> connectivity(n), offsets(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      connectivity[i] = static_cast<std::int64_t>(i);
+      offsets[i] = static_cast<std::int64_t>(i + 1);
+    }
+    EXPECT_TRUE(SameBits(VtuArray<std::int64_t>(vtu, "connectivity", "Int64", 1), connectivity));
+    EXPECT_TRUE(SameBits(VtuArray<std::int64_t>(vtu, "offsets", "Int64", 1), offsets));
+    EXPECT_TRUE(SameBits(VtuArray<std::uint8_t>(vtu, "types", "UInt8", 1),
+                         std::vector<std::uint8_t>(n, 1)));  // VTK_VERTEX
+    const std::size_t tv = vtu.find("Name=\"TimeValue\"");
+    ASSERT_NE(tv, std::string::npos);
+    const std::size_t body = vtu.find('>', tv) + 1;
+    EXPECT_EQ(std::stod(vtu.substr(body, vtu.find('<', body) - body)), expected.times[f]);
+  }
+}
+
+TEST(VtuSeriesWriter, WritesEveryValueBitForBit2D) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(2, 23, 4, 21);
+  auto writer = MakeVtuSeriesWriter(dir.path(), "disks");
+  WriteAll(*writer, frames);
+  writer->Close();
+  writer->Close();
+  ExpectVtuSeriesMatches(dir.path(), "disks", frames);
+}
+
+TEST(VtuSeriesWriter, WritesEveryValueBitForBit3D) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(3, 10, 3, 22);
+  {
+    auto writer = MakeVtuSeriesWriter(dir.path(), "grains");
+    WriteAll(*writer, frames);
+  }  // the destructor completes the PVD
+  ExpectVtuSeriesMatches(dir.path(), "grains", frames);
+}
+
+TEST(VtuSeriesWriter, AllowsTheParticleCountToChange) {
+  TempDir dir;
+  const FrameSet a = RandomFrames(2, 8, 1, 23);
+  const FrameSet b = RandomFrames(2, 5, 1, 24);
+  const FrameSet empty = RandomFrames(2, 0, 1, 25);
+  auto writer = MakeVtuSeriesWriter(dir.path(), "crowd");
+  writer->Write(a.frame(0));
+  ParticleFrame fb = b.frame(0);
+  fb.time = 1.0;
+  writer->Write(fb);
+  ParticleFrame fe = empty.frame(0);
+  fe.time = 2.0;
+  writer->Write(fe);
+  writer->Close();
+  EXPECT_EQ(AttributeValue(ReadText(dir.path() / "crowd_000001.vtu"), "NumberOfPoints"), "5");
+  const std::string last = ReadText(dir.path() / "crowd_000002.vtu");
+  EXPECT_EQ(AttributeValue(last, "NumberOfPoints"), "0");
+  EXPECT_TRUE(VtuArray<double>(last, "radius", "Float64", 1).empty());
+  EXPECT_EQ(CountOccurrences(ReadText(dir.path() / "crowd.pvd"), "<DataSet "), 3u);
+}
+
+TEST(VtuSeriesWriter, RejectsBadFramesAndWriteAfterClose) {
+  TempDir dir;
+  const FrameSet frames = RandomFrames(2, 3, 2, 26);
+  auto writer = MakeVtuSeriesWriter(dir.path(), "p");
+  ParticleFrame f = frames.frame(0);
+  f.dimension = 1;
+  EXPECT_THROW(writer->Write(f), InputError);
+  writer->Write(frames.frame(1));
+  EXPECT_THROW(writer->Write(frames.frame(0)), InputError);  // time goes backwards
+  writer->Close();
+  EXPECT_THROW(writer->Write(frames.frame(1)), std::logic_error);
+}
+
+TEST(VtuSeriesWriter, MissingDirectoryOrBadPrefixThrows) {
+  TempDir dir;
+  const fs::path missing = dir.path() / "no_such_dir";
+  try {
+    MakeVtuSeriesWriter(missing, "frames");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(MakeVtuSeriesWriter(dir.path(), ""), InputError);
+  EXPECT_THROW(MakeVtuSeriesWriter(dir.path(), "a/b"), InputError);
+}
+
+TEST(VtuSeriesWriter, UnwritableDirectoryThrowsNamingThePath) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root can write into any directory";
+  TempDir dir;
+  const fs::path locked = dir.path() / "locked";
+  fs::create_directory(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+  try {
+    MakeVtuSeriesWriter(locked, "frames");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find((locked / "frames.pvd").string()), std::string::npos)
+        << e.what();
+  }
+  fs::permissions(locked, fs::perms::owner_all);
+}
+
+// --- helpers ------------------------------------------------------------------------------------
+
+TEST(IoUtil, Base64MatchesRfc4648Vectors) {
+  const std::vector<std::pair<std::string, std::string>> cases = {{"", ""},
+                                                                  {"f", "Zg=="},
+                                                                  {"fo", "Zm8="},
+                                                                  {"foo", "Zm9v"},
+                                                                  {"foob", "Zm9vYg=="},
+                                                                  {"fooba", "Zm9vYmE="},
+                                                                  {"foobar", "Zm9vYmFy"}};
+  for (const auto& [plain, encoded] : cases) {
+    std::string out = "prefix:";
+    internal::AppendBase64(plain.data(), plain.size(), out);
+    EXPECT_EQ(out, "prefix:" + encoded);
+  }
+  std::mt19937 rng(31);
+  std::vector<unsigned char> bytes(1001);
+  for (auto& b : bytes) b = static_cast<unsigned char>(rng() & 0xFFu);
+  std::string out;
+  internal::AppendBase64(bytes.data(), bytes.size(), out);
+  EXPECT_EQ(DecodeBase64(out), bytes);
+}
+
+TEST(IoUtil, XmlEscapeAndShortestDoubles) {
+  EXPECT_EQ(internal::XmlEscape("a&b<c>\"d'"), "a&amp;b&lt;c&gt;&quot;d&apos;");
+  for (const double v : {0.1, 1.0 / 3.0, 1e-300, -2.5, 4.9e-324, 1.7976931348623157e308}) {
+    EXPECT_EQ(std::strtod(internal::FormatDouble(v).c_str(), nullptr), v);
+  }
+}
+
+}  // namespace
+}  // namespace moreau::io
