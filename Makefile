@@ -5,7 +5,7 @@ ASAN     ?= build/asan
 OUT      ?= out
 PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
-CMAKE_FLAGS := -DPython_EXECUTABLE=$(PYTHON) -DMOREAU_PYTHON=$(PYTHON)
+CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON)
 
 .PHONY: all deps build test test-release test-asan demo bench format clean
 
@@ -42,6 +42,12 @@ demo: build
 	  --h $(DISKS_H) --out $(OUT)/disks
 	$(MOREAU) run examples/disks.toml --out $(OUT)/disks_run
 	$(MOREAU) run examples/sliding.toml --out $(OUT)/sliding_run
+	$(MOREAU) control examples/control/oscillator_1d.toml --out $(OUT)/oscillator_1d
+	$(MOREAU) control examples/control/oscillator_1d.toml --out $(OUT)/oscillator_1d_study \
+	  --study-steps 500,1000,1500,2000,2500,3000,3500,4000
+	$(MOREAU) control examples/control/arm_2d.toml --out $(OUT)/arm_2d
+	$(MOREAU) control examples/control/arm_2d.toml --out $(OUT)/arm_2d_study \
+	  --study-steps 32,64,128,256,512,1024,2048,4096
 	@echo "demo: figures are in $(OUT)/ (README.md says how to read them)"
 
 # Step sizes of the studies: h0 / 2^k.
@@ -50,6 +56,7 @@ DISKS_H := 0.125,0.0625,0.03125,0.015625,0.0078125,0.00390625,0.001953125,0.0009
 
 bench: build
 	$(BUILD)/pbd_bench
+	$(BUILD)/control_bench --benchmark_counters_tabular=true
 
 format:
 	@clang-format -i $$(git ls-files '*.h' '*.cpp')

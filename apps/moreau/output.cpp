@@ -52,6 +52,7 @@ void OutputDir::Commit() {
     const fs::path from = staging_ / name;
     if (!fs::exists(from)) continue;  // A figure whose script was skipped.
     std::error_code ec;
+    if (fs::is_directory(from) && fs::exists(dir_ / name)) fs::remove_all(dir_ / name, ec);
     fs::rename(from, dir_ / name, ec);
     if (ec) {
       throw InputError(fmt::format("{}: cannot move {} into place ({})", dir_.string(), name,

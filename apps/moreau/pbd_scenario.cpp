@@ -107,7 +107,7 @@ PbdScenario ReadPbdScenario(Scenario& s) {
       }
     }
   } else {
-    s.Fail("problem.kind", fmt::format("unknown kind '{}' (expected sliding or disks)", out.kind));
+    s.Fail("problem.kind", fmt::format("unknown kind '{}' (expected sliding, disks or particles)", out.kind));
   }
 
   out.solver = ReadSolver(s, "solver", pbd::StepperOptions{});

@@ -1,0 +1,131 @@
+// Parameter continuation (thesis section 8.2) and grid-refinement studies (section 9).
+//
+// Continuation solves a sequence of easier problems and warm-starts Newton from each accepted
+// solution, in three stages, each with step halving on failure:
+//   path:      p ← min(p (1 + C^p), 1); on failure C^p ← C^p / 2 (reference scaled by p),
+//   stiffness: s ← min(s (1 + C^κξ), 1); on failure C^κξ ← C^κξ / 2 (κ, ξ scaled by s),
+//   δ:         γ ← max(γ C^δ, γ_target); on failure C^δ ← √C^δ (δ ∝ γ).
+// (The thesis prints "C^p = √C^p" in step 6, a misprint for C^δ; Deltaforward.m does coe^.5.)
+// A stage gives up when its coefficient falls below min_increase (for δ: when 1 − C^δ does).
+// Every attempt, accepted or not, is recorded.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "moreau/control/newton.h"
+#include "moreau/control/pontryagin.h"
+#include "moreau/control/tracking_problem.h"
+
+namespace moreau::control {
+
+// The problem with its reference scaled to the path fraction p ∈ (0, 1] (p = 1: the target
+// problem, whose κ, ξ and γ are the targets of continuation).
+using ProblemFamily = std::function<TrackingProblem(double path_fraction)>;
+
+// A family for a generic problem: X_p(t) = x(0) + p (X(t) − x(0)), V_p = p V.
+ProblemFamily LinearPathFamily(const TrackingProblem& problem);
+
+struct ContinuationOptions {
+  double path_start = 1.0;          // p_0 ∈ (0, 1]; 1: no path continuation
+  double path_increase = 0.5;       // C^p > 0
+  double stiffness_start = 1.0;     // s_0 ∈ (0, 1]: κ and ξ start at s_0 × target; 1: none
+  double stiffness_increase = 0.5;  // C^κξ > 0
+  double gamma_start = 0.0;         // γ_0; <= target γ (e.g. 0): no δ continuation
+  double gamma_decrease = 0.1;      // C^δ ∈ (0, 1)
+  double min_increase = 1e-4;       // smallest coefficient before a stage gives up
+  int max_solves = 400;             // Newton solves in all, accepted or not (>= 1)
+  FixedPointOptions fixed_point;    // initial dual from the guess (section 7.1)
+  NewtonOptions newton;             // every Newton solve
+  // Throws InputError("continuation.<field>: ...") on a value out of range.
+  void Validate() const;
+};
+
+struct ContinuationRecord {
+  std::string stage;  // "initial", "path", "stiffness", "gamma", "direct"
+  double path_fraction = 1.0;
+  double stiffness_scale = 1.0;
+  double gamma = 0.0;
+  bool accepted = false;
+  int newton_iterations = 0;
+  double residual = 0.0;
+  std::string termination;
+};
+
+struct ContinuationSummary {
+  bool converged = false;  // the target problem was solved
+  std::string message;     // why not, if not
+  std::vector<ContinuationRecord> path;
+  int newton_solves = 0;
+  int newton_iterations = 0;  // summed over all solves
+  double time_total = 0.0;
+  NewtonSummary last_newton;  // of the final accepted (or last attempted) solve
+  // Parameters of the last accepted solution (y belongs to this problem).
+  double path_fraction = 0.0;
+  double stiffness_scale = 0.0;
+  double gamma = 0.0;
+  std::string BriefReport() const;
+};
+
+// The problem at continuation parameters (p, s, γ).
+TrackingProblem ContinuationProblem(const ProblemFamily& family, double path_fraction,
+                                    double stiffness_scale, double gamma);
+
+// Guess of the state trajectory from the reference (n_z × (N+1)); a node without data (weight 0)
+// keeps its initial state.
+Eigen::MatrixXd ReferenceGuess(const PontryaginDiscretization& disc);
+
+// Solves family(1) with N steps. If `warm` is non-null and has the right size, the first solve
+// starts from it (at the start parameters); otherwise from the fixed-point sweep on the
+// reference guess. On return y holds the last accepted solution (or the best iterate of the
+// first solve when none was accepted).
+ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps,
+                                          const ContinuationOptions& options, Eigen::VectorXd& y,
+                                          const Eigen::VectorXd* warm = nullptr);
+
+// Interpolates a solution y on N_from steps to N_to steps (linear in time for z and ρ).
+Eigen::VectorXd InterpolateSolution(const PontryaginDiscretization& from, const Eigen::VectorXd& y,
+                                    const PontryaginDiscretization& to);
+
+// One level of a grid-refinement study.
+struct StudyLevel {
+  int steps = 0;
+  bool converged = false;
+  std::string message;
+  double value = 0.0;         // ū_N (31)
+  double residual = 0.0;      // ‖F‖_∞
+  int newton_iterations = 0;  // of the final solve (all solves for this N: newton_total)
+  int newton_total = 0;
+  double wall_seconds = 0.0;
+  double diff_previous = 0.0;  // max |x_N − x_{N_prev}| on the coarser grid's nodes (NaN first)
+  double diff_finest = 0.0;    // max |x_N − x_{N_max}| on `compare_samples` + 1 instants
+  double tracking_rms = 0.0;   // RMS of |x_j(t_n) − X_j(t_n)| over data points
+  Eigen::MatrixXd z;           // n_z × (N+1)
+  Eigen::MatrixXd controls;    // num_springs × N effective rest lengths
+};
+
+struct StudyOptions {
+  std::vector<int> steps;  // increasing N
+  ContinuationOptions continuation;
+  bool warm_start = false;  // first try Newton from the interpolated coarser solution; on
+                            // failure (or when false) solve by continuation from the start
+  int compare_samples = 0;  // instants for diff_finest (0: the coarsest grid's nodes)
+  std::function<void(const StudyLevel&)> on_level;  // called after each N (may be empty)
+  void Validate() const;
+};
+
+// Solves every N (the first with continuation; the next from the interpolated coarser solution,
+// falling back to continuation if Newton fails) and fills the comparison columns.
+std::vector<StudyLevel> RunStudy(const ProblemFamily& family, const StudyOptions& options);
+
+// Max-norm of the position difference between two state trajectories of the same problem on
+// S + 1 equally spaced instants (linear interpolation between grid nodes).
+double MaxPositionDifference(const TrackingProblem& problem, const Eigen::MatrixXd& z_a,
+                             const Eigen::MatrixXd& z_b, int samples);
+
+// RMS of the position tracking error over (node, time-step) pairs with positive weight.
+double TrackingRms(const PontryaginDiscretization& disc, const Eigen::MatrixXd& z);
+
+}  // namespace moreau::control

@@ -1,0 +1,85 @@
+// Solvers for the discrete Hamiltonian system F(y) = 0 (thesis sections 7.1–7.3).
+//
+// FixedPointSweep (7.1): from a guess of the state trajectory, alternately sweep the dual
+// backward (ρ^N = Dg(z^N), ρ^n = ρ^{n+1} + Δt H_z(z^n, ρ^{n+1})) and the state forward
+// (z̃^{n+1} = z̃^n + Δt H_ρ(z̃^n, ρ^{n+1})), relaxing z ← z + θ (z̃ − z) ("damped"); ends with a
+// backward sweep so that the returned y satisfies every F^ρ equation exactly. Used to obtain the
+// initial dual for Newton.
+//
+// SolveNewton (7.2, 7.3): Newton's method on F(y) = 0 with a backtracking (Armijo) line search on
+// ½‖F‖₂²; the linear system is solved by the Riccati sweep (default) or sparse LU. The line search
+// only accepts decreasing merit, so on any failure y holds the best iterate found.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "moreau/control/linear_solver.h"
+#include "moreau/control/pontryagin.h"
+
+namespace moreau::control {
+
+struct FixedPointOptions {
+  int sweeps = 0;          // forward/backward sweep pairs before the final backward sweep (>= 0)
+  double damping = 0.5;    // θ ∈ (0, 1]: z ← z + θ (z̃ − z)
+  double tolerance = 0.0;  // stop early when max |z̃ − z| < tolerance (0: never)
+  // Throws InputError("fixed_point.<field>: ...") on sweeps < 0 or θ ∉ (0, 1].
+  void Validate() const;
+};
+
+struct FixedPointSummary {
+  int sweeps = 0;
+  std::vector<double> change;  // max |z̃ − z| per forward sweep
+  bool finite = true;          // false if the sweep produced a non-finite value
+};
+
+// `z_guess`: n_z × (N+1) state trajectory guess (column 0 is replaced by z(0)). Writes y.
+FixedPointSummary FixedPointSweep(const PontryaginDiscretization& disc,
+                                  const Eigen::MatrixXd& z_guess, const FixedPointOptions& options,
+                                  Eigen::VectorXd& y);
+
+struct NewtonOptions {
+  int max_iterations = 40;            // Newton iterations (Jacobian factorisations), >= 1
+  double residual_tolerance = 1e-10;  // converged when ‖F(y)‖_∞ <= this
+  LinearSolverType linear_solver = LinearSolverType::kRiccati;  // structure-exploiting or LU
+  double armijo = 1e-4;  // sufficient decrease: ½‖F(y+αδ)‖² <= (1 − 2cα) ½‖F(y)‖²
+  double min_step = 1e-6;              // line search gives up below this step length α
+  double divergence_threshold = 1e12;  // ‖F‖_∞ above this (or non-finite) counts as divergence
+  // Throws InputError("newton.<field>: ...") on a value out of range.
+  void Validate() const;
+};
+
+enum class NewtonTermination {
+  kConverged,         // ‖F‖_∞ <= tolerance
+  kMaxIterations,     // iteration limit reached
+  kLineSearchFailed,  // no step length >= min_step decreased the merit
+  kSingularJacobian,  // the linear solver met a singular (or non-finite) pivot block
+  kDiverged,          // the residual is non-finite or above the divergence threshold
+};
+const char* ToString(NewtonTermination termination);
+
+struct NewtonSummary {
+  NewtonTermination termination = NewtonTermination::kMaxIterations;
+  std::string message;
+  int iterations = 0;                  // Newton steps taken (accepted)
+  std::vector<double> residual_norms;  // ‖F‖_∞ at the start and after each accepted step
+  std::vector<double> step_lengths;    // α of each accepted step
+  double initial_residual = 0.0;
+  double final_residual = 0.0;
+  double time_residual_jacobian = 0.0;  // seconds: F and Jacobian evaluation
+  double time_factorize = 0.0;          // seconds: linear solver factorisation
+  double time_solve = 0.0;              // seconds: triangular/Riccati solves
+  double time_line_search = 0.0;        // seconds: residual evaluations in the line search
+  double time_total = 0.0;
+
+  bool converged() const { return termination == NewtonTermination::kConverged; }
+  std::string BriefReport() const;  // one line
+  std::string FullReport() const;   // residual and step length per iteration, time per phase
+};
+
+// Newton on F(y) = 0 starting from y (overwritten by the best iterate).
+NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
+                          Eigen::VectorXd& y);
+
+}  // namespace moreau::control

@@ -1,0 +1,207 @@
+// The thesis examples: the 1D oscillator of 5.1/9.1 (Theorem 5.1 bounds, convergence in N) and
+// the arm model of 9.2 (continuation, convergence of the trajectory in N, tracking).
+#include "moreau/control/examples.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "moreau/control/continuation.h"
+
+namespace moreau::control {
+namespace {
+
+// Theorem 5.1 with C3 = 0: lower <= u − ū <= upper.
+struct Bounds {
+  double lower, upper;
+};
+Bounds TheoremBounds(double c1, double c2, double c3, double delta, double horizon, double dt) {
+  const double e = std::exp(c2 * horizon);
+  return {-0.5 * c1 * c2 * horizon * ((e - 1.0) * dt + dt * dt) - 0.5 * c1 * c3 * (e - 1.0) * dt -
+              horizon * delta,
+          0.5 * c1 * c2 * (c3 + 1.0) * e * horizon * dt + horizon * delta};
+}
+
+TEST(ControlOscillator, ThesisSection91Reproduced) {
+  const OscillatorExample ex;  // the defaults are the values of section 9.1
+  const ProblemFamily family = [&ex](double p) { return MakeOscillatorProblem(ex, p); };
+  EXPECT_NEAR(family(1.0).RegularizationDelta(), 3.51772e-5, 1e-10);
+  StudyOptions options;
+  options.steps = {500, 1000, 1500, 2000, 2500, 3000, 3500, 4000};
+  options.compare_samples = 500;
+  options.continuation.newton.residual_tolerance = 1e-13;
+  const std::vector<StudyLevel> levels = RunStudy(family, options);
+  ASSERT_EQ(levels.size(), options.steps.size());
+  const StudyLevel& finest = levels.back();
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const StudyLevel& l = levels[i];
+    EXPECT_TRUE(l.converged) << "N = " << l.steps << ": " << l.message;
+    EXPECT_LT(l.residual, 1e-10) << "N = " << l.steps;
+    EXPECT_LE(l.newton_iterations, 8);
+    const Bounds b =
+        TheoremBounds(0.352, 2.00069, 0.0, 3.51772e-5, ex.horizon, ex.horizon / l.steps);
+    const double diff = finest.value - l.value;  // u − ū_N with u ≈ ū_4000
+    EXPECT_GE(diff, b.lower) << "N = " << l.steps;
+    EXPECT_LE(diff, b.upper) << "N = " << l.steps;
+    if (i + 1 < levels.size()) {
+      EXPECT_GT(l.diff_finest, 0.0);
+      if (i > 0) {
+        // Values approach u_4000 monotonically and the displacement converges in max norm.
+        EXPECT_LT(std::abs(finest.value - l.value), std::abs(finest.value - levels[i - 1].value));
+        EXPECT_LT(l.diff_finest, levels[i - 1].diff_finest) << "N = " << l.steps;
+      }
+    }
+  }
+  // First order in Δt: halving Δt (500 → 1000 → 2000) halves the change of ū.
+  const double d1 = levels[1].value - levels[0].value;
+  const double d2 = levels[3].value - levels[1].value;
+  EXPECT_GT(d1 / d2, 1.6);
+  EXPECT_LT(d1 / d2, 2.4);
+  // The mass follows the reference to 1.01 and stops there.
+  EXPECT_NEAR(finest.z(0, finest.steps), ex.target, 1e-4);
+  EXPECT_LT(finest.tracking_rms, 2e-4);
+}
+
+TEST(ControlOscillator, DampingMakesTheFixedPointSweepConverge) {
+  // Section 7.1 on the 1D example with γ = 1e−2: the plain sweep (θ = 1) does not converge,
+  // the damped one (θ = 0.3) contracts monotonically to a solution of F(y) = 0. (With
+  // γ = 1e−4 neither converges: the effective controls switch; that is why Newton is used.)
+  OscillatorExample ex;
+  ex.gamma = 1e-2;
+  const TrackingProblem problem = MakeOscillatorProblem(ex, 1.0);
+  const PontryaginDiscretization disc(problem, 400);
+  FixedPointOptions options;
+  options.sweeps = 60;
+  options.tolerance = 1e-13;
+  options.damping = 1.0;
+  Eigen::VectorXd y_plain, y;
+  const FixedPointSummary plain = FixedPointSweep(disc, ReferenceGuess(disc), options, y_plain);
+  EXPECT_GT(plain.change.back(), plain.change.front());
+  options.damping = 0.3;
+  const FixedPointSummary s = FixedPointSweep(disc, ReferenceGuess(disc), options, y);
+  ASSERT_TRUE(s.finite);
+  ASSERT_GE(s.change.size(), 10u);
+  for (std::size_t i = 1; i < s.change.size(); ++i) EXPECT_LT(s.change[i], s.change[i - 1]);
+  PontryaginWorkspace ws;
+  Eigen::VectorXd f;
+  EXPECT_LT(EvaluateResidual(disc, y, ws, f), 1e-11);
+  // Newton from there agrees with Newton from the plain backward sweep.
+  Eigen::VectorXd y1 = y, y2;
+  FixedPointSweep(disc, ReferenceGuess(disc), FixedPointOptions{}, y2);
+  NewtonOptions newton;
+  newton.residual_tolerance = 1e-14;
+  ASSERT_TRUE(SolveNewton(disc, newton, y1).converged());
+  ASSERT_TRUE(SolveNewton(disc, newton, y2).converged());
+  EXPECT_LT((y1 - y2).lpNorm<Eigen::Infinity>(), 1e-12);
+}
+
+// The continuation of examples/control/arm_2d.toml.
+ContinuationOptions ArmContinuation() {
+  ContinuationOptions o;
+  o.path_start = 0.1;
+  o.path_increase = 0.5;
+  o.stiffness_start = 0.5;
+  o.stiffness_increase = 0.5;
+  o.gamma_start = 1.0;
+  o.gamma_decrease = 0.1;
+  o.max_solves = 200;
+  return o;
+}
+
+TEST(ControlArm, ModelMatchesPreSymbolic) {
+  const ArmExample ex;
+  const TrackingProblem problem = MakeArmProblem(ex, 1.0);
+  const SpringNetwork& net = problem.network();
+  EXPECT_EQ(net.num_nodes(), 6);
+  EXPECT_EQ(net.num_free(), 4);
+  EXPECT_EQ(net.num_springs(), 8);
+  EXPECT_EQ(net.state_size(), 16);
+  // Initial configuration (main.m, Global_X.init): nodes 1..4 at (6,1), (6,0), (3,1), (3,0).
+  const double expected[4][2] = {{6, 1}, {6, 0}, {3, 1}, {3, 0}};
+  for (int j = 0; j < 4; ++j) {
+    EXPECT_NEAR(net.node(j).position[0], expected[j][0], 1e-14);
+    EXPECT_NEAR(net.node(j).position[1], expected[j][1], 1e-14);
+    EXPECT_EQ(net.node(j).mass, 3.0);
+  }
+  EXPECT_TRUE(net.node(4).fixed);
+  EXPECT_TRUE(net.node(5).fixed);
+  for (const NetworkSpring& s : net.springs()) {
+    EXPECT_EQ(s.stiffness, 20.0);
+    EXPECT_EQ(s.damping, 40.0);
+    EXPECT_NEAR(s.rest_max / s.rest_min, 3.0, 1e-12);  // (1 + ½) / (1 − ½)
+  }
+  // The reference keeps the bone geometry: |3–4| = |1–2| = 1 at all times, and it is periodic.
+  double x[8], v[8], x0[8], v0[8];
+  ArmReference(ex, 1.0, 0.0, x0, v0);
+  for (double t : {0.0, 7.5, 15.0, 22.5, 30.0}) {
+    ArmReference(ex, 1.0, t, x, v);
+    EXPECT_NEAR(std::hypot(x[0] - x[2], x[1] - x[3]), 1.0, 1e-12);
+    EXPECT_NEAR(std::hypot(x[4] - x[6], x[5] - x[7]), 1.0, 1e-12);
+  }
+  ArmReference(ex, 1.0, 30.0, x, v);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(x[i], x0[i], 1e-12);
+  // Reference velocities are the time derivatives of the positions.
+  const double h = 1e-6;
+  double xp[8], xm[8], vt[8];
+  ArmReference(ex, 1.0, 11.0 + h, xp, vt);
+  ArmReference(ex, 1.0, 11.0 - h, xm, vt);
+  ArmReference(ex, 1.0, 11.0, x, v);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR((xp[i] - xm[i]) / (2 * h), v[i], 1e-8);
+}
+
+TEST(ControlArm, SolvesDirectlyAtSmallN) {
+  // Cheap enough for the sanitizer build: N = 64 at the target parameters.
+  const ArmExample ex;
+  const ProblemFamily family = [&ex](double p) { return MakeArmProblem(ex, p); };
+  Eigen::VectorXd y;
+  const ContinuationSummary s = SolveWithContinuation(family, 64, ContinuationOptions{}, y);
+  ASSERT_TRUE(s.converged) << s.BriefReport();
+  EXPECT_LT(s.last_newton.final_residual, 1e-10);
+}
+
+TEST(ControlArmSlow, ConvergesWithContinuationAndRefines) {
+  const ArmExample ex;
+  const ProblemFamily family = [&ex](double p) { return MakeArmProblem(ex, p); };
+  StudyOptions options;
+  options.steps = {32, 64, 128, 256, 512};
+  options.continuation = ArmContinuation();
+  std::vector<StudyLevel> levels = RunStudy(family, options);
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const StudyLevel& l = levels[i];
+    EXPECT_TRUE(l.converged) << "N = " << l.steps << ": " << l.message;
+    EXPECT_LT(l.residual, 1e-10);
+    if (i >= 2) {
+      // Successive max-norm differences shrink at least by half per doubling of N (measured:
+      // about a quarter, see docs/control.md).
+      EXPECT_LT(l.diff_previous, 0.6 * levels[i - 1].diff_previous) << "N = " << l.steps;
+      EXPECT_LT(l.tracking_rms, levels[i - 1].tracking_rms);
+    }
+  }
+  EXPECT_LT(levels.back().tracking_rms, 1e-3);
+  EXPECT_GT(levels.back().value, 0.0);
+
+  // The continuation path from the documented start, recorded stage by stage.
+  Eigen::VectorXd y;
+  const ContinuationSummary cs = SolveWithContinuation(family, 128, ArmContinuation(), y);
+  ASSERT_TRUE(cs.converged) << cs.BriefReport();
+  ASSERT_GE(cs.path.size(), 3u);
+  EXPECT_EQ(cs.path.front().stage, "initial");
+  EXPECT_EQ(cs.path.front().path_fraction, 0.1);
+  EXPECT_EQ(cs.path.front().gamma, 1.0);
+  EXPECT_EQ(cs.path.back().stage, "gamma");
+  EXPECT_EQ(cs.path.back().gamma, 1e-4);
+  EXPECT_EQ(cs.path_fraction, 1.0);
+  EXPECT_EQ(cs.stiffness_scale, 1.0);
+  int order = 0;  // stages appear in the order initial, path, stiffness, gamma
+  for (const ContinuationRecord& r : cs.path) {
+    const int stage = r.stage == "initial"     ? 0
+                      : r.stage == "path"      ? 1
+                      : r.stage == "stiffness" ? 2
+                                               : 3;
+    EXPECT_GE(stage, order);
+    order = stage;
+  }
+}
+
+}  // namespace
+}  // namespace moreau::control
