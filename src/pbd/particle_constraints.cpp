@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fmt/format.h>
+#include <limits>
 
 #include "moreau/common/error.h"
 
@@ -25,6 +27,25 @@ void ParticleModel::Validate() const {
   }
 }
 
+namespace {
+
+// Given cc = fl(c · c), a double t > c² (exact): cc is within half an ulp of c², so its successor
+// lies above c². A squared distance r2 ≥ t has √r2 > c exactly, so fl(√r2) ≥ c.
+double SeparatedSquare(double cc) {
+  return std::nextafter(cc, std::numeric_limits<double>::infinity());
+}
+
+// ‖u‖² summed in component order. Starts from u_0² rather than 0 + u_0² (the same value: a square
+// is never −0), which saves an addition on the sweep's dependency chain.
+template <int K>
+inline double SquaredNorm(const double* u) {
+  double r2 = u[0] * u[0];
+  for (int c = 1; c < K; ++c) r2 += u[c] * u[c];
+  return r2;
+}
+
+}  // namespace
+
 ParticleConstraints::ParticleConstraints(ParticleModel model, ParticleConstraintsOptions options)
     : model_(std::move(model)), options_(options) {
   model_.Validate();
@@ -35,16 +56,24 @@ ParticleConstraints::ParticleConstraints(ParticleModel model, ParticleConstraint
   }
   if (!(options_.skin_factor > 0.0)) throw InputError("skin_factor must be > 0");
   skin_ = options_.skin_factor * *std::max_element(model_.radius.begin(), model_.radius.end());
+  uniform_contact_ = std::all_of(model_.radius.begin(), model_.radius.end(),
+                                 [&](double r) { return r == model_.radius.front(); });
+  const int n = model_.count();
+  row_start_.assign(static_cast<std::size_t>(n) + 1, 0);
   if (options_.search == PairSearch::kAllPairs) {
-    const int n = model_.count();
     for (int i = 0; i < n; ++i) {
       for (int j = i + 1; j < n; ++j) {
-        pairs_.emplace_back(i, j);
-        contact_.push_back(model_.radius[static_cast<std::size_t>(i)] +
-                           model_.radius[static_cast<std::size_t>(j)]);
+        const double c =
+            model_.radius[static_cast<std::size_t>(i)] + model_.radius[static_cast<std::size_t>(j)];
+        first_.push_back(i);
+        neighbour_.push_back(j);
+        contact_.push_back(c);
+        contact2_.push_back(c * c);
+        separated2_.push_back(SeparatedSquare(c * c));
       }
+      row_start_[static_cast<std::size_t>(i) + 1] = static_cast<int>(neighbour_.size());
     }
-    stats_.candidate_pairs = static_cast<std::int64_t>(pairs_.size());
+    stats_.candidate_pairs = static_cast<std::int64_t>(neighbour_.size());
   }
 }
 
@@ -53,66 +82,142 @@ std::int64_t ParticleConstraints::num_sets() const {
   return n * (n - 1) / 2 + n * static_cast<std::int64_t>(model_.walls.size());
 }
 
-void ParticleConstraints::UpdatePairs(ConstVectorRef x) {
-  if (options_.search == PairSearch::kAllPairs) return;
-  const int k = model_.spatial_dimension;
+// Rebuild when some particle moved more than skin/4: two particles then approach by less than
+// skin/2 before the check, leaving skin/2 for motion within one sweep. A NaN displacement does
+// not count as a move. The check runs every sweep, so it is a branch-free pass; in the plane two
+// particles are checked at once.
+template <int K>
+bool ParticleConstraints::NeedsRebuild(const double* x) const {
+  const double limit2 = 0.0625 * skin_ * skin_;
+  const double* ref = reference_.data();
   const int n = model_.count();
-  if (built_) {
-    // Rebuild when some particle moved more than skin/4: two particles then approach by less than
-    // skin/2 before the check, leaving skin/2 for motion within one sweep.
-    const double limit2 = 0.0625 * skin_ * skin_;
-    bool stale = false;
-    for (int i = 0; i < n && !stale; ++i) {
-      stale = (x.segment(i * k, k) - reference_.segment(i * k, k)).squaredNorm() > limit2;
+  double worst = 0.0;
+  int i = 0;
+#if defined(__GNUC__) && !defined(__clang__)  // GCC vector extensions
+  if constexpr (K == 2) {
+    using Double2 = double __attribute__((vector_size(16)));
+    using Index2 = long long __attribute__((vector_size(16)));
+    Double2 worst2 = {0.0, 0.0};
+    for (; i + 1 < n; i += 2) {
+      Double2 a;
+      Double2 b;
+      Double2 ra;
+      Double2 rb;
+      std::memcpy(&a, x + 2 * i, sizeof a);
+      std::memcpy(&b, x + 2 * i + 2, sizeof b);
+      std::memcpy(&ra, ref + 2 * i, sizeof ra);
+      std::memcpy(&rb, ref + 2 * i + 2, sizeof rb);
+      a -= ra;
+      b -= rb;
+      a *= a;
+      b *= b;
+      const Double2 d2 =
+          __builtin_shuffle(a, b, Index2{0, 2}) + __builtin_shuffle(a, b, Index2{1, 3});
+      worst2 = d2 > worst2 ? d2 : worst2;
     }
-    if (!stale) return;
+    worst = worst2[1] > worst2[0] ? worst2[1] : worst2[0];
   }
-  pairs_.clear();
-  contact_.clear();
-  for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < n; ++j) {
-      const double c = model_.radius[static_cast<std::size_t>(i)] +
-                       model_.radius[static_cast<std::size_t>(j)];
-      const double reach = c + skin_;
-      if ((x.segment(i * k, k) - x.segment(j * k, k)).squaredNorm() < reach * reach) {
-        pairs_.emplace_back(i, j);
-        contact_.push_back(c);
-      }
-    }
+#endif
+  for (; i < n; ++i) {
+    double d[K];
+    for (int c = 0; c < K; ++c) d[c] = x[K * i + c] - ref[K * i + c];
+    const double d2 = SquaredNorm<K>(d);
+    worst = d2 > worst ? d2 : worst;
   }
-  reference_ = x;
-  built_ = true;
-  ++stats_.builds;
-  stats_.candidate_pairs = static_cast<std::int64_t>(pairs_.size());
+  return worst > limit2;
 }
 
 template <int K>
-void ParticleConstraints::SweepImpl(double* x) const {
-  const std::size_t np = pairs_.size();
-  for (std::size_t p = 0; p < np; ++p) {
-    double* xi = x + K * pairs_[p].first;
-    double* xj = x + K * pairs_[p].second;
-    double u[K];
-    double r2 = 0.0;
-    for (int c = 0; c < K; ++c) {
-      u[c] = xi[c] - xj[c];
-      r2 += u[c] * u[c];
-    }
-    const double contact = contact_[p];
-    if (r2 >= contact * contact) continue;
-    const double r = std::sqrt(r2);
-    if (r > 0.0) {
-      const double s = 0.5 * (contact - r) / r;
-      for (int c = 0; c < K; ++c) {
-        xi[c] += s * u[c];
-        xj[c] -= s * u[c];
-      }
-    } else {
-      xi[0] += 0.5 * contact;
-      xj[0] -= 0.5 * contact;
-    }
-  }
+void ParticleConstraints::BuildPairs(const double* x) {
   const int n = model_.count();
+  first_.clear();
+  neighbour_.clear();
+  contact_.clear();
+  contact2_.clear();
+  separated2_.clear();
+  for (int i = 0; i < n; ++i) {
+    const double* xi = x + K * i;
+    const double ri = model_.radius[static_cast<std::size_t>(i)];
+    for (int j = i + 1; j < n; ++j) {
+      const double* xj = x + K * j;
+      const double c = ri + model_.radius[static_cast<std::size_t>(j)];
+      const double reach = c + skin_;
+      double r2 = 0.0;
+      for (int d = 0; d < K; ++d) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
+      if (r2 < reach * reach) {
+        first_.push_back(i);
+        neighbour_.push_back(j);
+        contact_.push_back(c);
+        contact2_.push_back(c * c);
+        separated2_.push_back(SeparatedSquare(c * c));
+      }
+    }
+    row_start_[static_cast<std::size_t>(i) + 1] = static_cast<int>(neighbour_.size());
+  }
+  reference_ = Eigen::Map<const Vector>(x, K * n);
+  built_ = true;
+  ++stats_.builds;
+  stats_.candidate_pairs = static_cast<std::int64_t>(neighbour_.size());
+}
+
+void ParticleConstraints::UpdatePairs(ConstVectorRef x) {
+  if (options_.search == PairSearch::kAllPairs) return;
+  switch (model_.spatial_dimension) {
+    case 1:
+      if (!built_ || NeedsRebuild<1>(x.data())) BuildPairs<1>(x.data());
+      break;
+    case 2:
+      if (!built_ || NeedsRebuild<2>(x.data())) BuildPairs<2>(x.data());
+      break;
+    default:
+      if (!built_ || NeedsRebuild<3>(x.data())) BuildPairs<3>(x.data());
+      break;
+  }
+}
+
+// One sweep in the documented order. The pairs (i, ·) are consecutive and no other pair touches
+// X_i between them, so X_i is kept in registers over its row: the same operations in the same
+// order as visiting the pairs one by one, without a store and reload of X_i per pair.
+template <int K>
+void ParticleConstraints::SweepImpl(double* x) const {
+  const int n = model_.count();
+  const int* row_start = row_start_.data();
+  const int* neighbour = neighbour_.data();
+  const double* contact = contact_.data();
+  const double* contact2 = contact2_.data();
+  for (int i = 0; i < n; ++i) {
+    int p = row_start[i];
+    const int end = row_start[i + 1];
+    if (p == end) continue;
+    double* xi_mem = x + K * i;
+    double xi[K];
+    for (int c = 0; c < K; ++c) xi[c] = xi_mem[c];
+    for (; p < end; ++p) {
+      double* xj = x + K * neighbour[p];
+      double u[K];
+      for (int c = 0; c < K; ++c) u[c] = xi[c] - xj[c];
+      const double r2 = SquaredNorm<K>(u);
+      if (r2 >= contact2[p]) continue;
+      const double r = std::sqrt(r2);
+      if (r > 0.0) {
+        // The projection moves X_i by s u and X_j by −s u, s = ½ (c − r) / r. Computed as
+        // q · (½ u) with q = (c − r) / r: the same rounded products (scaling by ½ is exact away
+        // from subnormal numbers), with the halving off the dependency chain through the square
+        // root and the division.
+        const double q = (contact[p] - r) / r;
+        for (int c = 0; c < K; ++c) {
+          const double step = q * (0.5 * u[c]);
+          xi[c] += step;
+          xj[c] -= step;
+        }
+      } else {
+        xi[0] += 0.5 * contact[p];
+        xj[0] -= 0.5 * contact[p];
+      }
+    }
+    for (int c = 0; c < K; ++c) xi_mem[c] = xi[c];
+  }
+  if (model_.walls.empty()) return;
   for (int i = 0; i < n; ++i) {
     double* xi = x + K * i;
     for (const Wall& w : model_.walls) {
@@ -138,29 +243,32 @@ void ParticleConstraints::Linearize(ConstVectorRef y, LinearizedConstraints* out
   UpdatePairs(y);
   out->Clear();
   const int k = model_.spatial_dimension;
+  const int n = model_.count();
   int index[6];
   double coeff[6];
-  for (std::size_t p = 0; p < pairs_.size(); ++p) {
-    const int i = pairs_[p].first;
-    const int j = pairs_[p].second;
-    Vector u = y.segment(i * k, k) - y.segment(j * k, k);
-    const double r = u.norm();
-    if (r > 0.0) {
-      u /= r;
-    } else {
-      u.setZero();
-      u[0] = 1.0;
+  for (int i = 0; i < n; ++i) {
+    for (int p = row_start_[static_cast<std::size_t>(i)];
+         p < row_start_[static_cast<std::size_t>(i) + 1]; ++p) {
+      const int j = neighbour_[static_cast<std::size_t>(p)];
+      Vector u = y.segment(i * k, k) - y.segment(j * k, k);
+      const double r = u.norm();
+      if (r > 0.0) {
+        u /= r;
+      } else {
+        u.setZero();
+        u[0] = 1.0;
+      }
+      // g = ‖X_i − X_j‖ − c; ∇g = (u, −u); b = ⟨∇g, y⟩ − g(y) = r − (r − c) = c.
+      for (int c = 0; c < k; ++c) {
+        index[c] = i * k + c;
+        coeff[c] = u[c];
+        index[k + c] = j * k + c;
+        coeff[k + c] = -u[c];
+      }
+      out->AddRow(index, coeff, 2 * k, contact_[static_cast<std::size_t>(p)]);
     }
-    // g = ‖X_i − X_j‖ − c; ∇g = (u, −u); b = ⟨∇g, y⟩ − g(y) = r − (r − c) = c.
-    for (int c = 0; c < k; ++c) {
-      index[c] = i * k + c;
-      coeff[c] = u[c];
-      index[k + c] = j * k + c;
-      coeff[k + c] = -u[c];
-    }
-    out->AddRow(index, coeff, 2 * k, contact_[p]);
   }
-  for (int i = 0; i < model_.count(); ++i) {
+  for (int i = 0; i < n; ++i) {
     for (const Wall& w : model_.walls) {
       for (int c = 0; c < k; ++c) {
         index[c] = i * k + c;
@@ -174,23 +282,27 @@ void ParticleConstraints::Linearize(ConstVectorRef y, LinearizedConstraints* out
 void ParticleConstraints::AddPenaltyDirection(ConstVectorRef x, VectorRef out) {
   UpdatePairs(x);
   const int k = model_.spatial_dimension;
-  for (std::size_t p = 0; p < pairs_.size(); ++p) {
-    const int i = pairs_[p].first;
-    const int j = pairs_[p].second;
-    Vector u = x.segment(i * k, k) - x.segment(j * k, k);
-    const double r = u.norm();
-    if (r >= contact_[p]) continue;
-    if (r > 0.0) {
-      u /= r;
-    } else {
-      u.setZero();
-      u[0] = 1.0;
+  const int n = model_.count();
+  for (int i = 0; i < n; ++i) {
+    for (int p = row_start_[static_cast<std::size_t>(i)];
+         p < row_start_[static_cast<std::size_t>(i) + 1]; ++p) {
+      const int j = neighbour_[static_cast<std::size_t>(p)];
+      const double contact = contact_[static_cast<std::size_t>(p)];
+      Vector u = x.segment(i * k, k) - x.segment(j * k, k);
+      const double r = u.norm();
+      if (r >= contact) continue;
+      if (r > 0.0) {
+        u /= r;
+      } else {
+        u.setZero();
+        u[0] = 1.0;
+      }
+      const double half = 0.5 * (contact - r);
+      out.segment(i * k, k) -= half * u;
+      out.segment(j * k, k) += half * u;
     }
-    const double half = 0.5 * (contact_[p] - r);
-    out.segment(i * k, k) -= half * u;
-    out.segment(j * k, k) += half * u;
   }
-  for (int i = 0; i < model_.count(); ++i) {
+  for (int i = 0; i < n; ++i) {
     for (const Wall& w : model_.walls) {
       const double g = w.normal.dot(x.segment(i * k, k)) - w.offset -
                        model_.radius[static_cast<std::size_t>(i)];
@@ -199,14 +311,93 @@ void ParticleConstraints::AddPenaltyDirection(ConstVectorRef x, VectorRef out) {
   }
 }
 
+// max over the visited pairs of r_i + r_j − ‖X_i − X_j‖, floored at 0, the same value as
+// evaluating every pair in turn (a NaN distance is skipped, as std::max(worst, NaN) does):
+// - a pair with r2 ≥ separated2_ has a rounded distance ≥ its contact distance and cannot raise
+//   the maximum, so its square root is skipped;
+// - with equal radii every pair has the same contact distance c, and c − fl(√r2) is monotone in
+//   r2, so the maximum is c − fl(√min r2): one square root per call.
+template <int K>
+double ParticleConstraints::MaxPairViolation(const double* x) const {
+  const int n = model_.count();
+  const int* row_start = row_start_.data();
+  const int* neighbour = neighbour_.data();
+  const double* contact = contact_.data();
+  const double* separated2 = separated2_.data();
+  if (uniform_contact_) {
+    // The minimum is exact and does not depend on the order, so in the plane two pairs are
+    // taken at once.
+    const int np = static_cast<int>(neighbour_.size());
+    const int* first = first_.data();
+    double min_r2 = std::numeric_limits<double>::infinity();
+    int p = 0;
+#if defined(__GNUC__) && !defined(__clang__)  // GCC vector extensions
+    if constexpr (K == 2) {
+      using Double2 = double __attribute__((vector_size(16)));
+      using Index2 = long long __attribute__((vector_size(16)));
+      Double2 min2 = {min_r2, min_r2};
+      for (; p + 1 < np; p += 2) {
+        Double2 a;
+        Double2 b;
+        Double2 aj;
+        Double2 bj;
+        std::memcpy(&a, x + 2 * first[p], sizeof a);
+        std::memcpy(&aj, x + 2 * neighbour[p], sizeof aj);
+        std::memcpy(&b, x + 2 * first[p + 1], sizeof b);
+        std::memcpy(&bj, x + 2 * neighbour[p + 1], sizeof bj);
+        a -= aj;
+        b -= bj;
+        a *= a;
+        b *= b;
+        const Double2 r2 =
+            __builtin_shuffle(a, b, Index2{0, 2}) + __builtin_shuffle(a, b, Index2{1, 3});
+        min2 = r2 < min2 ? r2 : min2;
+      }
+      min_r2 = min2[1] < min2[0] ? min2[1] : min2[0];
+    }
+#endif
+    for (; p < np; ++p) {
+      const double* xi = x + K * first[p];
+      const double* xj = x + K * neighbour[p];
+      double u[K];
+      for (int c = 0; c < K; ++c) u[c] = xi[c] - xj[c];
+      const double r2 = SquaredNorm<K>(u);
+      min_r2 = r2 < min_r2 ? r2 : min_r2;
+    }
+    if (np == 0 || !(min_r2 < separated2[0])) return 0.0;
+    return std::max(0.0, contact[0] - std::sqrt(min_r2));
+  }
+  double worst = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double* xi = x + K * i;
+    for (int p = row_start[i]; p < row_start[i + 1]; ++p) {
+      const double* xj = x + K * neighbour[p];
+      double u[K];
+      for (int c = 0; c < K; ++c) u[c] = xi[c] - xj[c];
+      const double r2 = SquaredNorm<K>(u);
+      if (r2 >= separated2[p]) continue;
+      worst = std::max(worst, contact[p] - std::sqrt(r2));
+    }
+  }
+  return worst;
+}
+
 double ParticleConstraints::MaxViolation(ConstVectorRef x) {
   UpdatePairs(x);
   const int k = model_.spatial_dimension;
   double worst = 0.0;
-  for (std::size_t p = 0; p < pairs_.size(); ++p) {
-    const double r = (x.segment(pairs_[p].first * k, k) - x.segment(pairs_[p].second * k, k)).norm();
-    worst = std::max(worst, contact_[p] - r);
+  switch (k) {
+    case 1:
+      worst = MaxPairViolation<1>(x.data());
+      break;
+    case 2:
+      worst = MaxPairViolation<2>(x.data());
+      break;
+    default:
+      worst = MaxPairViolation<3>(x.data());
+      break;
   }
+  if (model_.walls.empty()) return worst;
   for (int i = 0; i < model_.count(); ++i) {
     for (const Wall& w : model_.walls) {
       const double g = w.normal.dot(x.segment(i * k, k)) - w.offset -

@@ -68,14 +68,27 @@ class ParticleConstraints final : public Constraints {
  private:
   void UpdatePairs(ConstVectorRef x);
   template <int K>
+  bool NeedsRebuild(const double* x) const;
+  template <int K>
+  void BuildPairs(const double* x);
+  template <int K>
   void SweepImpl(double* x) const;
+  template <int K>
+  double MaxPairViolation(const double* x) const;
 
   ParticleModel model_;
   ParticleConstraintsOptions options_;
   double skin_ = 0.0;
-  std::vector<std::pair<int, int>> pairs_;  // visited pairs, lexicographic
-  std::vector<double> contact_;             // r_i + r_j per visited pair
-  Vector reference_;                        // positions at the last build
+  bool uniform_contact_ = false;  // all radii equal: every pair has the same contact distance
+  // Visited pairs in lexicographic order, stored by rows: the pairs (i, j) of particle i are
+  // p = row_start_[i] … row_start_[i + 1] − 1 with j = neighbour_[p] (increasing j > i).
+  std::vector<int> row_start_;
+  std::vector<int> first_;        // i per visited pair
+  std::vector<int> neighbour_;    // j per visited pair
+  std::vector<double> contact_;   // r_i + r_j per visited pair
+  std::vector<double> contact2_;  // contact_² (rounded), the sweep's no-overlap test
+  std::vector<double> separated2_;  // the double above contact_²: r2 ≥ it ⇒ fl(√r2) ≥ contact_
+  Vector reference_;                // positions at the last build
   bool built_ = false;
   NeighbourListStats stats_;
 };
