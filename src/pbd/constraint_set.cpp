@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "unit_vector.h"
 
 namespace moreau::pbd {
 
@@ -101,13 +102,7 @@ double PairNonOverlap::Value(ConstVectorRef x) const {
 void PairNonOverlap::Gradient(ConstVectorRef x, VectorRef grad) const {
   grad.setZero();
   Vector u = x.segment(i_ * k_, k_) - x.segment(j_ * k_, k_);
-  const double r = u.norm();
-  if (r > 0.0) {
-    u /= r;
-  } else {
-    u.setZero();
-    u[0] = 1.0;
-  }
+  internal::NormalizeOrFirstAxis(u);
   grad.segment(i_ * k_, k_) = u;
   grad.segment(j_ * k_, k_) = -u;
 }

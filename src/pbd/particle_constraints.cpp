@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "moreau/common/error.h"
+#include "unit_vector.h"
 
 namespace moreau::pbd {
 
@@ -46,6 +47,14 @@ inline double SquaredNorm(const double* u) {
 
 }  // namespace
 
+void ParticleConstraints::AddCandidate(int i, int j, double contact) {
+  first_.push_back(i);
+  neighbour_.push_back(j);
+  contact_.push_back(contact);
+  contact2_.push_back(contact * contact);
+  separated2_.push_back(SeparatedSquare(contact * contact));
+}
+
 ParticleConstraints::ParticleConstraints(ParticleModel model, ParticleConstraintsOptions options)
     : model_(std::move(model)), options_(options) {
   model_.Validate();
@@ -65,11 +74,7 @@ ParticleConstraints::ParticleConstraints(ParticleModel model, ParticleConstraint
       for (int j = i + 1; j < n; ++j) {
         const double c =
             model_.radius[static_cast<std::size_t>(i)] + model_.radius[static_cast<std::size_t>(j)];
-        first_.push_back(i);
-        neighbour_.push_back(j);
-        contact_.push_back(c);
-        contact2_.push_back(c * c);
-        separated2_.push_back(SeparatedSquare(c * c));
+        AddCandidate(i, j, c);
       }
       row_start_[static_cast<std::size_t>(i) + 1] = static_cast<int>(neighbour_.size());
     }
@@ -145,11 +150,7 @@ void ParticleConstraints::BuildPairs(const double* x) {
       double r2 = 0.0;
       for (int d = 0; d < K; ++d) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
       if (r2 < reach * reach) {
-        first_.push_back(i);
-        neighbour_.push_back(j);
-        contact_.push_back(c);
-        contact2_.push_back(c * c);
-        separated2_.push_back(SeparatedSquare(c * c));
+        AddCandidate(i, j, c);
       }
     }
     row_start_[static_cast<std::size_t>(i) + 1] = static_cast<int>(neighbour_.size());
@@ -251,13 +252,7 @@ void ParticleConstraints::Linearize(ConstVectorRef y, LinearizedConstraints* out
          p < row_start_[static_cast<std::size_t>(i) + 1]; ++p) {
       const int j = neighbour_[static_cast<std::size_t>(p)];
       Vector u = y.segment(i * k, k) - y.segment(j * k, k);
-      const double r = u.norm();
-      if (r > 0.0) {
-        u /= r;
-      } else {
-        u.setZero();
-        u[0] = 1.0;
-      }
+      internal::NormalizeOrFirstAxis(u);
       // g = ‖X_i − X_j‖ − c; ∇g = (u, −u); b = ⟨∇g, y⟩ − g(y) = r − (r − c) = c.
       for (int c = 0; c < k; ++c) {
         index[c] = i * k + c;

@@ -67,6 +67,7 @@ class ParticleConstraints final : public Constraints {
 
  private:
   void UpdatePairs(ConstVectorRef x);
+  void AddCandidate(int i, int j, double contact);  // appends the pair to the candidate arrays
   template <int K>
   bool NeedsRebuild(const double* x) const;
   template <int K>
