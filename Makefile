@@ -1,5 +1,6 @@
 # moreau: the two commands of the quick start are `make demo` and `make test`.
 JOBS     ?= 2
+export OMP_WAIT_POLICY ?= passive
 BUILD    ?= build/release
 ASAN     ?= build/asan
 OUT      ?= out

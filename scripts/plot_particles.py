@@ -3,7 +3,7 @@
 
 usage: plot_particles.py OUTPUT_PNG FRAMES_CSV
          FRAMES_CSV has the header t,i,x,y,r (time, particle id, centre, radius) and holds two
-         2D frames, the first and the last (extra frames in between are ignored). Both are drawn
+         2D frames: all of them when there are at most four, else the first and the last. Both are drawn
          side by side, every particle a circle to scale coloured by its id, titled with its time
          (like paper 000, Fig. 9).
        plot_particles.py --series OUTPUT_PNG SERIES_CSV XLABEL YLABEL
@@ -71,7 +71,7 @@ def plot_frames(output, frames_csv):
         raise UsageError(f"{frames_csv}: no particles")
     col = {name: data[:, header.index(name)] for name in FRAME_COLUMNS}
     times = np.unique(col["t"])
-    shown = [times[0], times[-1]] if len(times) > 1 else [times[0]]
+    shown = list(times) if len(times) <= 4 else [times[0], times[-1]]
     x, y, r = col["x"], col["y"], col["r"]
     limits = (np.min(x - r), np.max(x + r), np.min(y - r), np.max(y + r))
     pad = 0.02 * max(limits[1] - limits[0], limits[3] - limits[2], 1e-12)

@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "moreau/common/error.h"
 #include "output.h"
+#include "particles_run.h"
 #include "pbd_scenario.h"
 #include "progress.h"
 
@@ -18,6 +19,7 @@ struct RunArgs {
   std::string scenario;
   std::vector<std::string> overrides;
   std::string out;
+  bool fix_overlaps = false;
 };
 
 std::string DefaultOut(const std::string& scenario, const std::string& suffix) {
@@ -27,6 +29,10 @@ std::string DefaultOut(const std::string& scenario, const std::string& suffix) {
 
 int Run(const RunArgs& args) {
   Scenario scenario = Scenario::Load(args.scenario, args.overrides);
+  if (scenario.GetString("problem.kind", "") == "particles") {
+    return RunParticleScenario(
+        scenario, {args.out.empty() ? DefaultOut(args.scenario, "") : args.out, args.fix_overlaps});
+  }
   const PbdScenario pbd_scenario = ReadPbdScenario(scenario);
   scenario.CheckAllKeysUsed();
 
@@ -131,6 +137,9 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
   cmd->add_option("--set", args->overrides, "Override a scenario value: key=value (repeatable)");
   cmd->add_option("--out", args->out, "Output folder (default out/<scenario name>)");
+  cmd->add_flag("--fix-overlaps", args->fix_overlaps,
+                "Particle scenarios: project an overlapping initial state to a feasible one "
+                "(repeated PBD sweeps) instead of rejecting it");
   cmd->callback([args] {
     const int code = Run(*args);
     if (code != 0) throw CLI::RuntimeError(code);

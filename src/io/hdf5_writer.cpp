@@ -173,6 +173,8 @@ Handle Hdf5TrajectoryWriter::CreateExtensible(const char* name, hid_t file_type,
   Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   Check(properties.get(), what);
   Check(H5Pset_chunk(properties.get(), rank, chunk_dims.data()), what);
+  // No modification times in the file: the same run gives the same bytes.
+  Check(H5Pset_obj_track_times(properties.get(), false), what);
   Handle dataset(H5Dcreate2(file_.get(), name, file_type, space.get(), H5P_DEFAULT,
                             properties.get(), H5P_DEFAULT),
                  H5Dclose);

@@ -1,0 +1,107 @@
+// The particle model at scale: what the problem is (immutable once validated).
+//
+// N particles in R^k, k ∈ {2, 3}, with per-particle radius r_i > 0 and mobility μ_i > 0, subject
+// to (the sets S_j of x' ∈ f(x) − N(S, x), all with exact orthogonal projections):
+//   - pair non-overlap        ‖X_i − X_j‖ ≥ r_i + r_j (minimum image on periodic axes);
+//   - walls (half-spaces)     ⟨n, X_i⟩ ≥ offset + r_i;
+//   - sphere obstacles        ‖X_i − c‖ ≥ R + r_i (disks in 2D, spheres in 3D);
+//   - segment obstacles (2D)  dist(X_i, [a, b]) ≥ r_i (the particle stays off a line segment);
+//   - periodic axes           X_i is identified with X_i + L e_a on a periodic axis a, L = hi − lo;
+//                             positions reported are wrapped into [lo, hi).
+// Lengths are in the scenario's length unit; nothing here assumes a unit.
+// Walls and obstacles are not replicated across periodic boundaries: in a periodic domain keep
+// them farther than r_max + skin from the boundary planes of the periodic axes (the engine keeps
+// positions unwrapped by at most the skin between neighbour-list builds).
+//
+// Positions are flat arrays in particle-id order: X_i occupies entries k·i … k·i + k − 1.
+// Vectors with three components (normal, centre, domain) use only the first k.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace moreau::particles {
+
+using Vec3 = std::array<double, 3>;
+
+// Half-space {⟨normal, X⟩ ≥ offset + r_i} for particle centres. The normal need not be unit
+// length: Validate() rejects a zero normal, the engine normalises (normal, offset) together.
+struct Wall {
+  Vec3 normal{0.0, 1.0, 0.0};
+  double offset = 0.0;
+};
+
+// A disk (2D) or sphere (3D) the particles stay out of: ‖X_i − center‖ ≥ radius + r_i.
+struct SphereObstacle {
+  Vec3 center{0.0, 0.0, 0.0};
+  double radius = 0.0;  // > 0
+};
+
+// A line segment [a, b] in 2D (dimension 2 only): dist(X_i, [a, b]) ≥ r_i. a ≠ b.
+// Rooms with doors are built from segments.
+struct SegmentObstacle {
+  std::array<double, 2> a{0.0, 0.0};
+  std::array<double, 2> b{1.0, 0.0};
+};
+
+struct ParticleModel {
+  int dimension = 2;             // k ∈ {2, 3}
+  std::vector<double> radius;    // r_i > 0, one per particle (the particle count N = radius.size())
+  std::vector<double> mobility;  // μ_i > 0, one per particle; empty means μ_i = 1 for all
+  std::vector<Wall> walls;
+  std::vector<SphereObstacle> spheres;
+  std::vector<SegmentObstacle> segments;  // dimension 2 only
+  // Periodic axes: periodic[a] makes axis a periodic with domain [domain_lo[a], domain_hi[a]).
+  // domain_lo/hi are ignored on non-periodic axes.
+  std::array<bool, 3> periodic{false, false, false};
+  Vec3 domain_lo{0.0, 0.0, 0.0};
+  Vec3 domain_hi{1.0, 1.0, 1.0};
+
+  int count() const { return static_cast<int>(radius.size()); }
+  double mobility_of(int i) const {
+    return mobility.empty() ? 1.0 : mobility[static_cast<std::size_t>(i)];
+  }
+  double max_radius() const;
+
+  // Adds the 2k walls of the box [lo, hi] (particle centres then stay in
+  // [lo + r_i, hi − r_i] on every axis). Order: for each axis a, the wall at lo[a], then hi[a].
+  void AddBoxWalls(const Vec3& lo, const Vec3& hi);
+
+  // Throws InputError naming the offending field and value:
+  //   "dimension must be 2 or 3 (got 4)", "a particle model needs at least one particle",
+  //   "radius of particle 12 must be > 0 (got -1)", "mobility of particle 3 must be > 0 (got 0)",
+  //   "mobility has 5 entries for 6 particles", "walls[2].normal must be non-zero",
+  //   "spheres[1].radius must be > 0", "segments[0] needs a ≠ b",
+  //   "segments need dimension 2 (segments[0] given in 3D)",
+  //   "domain of periodic axis 1 needs lo < hi (got [0, 0))",
+  //   "radius of particle 7 (0.6) is too large for periodic axis 0 of length 2: need 4 r < L"
+  //   (the minimum image of a pair in contact must be unique).
+  // Also checks count() against the memory estimate (CheckParticleMemory).
+  void Validate() const;
+};
+
+// Bytes the engine needs for `count` particles in `dimension` (positions, buffers, neighbour
+// lists at a generous contact count, grid): an estimate made before anything is allocated.
+std::int64_t EstimateEngineBytes(int dimension, std::int64_t count);
+
+// Throws InputError "count: N particles need about X GiB, more than the Y GiB available" when
+// EstimateEngineBytes exceeds limit_bytes (0: the machine's physical memory). Call it before
+// generating a large initial state.
+void CheckParticleMemory(int dimension, std::int64_t count, std::int64_t limit_bytes = 0);
+
+// Feasibility of positions (size k·N, id order) for the model, with tolerance tol ≥ 0 on every
+// constraint (a pair may overlap by at most tol·(r_i + r_j), a particle may be inside a wall or
+// obstacle by at most tol·r_i). Throws InputError naming the first violation found, e.g.
+//   "initial state: particles 3 and 17 overlap by 0.05 (fix it with FixOverlaps / --fix-overlaps)"
+//   "initial state: particle 5 is inside walls[2] by 0.1"
+//   "initial state: particle 9 is inside spheres[0] by 0.2", "… inside segments[1] …",
+//   "initial state: position of particle 4 is not finite",
+//   "initial state: positions have 99 entries for 50 particles in 2D".
+// Uses a cell grid: O(N) for bounded density. Positions outside a periodic domain are fine
+// (they are wrapped).
+void CheckInitialState(const ParticleModel& model, std::span<const double> positions,
+                       double tol = 1e-9);
+
+}  // namespace moreau::particles

@@ -1,0 +1,406 @@
+#include "moreau/particles/model.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+#include "moreau/particles/engine.h"
+#include "particles/kernels.h"
+
+namespace moreau::particles {
+
+double ParticleModel::max_radius() const {
+  return radius.empty() ? 0.0 : *std::max_element(radius.begin(), radius.end());
+}
+
+void ParticleModel::AddBoxWalls(const Vec3& lo, const Vec3& hi) {
+  for (int a = 0; a < dimension; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    Wall low;
+    low.normal = {0.0, 0.0, 0.0};
+    low.normal[ua] = 1.0;
+    low.offset = lo[ua];
+    walls.push_back(low);
+    Wall high;
+    high.normal = {0.0, 0.0, 0.0};
+    high.normal[ua] = -1.0;
+    high.offset = -hi[ua];
+    walls.push_back(high);
+  }
+}
+
+void ParticleModel::Validate() const {
+  if (dimension != 2 && dimension != 3) {
+    throw InputError(fmt::format("dimension must be 2 or 3 (got {})", dimension));
+  }
+  if (radius.empty()) throw InputError("a particle model needs at least one particle");
+  CheckParticleMemory(dimension, count());
+  for (std::size_t i = 0; i < radius.size(); ++i) {
+    if (!(radius[i] > 0.0) || !std::isfinite(radius[i])) {
+      throw InputError(fmt::format("radius of particle {} must be > 0 (got {})", i, radius[i]));
+    }
+  }
+  if (!mobility.empty() && mobility.size() != radius.size()) {
+    throw InputError(
+        fmt::format("mobility has {} entries for {} particles", mobility.size(), radius.size()));
+  }
+  for (std::size_t i = 0; i < mobility.size(); ++i) {
+    if (!(mobility[i] > 0.0) || !std::isfinite(mobility[i])) {
+      throw InputError(fmt::format("mobility of particle {} must be > 0 (got {})", i, mobility[i]));
+    }
+  }
+  const auto k = static_cast<std::size_t>(dimension);
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    double n2 = 0.0;
+    bool finite = std::isfinite(walls[w].offset);
+    for (std::size_t a = 0; a < k; ++a) {
+      n2 += walls[w].normal[a] * walls[w].normal[a];
+      finite = finite && std::isfinite(walls[w].normal[a]);
+    }
+    if (!finite) throw InputError(fmt::format("walls[{}] must be finite", w));
+    if (!(n2 > 0.0)) throw InputError(fmt::format("walls[{}].normal must be non-zero", w));
+  }
+  for (std::size_t s = 0; s < spheres.size(); ++s) {
+    if (!(spheres[s].radius > 0.0) || !std::isfinite(spheres[s].radius)) {
+      throw InputError(
+          fmt::format("spheres[{}].radius must be > 0 (got {})", s, spheres[s].radius));
+    }
+    for (std::size_t a = 0; a < k; ++a) {
+      if (!std::isfinite(spheres[s].center[a])) {
+        throw InputError(fmt::format("spheres[{}].center must be finite", s));
+      }
+    }
+  }
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    if (dimension != 2) {
+      throw InputError(
+          fmt::format("segments need dimension 2 (segments[{}] given in {}D)", s, dimension));
+    }
+    const auto& g = segments[s];
+    if (!std::isfinite(g.a[0]) || !std::isfinite(g.a[1]) || !std::isfinite(g.b[0]) ||
+        !std::isfinite(g.b[1])) {
+      throw InputError(fmt::format("segments[{}] must be finite", s));
+    }
+    if (g.a[0] == g.b[0] && g.a[1] == g.b[1]) {
+      throw InputError(fmt::format("segments[{}] needs a ≠ b", s));
+    }
+  }
+  const double rmax = max_radius();
+  for (std::size_t a = 0; a < k; ++a) {
+    if (!periodic[a]) continue;
+    const double lo = domain_lo[a];
+    const double hi = domain_hi[a];
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi)) {
+      throw InputError(
+          fmt::format("domain of periodic axis {} needs lo < hi (got [{}, {}))", a, lo, hi));
+    }
+    if (!(4.0 * rmax < hi - lo)) {
+      const auto it = std::max_element(radius.begin(), radius.end());
+      throw InputError(fmt::format(
+          "radius of particle {} ({}) is too large for periodic axis {} of length {}: need 4 r < L",
+          it - radius.begin(), rmax, a, hi - lo));
+    }
+  }
+}
+
+std::int64_t EstimateEngineBytes(int dimension, std::int64_t count) {
+  const std::int64_t k = dimension == 3 ? 3 : 2;
+  // Position buffers (current, predicted, list reference, forces, user copy), radius, mobility,
+  // ids, sort keys, path bounds, row starts, cells; neighbour half-lists at 16 (2D) or 32 (3D)
+  // candidates per particle of 5 bytes each.
+  const std::int64_t per_particle = 8 * (5 * k + 8) + (k == 2 ? 80 : 160) + 48;
+  if (count > (std::int64_t{1} << 62) / per_particle) return std::int64_t{1} << 62;
+  return count * per_particle;
+}
+
+void CheckParticleMemory(int dimension, std::int64_t count, std::int64_t limit_bytes) {
+  if (count < 0) throw InputError(fmt::format("count must be ≥ 0 (got {})", count));
+  if (count > std::int64_t{1} << 31) {
+    throw InputError(
+        fmt::format("count: {} particles is more than the engine's limit of 2^31", count));
+  }
+  std::int64_t limit = limit_bytes;
+  if (limit <= 0) {
+    const long pages = sysconf(_SC_PHYS_PAGES);
+    const long page = sysconf(_SC_PAGE_SIZE);
+    limit = pages > 0 && page > 0 ? static_cast<std::int64_t>(pages) * page : std::int64_t{1} << 62;
+  }
+  const std::int64_t need = EstimateEngineBytes(dimension, count);
+  if (need > limit) {
+    constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+    throw InputError(
+        fmt::format("count: {} particles need about {:.1f} GiB, more than the {:.1f} GiB available",
+                    count, static_cast<double>(need) / kGiB, static_cast<double>(limit) / kGiB));
+  }
+}
+
+namespace internal {
+
+LinkedCells::LinkedCells(int k, const Vec3& lo, const Vec3& hi, const std::array<bool, 3>& periodic,
+                         double edge, std::int64_t max_cells)
+    : k_(k), periodic_(periodic) {
+  std::int64_t total = 1;
+  for (int a = 0; a < k; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    const double span = std::max(hi[ua] - lo[ua], 0.0);
+    double n = std::floor(span / edge);
+    n = std::clamp(n, 1.0, 1e6);
+    n_[a] = static_cast<int>(n);
+    total *= n_[a];
+  }
+  // Coarsen when the box is large for the particle count (a few far-out particles).
+  while (total > std::max<std::int64_t>(max_cells, 1)) {
+    total = 1;
+    for (int a = 0; a < k; ++a) {
+      n_[a] = std::max(1, n_[a] / 2);
+      total *= n_[a];
+    }
+    if (total == 1) break;
+  }
+  for (int a = 0; a < k; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    lo_[a] = lo[ua];
+    const double span = std::max(hi[ua] - lo[ua], 0.0);
+    inv_[a] = span > 0.0 ? n_[a] / span : 0.0;
+  }
+  head_.assign(static_cast<std::size_t>(total), -1);
+}
+
+int LinkedCells::Coord(int a, double v) const {
+  const double t = (v - lo_[a]) * inv_[a];
+  if (!(t >= 0.0)) return 0;
+  if (t >= n_[a]) return n_[a] - 1;
+  return static_cast<int>(t);
+}
+
+void LinkedCells::Insert(int particle, const double* x) {
+  int c[3] = {0, 0, 0};
+  for (int a = 0; a < k_; ++a) c[a] = Coord(a, x[a]);
+  const std::int64_t cell = Index(c[0], c[1], c[2]);
+  if (next_.size() <= static_cast<std::size_t>(particle)) {
+    next_.resize(static_cast<std::size_t>(particle) + 1, -1);
+  }
+  next_[static_cast<std::size_t>(particle)] = head_[static_cast<std::size_t>(cell)];
+  head_[static_cast<std::size_t>(cell)] = particle;
+}
+
+}  // namespace internal
+
+namespace {
+
+// Normalised walls: n unit, b = offset/|n|.
+struct UnitWall {
+  double n[3];
+  double b;
+};
+
+std::vector<UnitWall> UnitWalls(const ParticleModel& model) {
+  std::vector<UnitWall> out;
+  for (const Wall& w : model.walls) {
+    double n2 = 0.0;
+    for (int a = 0; a < model.dimension; ++a) {
+      n2 += w.normal[static_cast<std::size_t>(a)] * w.normal[static_cast<std::size_t>(a)];
+    }
+    const double len = std::sqrt(n2);
+    UnitWall u{{0.0, 0.0, 0.0}, w.offset / len};
+    for (int a = 0; a < model.dimension; ++a) u.n[a] = w.normal[static_cast<std::size_t>(a)] / len;
+    out.push_back(u);
+  }
+  return out;
+}
+
+// The displacement X_i − X_j with the minimum image on periodic axes.
+void Displacement(const ParticleModel& model, const double* xi, const double* xj, double* u) {
+  for (int a = 0; a < model.dimension; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    u[a] = xi[a] - xj[a];
+    if (model.periodic[ua]) {
+      u[a] = internal::MinimumImage(u[a], model.domain_hi[ua] - model.domain_lo[ua]);
+    }
+  }
+}
+
+double Norm(int k, const double* u) {
+  double r2 = 0.0;
+  for (int a = 0; a < k; ++a) r2 += u[a] * u[a];
+  return std::sqrt(r2);
+}
+
+// How deep particle i at x is inside a wall or obstacle (> tol·r_i), as a message; empty if not.
+std::string FixedSetViolation(const ParticleModel& model, const std::vector<UnitWall>& walls, int i,
+                              const double* x, double tol) {
+  const int k = model.dimension;
+  const double r = model.radius[static_cast<std::size_t>(i)];
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    double g = -walls[w].b - r;
+    for (int a = 0; a < k; ++a) g += walls[w].n[a] * x[a];
+    if (g < -tol * r) return fmt::format("particle {} is inside walls[{}] by {}", i, w, -g);
+  }
+  for (std::size_t s = 0; s < model.spheres.size(); ++s) {
+    double d[3];
+    for (int a = 0; a < k; ++a) d[a] = x[a] - model.spheres[s].center[static_cast<std::size_t>(a)];
+    const double g = Norm(k, d) - model.spheres[s].radius - r;
+    if (g < -tol * r) return fmt::format("particle {} is inside spheres[{}] by {}", i, s, -g);
+  }
+  for (std::size_t s = 0; s < model.segments.size(); ++s) {
+    const double g =
+        internal::SegmentGap(x, model.segments[s].a.data(), model.segments[s].b.data(), r);
+    if (g < -tol * r) return fmt::format("particle {} is inside segments[{}] by {}", i, s, -g);
+  }
+  return {};
+}
+
+// Positions wrapped into the periodic domain, and the box [lo, hi] the grid covers.
+std::vector<double> WrappedCopy(const ParticleModel& model, std::span<const double> positions,
+                                Vec3* lo, Vec3* hi) {
+  const int k = model.dimension;
+  const int n = model.count();
+  std::vector<double> x(positions.begin(), positions.end());
+  for (int a = 0; a < k; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    if (model.periodic[ua]) {
+      const double L = model.domain_hi[ua] - model.domain_lo[ua];
+      for (int i = 0; i < n; ++i) {
+        double& v = x[static_cast<std::size_t>(k * i + a)];
+        v = internal::Wrap(v, model.domain_lo[ua], L);
+      }
+      (*lo)[ua] = model.domain_lo[ua];
+      (*hi)[ua] = model.domain_hi[ua];
+    } else {
+      double mn = INFINITY, mx = -INFINITY;
+      for (int i = 0; i < n; ++i) {
+        mn = std::min(mn, x[static_cast<std::size_t>(k * i + a)]);
+        mx = std::max(mx, x[static_cast<std::size_t>(k * i + a)]);
+      }
+      (*lo)[ua] = mn;
+      (*hi)[ua] = mx;
+    }
+  }
+  return x;
+}
+
+}  // namespace
+
+void CheckInitialState(const ParticleModel& model, std::span<const double> positions, double tol) {
+  model.Validate();
+  const int k = model.dimension;
+  const int n = model.count();
+  if (positions.size() != static_cast<std::size_t>(k) * static_cast<std::size_t>(n)) {
+    throw InputError(fmt::format("initial state: positions have {} entries for {} particles in {}D",
+                                 positions.size(), n, k));
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int a = 0; a < k; ++a) {
+      if (!std::isfinite(positions[static_cast<std::size_t>(k * i + a)])) {
+        throw InputError(fmt::format("initial state: position of particle {} is not finite", i));
+      }
+    }
+  }
+  const std::vector<UnitWall> walls = UnitWalls(model);
+  for (int i = 0; i < n; ++i) {
+    const std::string v =
+        FixedSetViolation(model, walls, i, &positions[static_cast<std::size_t>(k * i)], tol);
+    if (!v.empty()) throw InputError("initial state: " + v);
+  }
+  Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+  const std::vector<double> x = WrappedCopy(model, positions, &lo, &hi);
+  const double edge = 2.0 * model.max_radius();
+  internal::LinkedCells cells(k, lo, hi, model.periodic, edge, 4 * static_cast<std::int64_t>(n));
+  for (int i = 0; i < n; ++i) cells.Insert(i, &x[static_cast<std::size_t>(k * i)]);
+  for (int i = 0; i < n; ++i) {
+    const double* xi = &x[static_cast<std::size_t>(k * i)];
+    const double ri = model.radius[static_cast<std::size_t>(i)];
+    cells.ForEachNear(xi, [&](int j) {
+      if (j <= i) return;
+      double u[3];
+      Displacement(model, xi, &x[static_cast<std::size_t>(k * j)], u);
+      const double c = ri + model.radius[static_cast<std::size_t>(j)];
+      const double overlap = c - Norm(k, u);
+      if (overlap > tol * c) {
+        throw InputError(fmt::format(
+            "initial state: particles {} and {} overlap by {} (fix it with FixOverlaps / "
+            "--fix-overlaps)",
+            i, j, overlap));
+      }
+    });
+  }
+}
+
+std::vector<double> RandomSequentialAddition(const ParticleModel& model, const Vec3& lo,
+                                             const Vec3& hi, std::uint64_t seed,
+                                             std::int64_t max_attempts) {
+  model.Validate();
+  const int k = model.dimension;
+  const int n = model.count();
+  Vec3 glo = lo, ghi = hi;
+  for (int a = 0; a < k; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    if (model.periodic[ua]) {
+      glo[ua] = model.domain_lo[ua];
+      ghi[ua] = model.domain_hi[ua];
+    } else if (!(lo[ua] <= hi[ua]) || !std::isfinite(lo[ua]) || !std::isfinite(hi[ua])) {
+      throw InputError(
+          fmt::format("initial box on axis {} needs lo ≤ hi (got [{}, {}])", a, lo[ua], hi[ua]));
+    }
+  }
+  const std::vector<UnitWall> walls = UnitWalls(model);
+  internal::LinkedCells cells(k, glo, ghi, model.periodic, 2.0 * model.max_radius(),
+                              4 * static_cast<std::int64_t>(n));
+  std::vector<double> x(static_cast<std::size_t>(k) * static_cast<std::size_t>(n), 0.0);
+  std::uint64_t state = seed;
+  auto uniform = [&state] {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-53;
+  };
+  for (int i = 0; i < n; ++i) {
+    const double ri = model.radius[static_cast<std::size_t>(i)];
+    double* xi = &x[static_cast<std::size_t>(k * i)];
+    bool placed = false;
+    for (std::int64_t attempt = 0; attempt < max_attempts && !placed; ++attempt) {
+      for (int a = 0; a < k; ++a) {
+        const auto ua = static_cast<std::size_t>(a);
+        if (model.periodic[ua]) {
+          xi[a] = glo[ua] + (ghi[ua] - glo[ua]) * uniform();
+          if (xi[a] >= ghi[ua]) xi[a] = glo[ua];
+        } else {
+          const double a0 = glo[ua] + ri;
+          const double a1 = ghi[ua] - ri;
+          if (a1 < a0) {
+            throw InputError(
+                fmt::format("particle {} of radius {} does not fit the initial box "
+                            "on axis {}",
+                            i, ri, a));
+          }
+          xi[a] = a0 + (a1 - a0) * uniform();
+        }
+      }
+      if (!FixedSetViolation(model, walls, i, xi, 0.0).empty()) continue;
+      placed = true;
+      cells.ForEachNear(xi, [&](int j) {
+        if (!placed) return;
+        double u[3];
+        Displacement(model, xi, &x[static_cast<std::size_t>(k * j)], u);
+        double r2 = 0.0;
+        for (int a = 0; a < k; ++a) r2 += u[a] * u[a];
+        const double c = ri + model.radius[static_cast<std::size_t>(j)];
+        if (r2 < c * c) placed = false;
+      });
+    }
+    if (!placed) {
+      throw InputError(fmt::format(
+          "could not place particle {} without overlap in {} attempts (placed {} of {})", i,
+          max_attempts, i, n));
+    }
+    cells.Insert(i, xi);
+  }
+  return x;
+}
+
+}  // namespace moreau::particles
