@@ -49,6 +49,9 @@ demo: build
 	$(MOREAU) control examples/control/arm_2d.toml --out $(OUT)/arm_2d
 	$(MOREAU) control examples/control/arm_2d.toml --out $(OUT)/arm_2d_study \
 	  --study-steps 32,64,128,256,512,1024,2048,4096
+	$(MOREAU) run examples/crowd.toml --out $(OUT)/crowd
+	$(MOREAU) run examples/packing3d.toml --out $(OUT)/packing3d
+	$(MOREAU) run examples/disks_1e4.toml --out $(OUT)/disks_1e4
 	@echo "demo: figures are in $(OUT)/ (README.md says how to read them)"
 
 # Step sizes of the studies: h0 / 2^k.
@@ -58,6 +61,7 @@ DISKS_H := 0.125,0.0625,0.03125,0.015625,0.0078125,0.00390625,0.001953125,0.0009
 bench: build
 	$(BUILD)/pbd_bench
 	$(BUILD)/control_bench --benchmark_counters_tabular=true
+	$(BUILD)/particles_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 format:
 	@clang-format -i $$(git ls-files '*.h' '*.cpp')

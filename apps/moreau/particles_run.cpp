@@ -370,8 +370,15 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
 
   ProgressBar progress("run", steps);
   bool ok = true;
+  std::string failure;  // a NumericalError from the engine
   for (std::int64_t step = 1; step <= steps; ++step) {
-    if (!engine.Step()) {
+    bool stepped = false;
+    try {
+      stepped = engine.Step();
+    } catch (const NumericalError& e) {  // the step could not be completed; the state is the last good one
+      failure = e.what();
+    }
+    if (!stepped) {
       ok = false;
       break;
     }
@@ -417,8 +424,10 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
   j["timings"] = {{"setup", st.setup_seconds},        {"forces", st.force_seconds},
                   {"neighbour_lists", st.neighbour_seconds}, {"sweeps", st.sweep_seconds},
                   {"monitor", st.monitor_seconds},    {"total", st.total_seconds}};
-  j["termination"] = summary.ok() ? "completed" : "non_finite";
-  if (!summary.ok()) {
+  j["termination"] = !failure.empty() ? "numerical_failure" : summary.ok() ? "completed" : "non_finite";
+  if (!failure.empty()) {
+    j["message"] = failure + fmt::format("; the state of step {} is kept", engine.step());
+  } else if (!summary.ok()) {
     j["message"] = summary.message;
     j["failed_step"] = summary.failed_step;
     j["failed_particle"] = summary.failed_particle;
@@ -444,8 +453,9 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
   std::printf("wrote %s/summary.json%s%s%s\n", out.dir().c_str(),
               hdf5 ? ", trajectory.h5 + .xdmf" : "", vtu ? ", vtu/frame.pvd" : "",
               snapshots && k == 2 ? ", snapshots.png" : "");
-  if (!summary.ok()) {
-    std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
+  if (!ok) {
+    std::fprintf(stderr, "moreau: numerical failure: %s\n",
+                 failure.empty() ? summary.message.c_str() : failure.c_str());
     return 3;
   }
   return 0;
