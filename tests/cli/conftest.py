@@ -15,6 +15,17 @@ def run_cli(*args, cwd=None):
                           timeout=600)
 
 
+def assert_rejected(scenario, out, key, reason):
+    """`moreau run SCENARIO --out OUT` must fail with exit code 2 and one stderr line naming the
+    file, the key and the reason, leaving nothing in OUT."""
+    r = run_cli("run", scenario, "--out", out)
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    assert str(scenario) in lines[0] and key in lines[0] and reason in lines[0], lines[0]
+    assert not out.exists() or not any(out.iterdir())
+
+
 @pytest.fixture
 def write_scenario(tmp_path):
     def write(text, name="scenario.toml"):

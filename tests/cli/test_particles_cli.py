@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import ROOT, assert_rejected, run_cli
 
 SMALL = """
 [problem]
@@ -114,14 +114,7 @@ BAD = [
 
 @pytest.mark.parametrize("name,text,key,reason", BAD, ids=[b[0] for b in BAD])
 def test_bad_particle_input(tmp_path, write_scenario, name, text, key, reason):
-    path = write_scenario(text)
-    out = tmp_path / "out"
-    r = run_cli("run", path, "--out", out)
-    assert r.returncode == 2, (r.returncode, r.stderr)
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1, r.stderr
-    assert str(path) in lines[0] and key in lines[0] and reason in lines[0], lines[0]
-    assert not out.exists() or not any(out.iterdir())
+    assert_rejected(write_scenario(text), tmp_path / "out", key, reason)
 
 
 def test_non_finite_force_stops_and_keeps_the_last_good_frame(tmp_path, write_scenario):

@@ -5,7 +5,7 @@ import json
 
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import ROOT, assert_rejected, run_cli
 
 SLIDING = """
 [problem]
@@ -128,14 +128,7 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(tmp_path, write_scenari
     if name == "infeasible":
         # Two disks given overlapping positions.
         text = text.replace("[solver]", "positions = [[0.0, 0.0], [0.1, 0.0]]\n\n[solver]")
-    path = write_scenario(text)
-    out = tmp_path / "out"
-    r = run_cli("run", path, "--out", out)
-    assert r.returncode == 2, (r.returncode, r.stderr)
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1, r.stderr
-    assert str(path) in lines[0] and key in lines[0] and reason in lines[0], lines[0]
-    assert not out.exists() or not any(out.iterdir())
+    assert_rejected(write_scenario(text), tmp_path / "out", key, reason)
 
 
 def test_unreadable_file_is_exit_2(tmp_path):
