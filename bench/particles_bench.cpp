@@ -23,6 +23,7 @@
 
 #include <unistd.h>
 
+#include "moreau/pbd/cases.h"
 #include "moreau/particles/engine.h"
 
 namespace {
@@ -51,14 +52,8 @@ Workload MakeWorkload(int side) {
   w.L = a * side;
   w.h = 0.01 / w.L;
   w.x0.resize(2 * static_cast<std::size_t>(w.n));
-  std::uint64_t state = 12345;
-  auto uniform = [&state] {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-53;
-  };
+  moreau::pbd::SplitMix64 rng(12345);
+  auto uniform = [&rng] { return rng.Uniform01(); };
   const double jitter = 0.08;  // keeps lattice neighbours ≥ a − 2√2·0.08 > 2r apart
   for (int i = 0; i < side; ++i) {
     for (int j = 0; j < side; ++j) {

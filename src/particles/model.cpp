@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/pbd/cases.h"
 #include "moreau/particles/engine.h"
 #include "particles/kernels.h"
 
@@ -351,14 +352,8 @@ std::vector<double> RandomSequentialAddition(const ParticleModel& model, const V
   internal::LinkedCells cells(k, glo, ghi, model.periodic, 2.0 * model.max_radius(),
                               4 * static_cast<std::int64_t>(n));
   std::vector<double> x(static_cast<std::size_t>(k) * static_cast<std::size_t>(n), 0.0);
-  std::uint64_t state = seed;
-  auto uniform = [&state] {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-53;
-  };
+  pbd::SplitMix64 rng(seed);
+  auto uniform = [&rng] { return rng.Uniform01(); };
   for (int i = 0; i < n; ++i) {
     const double ri = model.radius[static_cast<std::size_t>(i)];
     double* xi = &x[static_cast<std::size_t>(k * i)];
