@@ -78,18 +78,24 @@ void Report(benchmark::State& state, int n) {
       benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
 }
 
-void BM_Engine(benchmark::State& state) {
-  const Workload w = MakeWorkload(SideFor(state.range(0)));
+// The engine of the benchmark workload: disks of radius kRadius in the trap −x, overlap monitor
+// off, the lattice start feasible by construction (not re-checked).
+Engine MakeWorkloadEngine(const Workload& w, int threads) {
   ParticleModel model;
   model.radius.assign(static_cast<std::size_t>(w.n), kRadius);
   Forces forces;
   forces.trap = HarmonicTrap{1.0, {0.0, 0.0, 0.0}};
   EngineOptions options;
   options.h = w.h;
-  options.threads = static_cast<int>(state.range(1));
+  options.threads = threads;
   options.monitor_overlap = false;
-  options.check_initial_state = false;  // the lattice is feasible by construction
-  Engine engine(model, forces, options, w.x0);
+  options.check_initial_state = false;
+  return Engine(model, forces, options, w.x0);
+}
+
+void BM_Engine(benchmark::State& state) {
+  const Workload w = MakeWorkload(SideFor(state.range(0)));
+  Engine engine = MakeWorkloadEngine(w, static_cast<int>(state.range(1)));
   for (int i = 0; i < 3; ++i) engine.Step();  // warm up (first-touch, caches)
   for (auto _ : state) {
     if (!engine.Step()) state.SkipWithError("non-finite state");
@@ -184,18 +190,8 @@ void BM_PlainCellListSweep(benchmark::State& state) {
 // ratio, and the same ratio for the trivially parallel control loop measured in the same bursts.
 void BM_ThreadSpeedupInterleaved(benchmark::State& state) {
   const Workload w = MakeWorkload(SideFor(state.range(0)));
-  ParticleModel model;
-  model.radius.assign(static_cast<std::size_t>(w.n), kRadius);
-  Forces forces;
-  forces.trap = HarmonicTrap{1.0, {0.0, 0.0, 0.0}};
-  EngineOptions options;
-  options.h = w.h;
-  options.monitor_overlap = false;
-  options.check_initial_state = false;
-  options.threads = 1;
-  Engine one(model, forces, options, w.x0);
-  options.threads = 2;
-  Engine two(model, forces, options, w.x0);
+  Engine one = MakeWorkloadEngine(w, 1);
+  Engine two = MakeWorkloadEngine(w, 2);
   for (int i = 0; i < 3; ++i) {
     one.Step();
     two.Step();

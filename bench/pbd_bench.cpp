@@ -129,30 +129,24 @@ LibraryResult LibraryRun(const moreau::pbd::Vector& x0, bool monitor,
   return r;
 }
 
-void BM_PlainLoop(benchmark::State& state) {
+// Times one whole run of a plain loop (`run`) from the initial state per iteration.
+template <void (*run)(std::vector<double>&, int, double, double)>
+void TimePlainLoop(benchmark::State& state) {
   const std::vector<double> x0 = InitialState();
   std::vector<double> x;
   for (auto _ : state) {
     x = x0;
-    PlainLoopRun(x, kSteps, kStep, kRadius);
+    run(x, kSteps, kStep, kRadius);
     benchmark::DoNotOptimize(x.data());
     benchmark::ClobberMemory();
   }
   state.counters["pairs"] = kCount * (kCount - 1) / 2;
 }
+
+void BM_PlainLoop(benchmark::State& state) { TimePlainLoop<PlainLoopRun>(state); }
 BENCHMARK(BM_PlainLoop)->Unit(benchmark::kMillisecond);
 
-void BM_PlainLoopHoisted(benchmark::State& state) {
-  const std::vector<double> x0 = InitialState();
-  std::vector<double> x;
-  for (auto _ : state) {
-    x = x0;
-    PlainLoopHoistedRun(x, kSteps, kStep, kRadius);
-    benchmark::DoNotOptimize(x.data());
-    benchmark::ClobberMemory();
-  }
-  state.counters["pairs"] = kCount * (kCount - 1) / 2;
-}
+void BM_PlainLoopHoisted(benchmark::State& state) { TimePlainLoop<PlainLoopHoistedRun>(state); }
 BENCHMARK(BM_PlainLoopHoisted)->Unit(benchmark::kMillisecond);
 
 void BM_LibraryPBD(benchmark::State& state) {
