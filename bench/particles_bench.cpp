@@ -23,6 +23,7 @@
 
 #include <unistd.h>
 
+#include "moreau/common/random.h"
 #include "moreau/pbd/cases.h"
 #include "moreau/particles/engine.h"
 
@@ -52,7 +53,7 @@ Workload MakeWorkload(int side) {
   w.L = a * side;
   w.h = 0.01 / w.L;
   w.x0.resize(2 * static_cast<std::size_t>(w.n));
-  moreau::pbd::SplitMix64 rng(12345);
+  moreau::SplitMix64 rng(12345);
   auto uniform = [&rng] { return rng.Uniform01(); };
   const double jitter = 0.08;  // keeps lattice neighbours ≥ a − 2√2·0.08 > 2r apart
   for (int i = 0; i < side; ++i) {

@@ -39,7 +39,7 @@ int Run(const RunArgs& args) {
   OutputDir out(args.out.empty() ? DefaultOut(args.scenario, "") : args.out);
   pbd::StudyProblem problem = pbd_scenario.MakeProblem();
   const pbd::StepperOptions& options = pbd_scenario.solver;
-  const std::int64_t steps = pbd::StepCount(problem.T, options.h);
+  const std::int64_t steps = StepCount(problem.T, options.h);
 
   if (pbd_scenario.disks && pbd_scenario.reference_for_run) {
     std::fprintf(stderr, "moreau: computing the reference solution (PNGS, h = %g)\n",

@@ -50,7 +50,7 @@ int Study(const StudyArgs& args) {
   for (double h : hs) {
     if (!(h > 0.0)) throw InputError(fmt::format("--h: step sizes must be > 0 (got {})", h));
     try {
-      (void)pbd::StepCount(pbd_scenario.T(), h);
+      (void)StepCount(pbd_scenario.T(), h);
     } catch (const InputError& e) {
       throw InputError(fmt::format("--h: {}", e.what()));
     }
@@ -67,7 +67,7 @@ int Study(const StudyArgs& args) {
   if (!problem.solution) {
     const double sample_dt = hs.back();
     try {
-      (void)pbd::StepCount(sample_dt, pbd_scenario.reference.h);
+      (void)StepCount(sample_dt, pbd_scenario.reference.h);
     } catch (const InputError&) {
       scenario.Fail("reference.h", fmt::format("the smallest study step {} must be a whole "
                                                "multiple of it ({})", sample_dt,

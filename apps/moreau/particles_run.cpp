@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "moreau/common/error.h"
+#include "moreau/common/random.h"
 #include "moreau/io/trajectory.h"
 #include "moreau/particles/engine.h"
 #include "moreau/pbd/cases.h"
@@ -189,7 +190,7 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
     const double rmin = s.RequirePositive("problem.radius_min", s.RequireDouble("problem.radius_min"));
     const double rmax = s.RequireDouble("problem.radius_max");
     if (!(rmax >= rmin)) s.Fail("problem.radius_max", "must be ≥ problem.radius_min");
-    pbd::SplitMix64 rng(seed ^ 0x5DEECE66DULL);
+    SplitMix64 rng(seed ^ 0x5DEECE66DULL);
     model.radius.resize(static_cast<std::size_t>(n));
     for (double& r : model.radius) r = rmin + (rmax - rmin) * rng.Uniform01();
   } else {
@@ -286,7 +287,7 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
   const std::string method = s.GetString("solver.method", "pbd");
   if (method != "pbd") s.Fail("solver.method", "the particle engine runs pbd");
   WithKey(s, "solver", [&] { options.Validate(); });
-  const std::int64_t steps = WithKey(s, "solver.h", [&] { return pbd::StepCount(T, options.h); });
+  const std::int64_t steps = WithKey(s, "solver.h", [&] { return StepCount(T, options.h); });
 
   // Initial state.
   std::vector<double> x0;

@@ -111,7 +111,7 @@ PbdScenario ReadPbdScenario(Scenario& s) {
   }
 
   out.solver = ReadSolver(s, "solver", pbd::StepperOptions{});
-  WithKey(s, "solver.h", [&] { (void)pbd::StepCount(out.T(), out.solver.h); });
+  WithKey(s, "solver.h", [&] { (void)StepCount(out.T(), out.solver.h); });
 
   pbd::StepperOptions ref;
   ref.method = pbd::Method::kPNGS;

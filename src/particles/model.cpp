@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
-#include "moreau/pbd/cases.h"
+#include "moreau/common/random.h"
 #include "moreau/particles/engine.h"
 #include "particles/kernels.h"
 
@@ -352,7 +352,7 @@ std::vector<double> RandomSequentialAddition(const ParticleModel& model, const V
   internal::LinkedCells cells(k, glo, ghi, model.periodic, 2.0 * model.max_radius(),
                               4 * static_cast<std::int64_t>(n));
   std::vector<double> x(static_cast<std::size_t>(k) * static_cast<std::size_t>(n), 0.0);
-  pbd::SplitMix64 rng(seed);
+  SplitMix64 rng(seed);
   auto uniform = [&rng] { return rng.Uniform01(); };
   for (int i = 0; i < n; ++i) {
     const double ri = model.radius[static_cast<std::size_t>(i)];

@@ -115,16 +115,6 @@ bool AllFinite(const Vector& x) { return (x.array() - x.array()).sum() == 0.0; }
 
 }  // namespace
 
-std::int64_t StepCount(double T, double h) {
-  if (!(T > 0.0) || !std::isfinite(T)) throw InputError(fmt::format("T must be > 0 (got {})", T));
-  if (!(h > 0.0) || !std::isfinite(h)) throw InputError(fmt::format("h must be > 0 (got {})", h));
-  const double ratio = T / h;
-  const double n = std::round(ratio);
-  if (n < 1.0 || std::abs(ratio - n) > 1e-9 * std::max(1.0, ratio)) {
-    throw InputError(fmt::format("T / h must be a whole number (T = {}, h = {})", T, h));
-  }
-  return static_cast<std::int64_t>(n);
-}
 
 SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
                            const StepperOptions& options, ConstVectorRef x0, double T,

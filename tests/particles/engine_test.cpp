@@ -5,6 +5,7 @@
 #include <memory>
 #include <numbers>
 
+#include "moreau/common/random.h"
 #include "moreau/pbd/cases.h"
 #include "moreau/pbd/particle_constraints.h"
 #include "moreau/pbd/stepper.h"
@@ -37,7 +38,7 @@ DisksSetup FromDisksCase(const pbd::DisksCase& c) {
 std::vector<double> RunEngine(const DisksSetup& s, EngineOptions o, double T,
                               const std::function<void(const Engine&)>& after = {}) {
   Engine e(s.model, s.forces, o, s.x0);
-  const auto steps = pbd::StepCount(T, o.h);
+  const auto steps = StepCount(T, o.h);
   const EngineSummary summary = e.Run(steps, after);
   EXPECT_TRUE(summary.ok()) << summary.message;
   return e.Positions();
@@ -132,7 +133,7 @@ DisksSetup PeriodicSoup(int n, double phi, std::uint64_t seed) {
   // Polydisperse disks (r ∈ [0.4, 0.6]) in a doubly periodic square at packing fraction ≈ phi.
   DisksSetup s;
   s.model.dimension = 2;
-  pbd::SplitMix64 rng(seed);
+  SplitMix64 rng(seed);
   double area = 0.0;
   for (int i = 0; i < n; ++i) {
     const double r = 0.4 + 0.2 * rng.Uniform01();
@@ -181,7 +182,7 @@ TEST(ParticleEngine, BitIdenticalForAnyThreadCount2d) {
 TEST(ParticleEngine, BitIdenticalForAnyThreadCount3dWithObstacles) {
   ParticleModel m;
   m.dimension = 3;
-  pbd::SplitMix64 rng(5);
+  SplitMix64 rng(5);
   for (int i = 0; i < 800; ++i) m.radius.push_back(0.3 + 0.2 * rng.Uniform01());
   m.AddBoxWalls({0, 0, 0}, {12, 12, 12});
   m.spheres.push_back({{6, 6, 3}, 1.5});
@@ -252,7 +253,7 @@ TEST(ParticleEngine, NonFiniteDriftStopsNamingStepAndParticle) {
 
 TEST(ParticleEngine, FixOverlapsProjectsToAFeasibleState) {
   ParticleModel m;
-  pbd::SplitMix64 rng(4);
+  SplitMix64 rng(4);
   std::vector<double> x;
   for (int i = 0; i < 400; ++i) {
     m.radius.push_back(0.5);
@@ -278,7 +279,7 @@ TEST(ParticleEngine, CrowdLeavesARoomThroughTheDoor) {
   // K = 30 for this scenario.
   constexpr double kK = 30.0;
   ParticleModel m;
-  pbd::SplitMix64 rng(2);
+  SplitMix64 rng(2);
   for (int i = 0; i < 150; ++i) m.radius.push_back(0.2 + 0.05 * rng.Uniform01());
   m.segments = {{{0, 0}, {10, 0}},
                 {{0, 10}, {10, 10}},

@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 
+#include "moreau/common/random.h"
 #include "moreau/pbd/cases.h"
 #include "particles/test_util.h"
 
@@ -24,7 +25,7 @@ struct Case {
 void CheckGridEqualsBruteForce(const Case& c) {
   ParticleModel m;
   m.dimension = c.dimension;
-  pbd::SplitMix64 rng(17);
+  SplitMix64 rng(17);
   const int n = c.dimension == 2 ? 1500 : 1200;
   for (int i = 0; i < n; ++i) m.radius.push_back(0.2 + 0.4 * rng.Uniform01());
   const double L = c.dimension == 2 ? 60.0 : 14.0;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "moreau/common/random.h"
 #include "particles/test_util.h"
 
 namespace moreau::particles {

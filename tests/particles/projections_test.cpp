@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "moreau/common/random.h"
 #include "moreau/pbd/cases.h"
 #include "particles/kernels.h"
 
@@ -32,7 +33,7 @@ double BruteForceDistance(const double* x, G&& g) {
 }
 
 TEST(ParticleProjections, SphereExterior) {
-  pbd::SplitMix64 rng(1);
+  SplitMix64 rng(1);
   for (int k : {2, 3}) {
     for (int trial = 0; trial < 200; ++trial) {
       double c[3], x[3], x0[3];
@@ -74,7 +75,7 @@ TEST(ParticleProjections, SphereExterior) {
 }
 
 TEST(ParticleProjections, SegmentExteriorIsTheNearestPoint) {
-  pbd::SplitMix64 rng(2);
+  SplitMix64 rng(2);
   for (int trial = 0; trial < 60; ++trial) {
     const double a[2] = {rng.Uniform01(), rng.Uniform01()};
     const double b[2] = {a[0] + 2.0 * rng.Uniform01() - 1.0, a[1] + 2.0 * rng.Uniform01() - 1.0};
@@ -108,7 +109,7 @@ TEST(ParticleProjections, SegmentExteriorIsTheNearestPoint) {
 }
 
 TEST(ParticleProjections, Wall) {
-  pbd::SplitMix64 rng(3);
+  SplitMix64 rng(3);
   for (int trial = 0; trial < 200; ++trial) {
     double n[3] = {rng.Uniform01() - 0.5, rng.Uniform01() - 0.5, rng.Uniform01() - 0.5};
     const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
@@ -134,7 +135,7 @@ TEST(ParticleProjections, PeriodicPairUsesTheMinimumImage) {
   // Two disks across the boundary of a periodic axis of length L = 10: the projection acts on the
   // minimum-image displacement, separates them to contact, and a second application is the
   // identity.
-  pbd::SplitMix64 rng(4);
+  SplitMix64 rng(4);
   const double L = 10.0;
   for (int trial = 0; trial < 200; ++trial) {
     double xi[2] = {0.3 * rng.Uniform01(), 5.0 + rng.Uniform01() - 0.5};

@@ -49,6 +49,7 @@
 #include <utility>
 #include <vector>
 
+#include "moreau/common/termination.h"
 #include "moreau/particles/forces.h"
 #include "moreau/particles/model.h"
 
@@ -114,8 +115,6 @@ struct EngineStats {
   double monitor_seconds = 0.0;    // overlap monitor
   double total_seconds = 0.0;      // all steps (setup excluded)
 };
-
-enum class Termination { kCompleted, kNonFinite };
 
 struct EngineSummary {
   EngineStats stats;

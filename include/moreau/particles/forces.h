@@ -63,10 +63,6 @@ struct Forces {
   void Validate() const;
 };
 
-// The counter-based generator. Philox4x32-10 of the 128-bit counter with a 64-bit key.
-std::array<std::uint32_t, 4> Philox4x32(std::array<std::uint32_t, 4> counter,
-                                        std::array<std::uint32_t, 2> key);
-
 // ξ ∈ R^k (k = 2 or 3 entries written to out) for (seed, id, step): the normals the engine adds.
 void GaussianNoise(std::uint64_t seed, std::int64_t id, std::int64_t step, int k, double* out);
 

@@ -61,14 +61,4 @@ struct DisksCase {
   Vector InitialState() const;
 };
 
-// A small, portable, seeded generator (SplitMix64).
-class SplitMix64 {
- public:
-  explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t Next();
-  double Uniform01();  // in [0, 1), 53 random bits
- private:
-  std::uint64_t state_;
-};
-
 }  // namespace moreau::pbd

@@ -16,6 +16,8 @@
 #include <string>
 #include <string_view>
 
+#include "moreau/common/termination.h"
+#include "moreau/common/steps.h"
 #include "moreau/pbd/constraints.h"
 #include "moreau/pbd/drift.h"
 
@@ -54,8 +56,6 @@ struct StepCounters {
   std::int64_t sweeps = 0;
   std::int64_t capped_steps = 0;  // PNGS/PGS steps that stopped at max_sweeps
 };
-
-enum class Termination { kCompleted, kNonFinite };
 
 struct SimulationSummary {
   Method method = Method::kPBD;
@@ -106,8 +106,5 @@ using Observer = std::function<void(std::int64_t, double, ConstVectorRef)>;
 SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
                            const StepperOptions& options, ConstVectorRef x0, double T,
                            const Observer& observer = {}, Vector* final_state = nullptr);
-
-// The number of steps T/h, or InputError when it is not a whole number.
-std::int64_t StepCount(double T, double h);
 
 }  // namespace moreau::pbd

@@ -1,0 +1,24 @@
+// The JSON every summary shares, so summary.json files name things the same way.
+//
+// Vocabulary used by every summary in moreau (C++ members, summary.json keys, Python attributes):
+//   termination    moreau::Termination, written as its ToString name
+//   ok             IsSuccess(termination); the member function ok() in C++
+//   message        why it stopped (empty on success)
+//   *_seconds      wall-clock seconds; total_seconds is the whole solve or run, the others
+//                  are phases (setup_seconds, sweep_seconds, factorize_seconds, …)
+//   settings       the options used, as written by the options' ToJson()
+#pragma once
+
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "moreau/common/termination.h"
+
+namespace moreau {
+
+// {"termination": …, "ok": …, "message": …, "total_seconds": …}
+nlohmann::json SummaryJson(Termination termination, std::string_view message,
+                           double total_seconds);
+
+}  // namespace moreau

@@ -1,0 +1,100 @@
+// A motion-capture recording: M labelled markers sampled at F frames, with holes.
+//
+// Positions are stored frame-major: marker m at frame f is the three doubles at
+// (f·M + m)·3 … (f·M + m)·3 + 2, in the recording's units (`units`). A sample is either observed
+// (observed(f, m) is true and the position is finite) or missing (observed is false; the stored
+// position is NaN so that it can never be mistaken for data). Frames are 0-based here; the C3D
+// frame number of frame f is first_frame + f.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace moreau::mocap {
+
+// Where a recording came from, as far as its file says (for `moreau inspect` and round trips).
+struct SourceFormat {
+  std::string container = "memory";  // "c3d", "trc", "csv" or "memory"
+  std::string processor;             // C3D: "intel", "dec" or "mips"; empty otherwise
+  std::string storage;               // C3D: "integer" (scaled 16-bit) or "float"
+  double scale = -1.0;               // C3D POINT:SCALE (negative: float storage)
+  int analog_channels = 0;           // C3D ANALOG:USED
+  int analog_samples_per_frame = 0;  // C3D analog samples per video frame
+};
+
+class Recording {
+ public:
+  Recording() = default;
+  // An all-missing recording of `frames` frames and the given marker labels.
+  Recording(std::vector<std::string> labels, std::int64_t frames, double rate,
+            std::string units = "mm");
+
+  int markers() const { return static_cast<int>(labels_.size()); }
+  std::int64_t frames() const { return frames_; }
+  double rate() const { return rate_; }  // frames per second, > 0
+  const std::string& units() const { return units_; }  // "mm", "cm" or "m"
+  const std::vector<std::string>& labels() const { return labels_; }
+  std::vector<std::string>& descriptions() { return descriptions_; }
+  const std::vector<std::string>& descriptions() const { return descriptions_; }
+  std::int64_t first_frame() const { return first_frame_; }
+  void set_first_frame(std::int64_t first) { first_frame_ = first; }
+  SourceFormat& format() { return format_; }
+  const SourceFormat& format() const { return format_; }
+
+  bool observed(std::int64_t frame, int marker) const {
+    return observed_[Index(frame, marker)] != 0;
+  }
+  // The position of `marker` at `frame` (NaN when missing).
+  Eigen::Map<const Eigen::Vector3d> point(std::int64_t frame, int marker) const {
+    return Eigen::Map<const Eigen::Vector3d>(&positions_[3 * Index(frame, marker)]);
+  }
+  // Marks the sample observed at p (all finite; throws InputError otherwise).
+  void SetPoint(std::int64_t frame, int marker, const Eigen::Vector3d& p);
+  // Marks the sample missing (position NaN).
+  void ClearPoint(std::int64_t frame, int marker);
+
+  // Index of the marker with this label, or -1.
+  int FindMarker(std::string_view label) const;
+  // Converts positions and units to "mm", "cm" or "m" (InputError for another unit).
+  void ConvertUnits(std::string_view units);
+  // Number of observed samples of one marker.
+  std::int64_t ObservedCount(int marker) const;
+
+  // Raw storage (frame-major, see above).
+  std::span<const double> positions() const { return positions_; }
+  std::span<const std::uint8_t> observed_mask() const { return observed_; }
+
+ private:
+  std::size_t Index(std::int64_t frame, int marker) const {
+    return static_cast<std::size_t>(frame) * labels_.size() + static_cast<std::size_t>(marker);
+  }
+
+  std::vector<std::string> labels_;
+  std::vector<std::string> descriptions_;
+  std::int64_t frames_ = 0;
+  double rate_ = 0.0;
+  std::string units_ = "mm";
+  std::int64_t first_frame_ = 1;
+  SourceFormat format_;
+  std::vector<double> positions_;       // frames · markers · 3
+  std::vector<std::uint8_t> observed_;  // frames · markers
+};
+
+// A run of consecutive missing frames of one marker: frames first … last (0-based, inclusive),
+// with an observed sample (or the recording's end) on each side.
+struct Gap {
+  int marker = 0;
+  std::int64_t first = 0;
+  std::int64_t last = 0;
+  std::int64_t length() const { return last - first + 1; }
+};
+
+// Every gap of every marker, ordered by marker, then first frame. A marker never observed gives
+// one gap over the whole recording.
+std::vector<Gap> FindGaps(const Recording& recording);
+
+}  // namespace moreau::mocap

@@ -1,0 +1,94 @@
+#include "moreau/mocap/recording.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "moreau/common/error.h"
+
+namespace moreau::mocap {
+
+namespace {
+
+// Metres per unit.
+double UnitLength(std::string_view units) {
+  if (units == "mm") return 1e-3;
+  if (units == "cm") return 1e-2;
+  if (units == "m") return 1.0;
+  throw InputError(fmt::format("units must be mm, cm or m (got '{}')", units));
+}
+
+}  // namespace
+
+Recording::Recording(std::vector<std::string> labels, std::int64_t frames, double rate,
+                     std::string units)
+    : labels_(std::move(labels)), frames_(frames), rate_(rate), units_(std::move(units)) {
+  if (frames < 0) throw InputError(fmt::format("frames must be ≥ 0 (got {})", frames));
+  if (!(rate > 0.0) || !std::isfinite(rate)) {
+    throw InputError(fmt::format("rate must be > 0 (got {})", rate));
+  }
+  (void)UnitLength(units_);
+  descriptions_.assign(labels_.size(), "");
+  const auto samples = static_cast<std::size_t>(frames) * labels_.size();
+  positions_.assign(3 * samples, std::numeric_limits<double>::quiet_NaN());
+  observed_.assign(samples, 0);
+}
+
+void Recording::SetPoint(std::int64_t frame, int marker, const Eigen::Vector3d& p) {
+  if (!p.allFinite()) {
+    throw InputError(fmt::format("position of marker {} at frame {} is not finite", marker, frame));
+  }
+  const std::size_t i = Index(frame, marker);
+  for (int c = 0; c < 3; ++c) positions_[3 * i + static_cast<std::size_t>(c)] = p[c];
+  observed_[i] = 1;
+}
+
+void Recording::ClearPoint(std::int64_t frame, int marker) {
+  const std::size_t i = Index(frame, marker);
+  for (int c = 0; c < 3; ++c) {
+    positions_[3 * i + static_cast<std::size_t>(c)] = std::numeric_limits<double>::quiet_NaN();
+  }
+  observed_[i] = 0;
+}
+
+int Recording::FindMarker(std::string_view label) const {
+  for (std::size_t m = 0; m < labels_.size(); ++m) {
+    if (labels_[m] == label) return static_cast<int>(m);
+  }
+  return -1;
+}
+
+void Recording::ConvertUnits(std::string_view units) {
+  const double factor = UnitLength(units_) / UnitLength(units);
+  if (factor != 1.0) {
+    for (double& v : positions_) v *= factor;  // NaN stays NaN
+  }
+  units_ = std::string(units);
+}
+
+std::int64_t Recording::ObservedCount(int marker) const {
+  std::int64_t n = 0;
+  for (std::int64_t f = 0; f < frames_; ++f) n += observed_[Index(f, marker)];
+  return n;
+}
+
+std::vector<Gap> FindGaps(const Recording& recording) {
+  std::vector<Gap> gaps;
+  for (int m = 0; m < recording.markers(); ++m) {
+    std::int64_t f = 0;
+    while (f < recording.frames()) {
+      if (recording.observed(f, m)) {
+        ++f;
+        continue;
+      }
+      Gap gap{m, f, f};
+      while (gap.last + 1 < recording.frames() && !recording.observed(gap.last + 1, m)) ++gap.last;
+      gaps.push_back(gap);
+      f = gap.last + 1;
+    }
+  }
+  return gaps;
+}
+
+}  // namespace moreau::mocap
