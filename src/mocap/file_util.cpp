@@ -1,0 +1,121 @@
+#include "mocap/file_util.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <system_error>
+
+#include "moreau/common/error.h"
+
+namespace moreau::mocap::internal {
+
+void Fail(const std::filesystem::path& file, std::string_view field, std::string_view reason) {
+  throw InputError(fmt::format("{}: {}: {}", file.string(), field, reason));
+}
+
+std::string ReadWholeFile(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) Fail(file, "file", "does not exist");
+  if (std::filesystem::is_directory(file, ec)) Fail(file, "file", "is a directory");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) Fail(file, "file", fmt::format("cannot be opened ({})", std::strerror(errno)));
+  std::ostringstream content;
+  content << in.rdbuf();
+  if (in.bad()) Fail(file, "file", "read failed");
+  return std::move(content).str();
+}
+
+void WriteFileAtomically(const std::filesystem::path& file, std::string_view content) {
+  const std::filesystem::path parent =
+      file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(parent, ec)) {
+    Fail(file, "file", fmt::format("directory {} does not exist", parent.string()));
+  }
+  const std::filesystem::path temporary =
+      parent / fmt::format(".{}.tmp-{}", file.filename().string(), ::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) Fail(file, "file", fmt::format("cannot be written ({})", std::strerror(errno)));
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    out.close();
+    if (!out) {
+      std::filesystem::remove(temporary, ec);
+      Fail(file, "file", "write failed");
+    }
+  }
+  std::filesystem::rename(temporary, file, ec);
+  if (ec) {
+    std::filesystem::remove(temporary, ec);
+    Fail(file, "file", fmt::format("cannot be renamed into place ({})", ec.message()));
+  }
+}
+
+void MakeLabelsUnique(std::vector<std::string>& labels, const std::filesystem::path& file,
+                      std::string_view field, std::vector<std::string>& warnings) {
+  std::set<std::string> used(labels.begin(), labels.end());
+  std::set<std::string> seen;
+  std::vector<std::string> changes;
+  for (std::size_t m = 0; m < labels.size(); ++m) {
+    std::string& label = labels[m];
+    if (!label.empty() && seen.insert(label).second) continue;
+    const std::string base = label.empty() ? fmt::format("M{}", m + 1) : label;
+    std::string unique = base;
+    for (int k = 2; used.count(unique) != 0; ++k) unique = fmt::format("{}_{}", base, k);
+    changes.push_back(fmt::format("{} → {}", label.empty() ? "(empty)" : label, unique));
+    used.insert(unique);
+    seen.insert(unique);
+    label = unique;
+  }
+  if (!changes.empty()) {
+    warnings.push_back(fmt::format("{}: {}: labels renamed to be unique: {}", file.string(),
+                                   field, fmt::join(changes, ", ")));
+  }
+}
+
+std::vector<std::string_view> SplitLines(std::string_view text) {
+  std::vector<std::string_view> lines;
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    std::string_view line = text.substr(0, end);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    lines.push_back(line);
+    if (end == std::string_view::npos) break;
+    text.remove_prefix(end + 1);
+  }
+  return lines;
+}
+
+std::vector<std::string_view> SplitFields(std::string_view line, char separator) {
+  std::vector<std::string_view> fields;
+  for (;;) {
+    const std::size_t end = line.find(separator);
+    fields.push_back(line.substr(0, end));
+    if (end == std::string_view::npos) return fields;
+    line.remove_prefix(end + 1);
+  }
+}
+
+std::string_view TrimBlanks(std::string_view text) {
+  while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
+  while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
+  return text;
+}
+
+bool ParseNumber(std::string_view text, double& value) {
+  text = TrimBlanks(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  return !text.empty() && ec == std::errc() && end == text.data() + text.size();
+}
+
+std::string FormatNumber(double value) { return fmt::format("{}", value); }
+
+}  // namespace moreau::mocap::internal

@@ -1,0 +1,105 @@
+#include "moreau/mocap/recording_io.h"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <cmath>
+
+#include "mocap/file_util.h"
+#include "moreau/common/error.h"
+#include "moreau/mocap/inventory.h"
+
+namespace moreau::mocap {
+
+namespace {
+
+bool IsUnit(std::string_view units) { return units == "mm" || units == "cm" || units == "m"; }
+
+// The extension in lower case, without the dot.
+std::string Extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+void ReadOptions::Validate() const {
+  if (!units.empty() && !IsUnit(units)) {
+    throw InputError(fmt::format("units: '{}' is not mm, cm or m (or empty to keep the file's)", units));
+  }
+  if (!IsUnit(units_if_unstated)) {
+    throw InputError(fmt::format("units_if_unstated: '{}' is not mm, cm or m", units_if_unstated));
+  }
+  if (!std::isfinite(rate_if_unstated) || rate_if_unstated < 0.0) {
+    throw InputError(fmt::format("rate_if_unstated: {} is not a rate ≥ 0 (0: none)", rate_if_unstated));
+  }
+}
+
+Recording ReadRecording(const std::filesystem::path& path, const ReadOptions& options,
+                        std::vector<std::string>* warnings) {
+  const std::string ext = Extension(path);
+  if (ext == "c3d") return ReadC3d(path, options, warnings);
+  if (ext == "trc") return ReadTrc(path, options, warnings);
+  if (ext == "csv") return ReadCsv(path, options, warnings);
+  internal::Fail(path, "extension", fmt::format("'{}' is not .c3d, .trc or .csv", path.extension().string()));
+}
+
+void WriteRecording(const Recording& recording, const std::filesystem::path& path) {
+  const std::string ext = Extension(path);
+  if (ext == "c3d") return WriteC3d(recording, path);
+  if (ext == "trc") return WriteTrc(recording, path);
+  if (ext == "csv") return WriteCsv(recording, path);
+  internal::Fail(path, "extension", fmt::format("'{}' is not .c3d, .trc or .csv", path.extension().string()));
+}
+
+RecordingInventory TakeInventory(const Recording& r, std::vector<std::string> warnings) {
+  RecordingInventory inv;
+  inv.markers = r.markers();
+  inv.frames = r.frames();
+  inv.first_frame = r.first_frame();
+  inv.rate = r.rate();
+  inv.duration_seconds = r.rate() > 0.0 ? static_cast<double>(r.frames()) / r.rate() : 0.0;
+  inv.units = r.units();
+  inv.format = r.format();
+  inv.labels = r.labels();
+  for (int m = 0; m < r.markers(); ++m) inv.observed_samples.push_back(r.ObservedCount(m));
+  for (const Gap& g : FindGaps(r)) {
+    inv.gaps.push_back({r.labels()[static_cast<std::size_t>(g.marker)], g.first, g.last, g.length(),
+                        static_cast<double>(g.length()) / r.rate()});
+  }
+  inv.warnings = std::move(warnings);
+  return inv;
+}
+
+nlohmann::json RecordingInventory::ToJson() const {
+  nlohmann::json gap_rows = nlohmann::json::array();
+  for (const GapRow& g : gaps) {
+    gap_rows.push_back({{"marker", g.marker}, {"first_frame", g.first_frame},
+                        {"last_frame", g.last_frame}, {"length_frames", g.length_frames},
+                        {"length_seconds", g.length_seconds}});
+  }
+  std::int64_t observed = 0;
+  for (std::int64_t n : observed_samples) observed += n;
+  return {{"markers", markers},
+          {"frames", frames},
+          {"first_frame", first_frame},
+          {"rate", rate},
+          {"duration_seconds", duration_seconds},
+          {"units", units},
+          {"format",
+           {{"container", format.container},
+            {"processor", format.processor},
+            {"storage", format.storage},
+            {"scale", format.scale},
+            {"analog_channels", format.analog_channels},
+            {"analog_samples_per_frame", format.analog_samples_per_frame}}},
+          {"labels", labels},
+          {"observed_samples", observed_samples},
+          {"missing_samples", frames * markers - observed},
+          {"gaps", gap_rows},
+          {"warnings", warnings}};
+}
+
+}  // namespace moreau::mocap
