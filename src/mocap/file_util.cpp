@@ -9,7 +9,6 @@
 #include <cstring>
 #include <fstream>
 #include <set>
-#include <sstream>
 #include <system_error>
 
 #include "moreau/common/error.h"
@@ -26,10 +25,12 @@ std::string ReadWholeFile(const std::filesystem::path& file) {
   if (std::filesystem::is_directory(file, ec)) Fail(file, "file", "is a directory");
   std::ifstream in(file, std::ios::binary);
   if (!in) Fail(file, "file", fmt::format("cannot be opened ({})", std::strerror(errno)));
-  std::ostringstream content;
-  content << in.rdbuf();
-  if (in.bad()) Fail(file, "file", "read failed");
-  return std::move(content).str();
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec) Fail(file, "file", fmt::format("size unknown ({})", ec.message()));
+  std::string content(size, '\0');
+  in.read(content.data(), static_cast<std::streamsize>(size));
+  if (in.gcount() != static_cast<std::streamsize>(size)) Fail(file, "file", "read failed");
+  return content;
 }
 
 void WriteFileAtomically(const std::filesystem::path& file, std::string_view content) {
