@@ -8,5 +8,6 @@ namespace moreau::cli {
 void AddRunCommand(CLI::App& app);
 void AddStudyCommand(CLI::App& app);
 void AddControlCommand(CLI::App& app);
+void AddInspectCommand(CLI::App& app);
 
 }  // namespace moreau::cli

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   moreau::cli::AddRunCommand(app);
   moreau::cli::AddStudyCommand(app);
   moreau::cli::AddControlCommand(app);
+  moreau::cli::AddInspectCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {

@@ -1,0 +1,42 @@
+"""`moreau inspect`: the inventory of a recording, and exit code 2 with one line on bad input."""
+import json
+
+from conftest import ROOT, run_cli
+
+DATA = ROOT.parent / "shared" / "data" / "mocap"
+
+
+def test_inspect_json_lists_markers_frames_rate_and_gaps():
+    r = run_cli("inspect", DATA / "Eb015pr.c3d", "--json")
+    assert r.returncode == 0, r.stderr
+    inv = json.loads(r.stdout)
+    assert (inv["markers"], inv["frames"], inv["rate"], inv["units"]) == (26, 450, 50.0, "mm")
+    assert inv["format"]["processor"] == "intel" and inv["format"]["storage"] == "float"
+    gapped = {g["marker"] for g in inv["gaps"]}
+    assert len(gapped) == 10
+    assert inv["missing_samples"] == sum(g["length_frames"] for g in inv["gaps"])
+
+
+def test_inspect_text_names_the_file_and_reports_warnings_on_stderr():
+    r = run_cli("inspect", DATA / "Gait.c3d")
+    assert r.returncode == 0, r.stderr
+    assert "Gait.c3d" in r.stdout and "dec" in r.stdout
+    assert "RKNE_2" in r.stderr
+
+
+def test_inspect_truncated_file_exits_2_with_one_line_unless_allowed():
+    r = run_cli("inspect", DATA / "Optotrak.c3d")
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Optotrak.c3d" in lines[0] and "1149" in lines[0], r.stderr
+    r = run_cli("inspect", DATA / "Optotrak.c3d", "--allow-truncated", "--json")
+    assert r.returncode == 0 and json.loads(r.stdout)["frames"] == 29
+
+
+def test_inspect_missing_file_and_wrong_extension_exit_2(tmp_path):
+    for path in (tmp_path / "absent.c3d", tmp_path / "notes.txt"):
+        if path.suffix == ".txt":
+            path.write_text("hello")
+        r = run_cli("inspect", path)
+        assert r.returncode == 2, r.stderr
+        assert str(path) in r.stderr and len(r.stderr.strip().splitlines()) == 1
