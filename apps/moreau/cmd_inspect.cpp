@@ -23,12 +23,13 @@ struct InspectArgs {
 
 void PrintInventory(const std::string& file, const mocap::RecordingInventory& inv) {
   const auto& f = inv.format;
-  fmt::print("{}\n  format: {}{}\n  markers: {}\n  frames: {} (file frames {} … {}), {} Hz, {} s\n"
-             "  units: {}\n  gaps: {}\n",
-             file, f.container,
-             f.processor.empty() ? "" : fmt::format(" ({}, {} storage)", f.processor, f.storage),
-             inv.markers, inv.frames, inv.first_frame, inv.first_frame + inv.frames - 1, inv.rate,
-             inv.duration_seconds, inv.units, inv.gaps.size());
+  fmt::print(
+      "{}\n  format: {}{}\n  markers: {}\n  frames: {} (file frames {} … {}), {} Hz, {} s\n"
+      "  units: {}\n  gaps: {}\n",
+      file, f.container,
+      f.processor.empty() ? "" : fmt::format(" ({}, {} storage)", f.processor, f.storage),
+      inv.markers, inv.frames, inv.first_frame, inv.first_frame + inv.frames - 1, inv.rate,
+      inv.duration_seconds, inv.units, inv.gaps.size());
   if (inv.gaps.empty()) return;
   fmt::print("  {:<24} {:>8} {:>8} {:>8} {:>10}\n", "marker", "first", "last", "frames", "seconds");
   for (const auto& g : inv.gaps) {

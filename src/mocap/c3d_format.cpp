@@ -13,9 +13,12 @@ namespace moreau::mocap::c3d {
 
 std::string_view ProcessorName(Processor processor) {
   switch (processor) {
-    case Processor::kIntel: return "intel";
-    case Processor::kDec: return "dec";
-    case Processor::kMips: return "mips";
+    case Processor::kIntel:
+      return "intel";
+    case Processor::kDec:
+      return "dec";
+    case Processor::kMips:
+      return "mips";
   }
   return "unknown";
 }
@@ -90,7 +93,8 @@ std::optional<Item> ReadItem(std::span<const std::uint8_t> section, std::size_t 
   if (!fits(p + static_cast<std::size_t>(name_length) + 2)) {
     return reason = "name beyond the file", std::nullopt;
   }
-  item.name.assign(reinterpret_cast<const char*>(&section[p]), static_cast<std::size_t>(name_length));
+  item.name.assign(reinterpret_cast<const char*>(&section[p]),
+                   static_cast<std::size_t>(name_length));
   p += static_cast<std::size_t>(name_length);
   const int offset = decode.Int16(&section[p]);
   if (offset < 0 || (offset > 0 && offset < 2)) {
@@ -107,7 +111,8 @@ std::optional<Item> ReadItem(std::span<const std::uint8_t> section, std::size_t 
     }
     const int rank = section[p + 1];
     p += 2;
-    if (!fits(p + static_cast<std::size_t>(rank))) return reason = "dimensions beyond the file", std::nullopt;
+    if (!fits(p + static_cast<std::size_t>(rank)))
+      return reason = "dimensions beyond the file", std::nullopt;
     for (int d = 0; d < rank; ++d) par.dimensions.push_back(section[p++]);
     const std::size_t bytes = static_cast<std::size_t>(std::abs(par.type)) * par.Count();
     if (!fits(p + bytes)) return reason = "data beyond the file", std::nullopt;
@@ -123,8 +128,9 @@ ParameterSection ParseParameterSection(std::span<const std::uint8_t> file, std::
                                        const std::filesystem::path& path,
                                        std::vector<std::string>& warnings) {
   if (start + 4 > file.size()) {
-    throw InputError(fmt::format("{}: parameter section: starts at byte {}, beyond the file's {} bytes",
-                                 path.string(), start, file.size()));
+    throw InputError(
+        fmt::format("{}: parameter section: starts at byte {}, beyond the file's {} bytes",
+                    path.string(), start, file.size()));
   }
   const int processor_byte = file[start + 3];
   if (processor_byte < 84 || processor_byte > 86) {
@@ -144,9 +150,10 @@ ParameterSection ParseParameterSection(std::span<const std::uint8_t> file, std::
     std::optional<Item> item = ReadItem(file, pos, decode, reason);
     if (item && item->next != 0 && item->next <= pos) reason = "next item points backwards";
     if (!item || !reason.empty()) {
-      warnings.push_back(fmt::format(
-          "{}: parameter section: the item at byte {} is corrupt ({}); the section is read up to it",
-          path.string(), pos, reason));
+      warnings.push_back(
+          fmt::format("{}: parameter section: the item at byte {} is corrupt ({}); the section is "
+                      "read up to it",
+                      path.string(), pos, reason));
       break;
     }
     if (item->id < 0) groups[-item->id] = item->name;
@@ -160,7 +167,8 @@ ParameterSection ParseParameterSection(std::span<const std::uint8_t> file, std::
     section.parameters[Key(group->second, item.name)] = std::move(item.parameter);
   }
   if (section.parameters.empty()) {
-    throw InputError(fmt::format("{}: parameter section: no parameter could be read", path.string()));
+    throw InputError(
+        fmt::format("{}: parameter section: no parameter could be read", path.string()));
   }
   return section;
 }
@@ -200,7 +208,8 @@ std::vector<std::string> ParameterSection::Strings(std::string_view group,
   if (length == 0) return out;
   const std::size_t count = p->Count() / length;
   for (std::size_t i = 0; i < count; ++i) {
-    out.push_back(Trim(std::string_view(reinterpret_cast<const char*>(p->data.data()) + i * length, length)));
+    out.push_back(
+        Trim(std::string_view(reinterpret_cast<const char*>(p->data.data()) + i * length, length)));
   }
   return out;
 }

@@ -40,8 +40,12 @@ struct DataLayout {
 struct Header {
   std::span<const std::uint8_t> bytes;
   c3d::NumberDecoder decode;
-  std::uint16_t Word(int word) const { return decode.UInt16(&bytes[2 * static_cast<std::size_t>(word - 1)]); }
-  float Float(int word) const { return decode.Float(&bytes[2 * static_cast<std::size_t>(word - 1)]); }
+  std::uint16_t Word(int word) const {
+    return decode.UInt16(&bytes[2 * static_cast<std::size_t>(word - 1)]);
+  }
+  float Float(int word) const {
+    return decode.Float(&bytes[2 * static_cast<std::size_t>(word - 1)]);
+  }
 };
 
 // The number of frames: the header's range unless it saturates at 65535, then
@@ -98,16 +102,18 @@ DataLayout ReadLayout(const std::filesystem::path& path, const Header& header,
                       const c3d::ParameterSection& p, std::vector<std::string>& warnings) {
   DataLayout layout;
   const auto fallback = [&](std::string_view field, double value) {
-    warnings.push_back(fmt::format("{}: {}: missing; the header's value {} is used", path.string(),
-                                   field, value));
+    warnings.push_back(
+        fmt::format("{}: {}: missing; the header's value {} is used", path.string(), field, value));
     return value;
   };
   layout.points = p.Count("POINT", "USED").value_or(header.Word(2));
   const auto scale = p.Number("POINT", "SCALE");
   layout.scale = scale ? *scale : fallback("POINT:SCALE", double{header.Float(7)});
   if (!std::isfinite(layout.scale) || layout.scale == 0.0) {
-    Fail(path, "POINT:SCALE", fmt::format("{} is neither a positive integer scale nor negative "
-                                          "(float storage)", layout.scale));
+    Fail(path, "POINT:SCALE",
+         fmt::format("{} is neither a positive integer scale nor negative "
+                     "(float storage)",
+                     layout.scale));
   }
   const auto rate = p.Number("POINT", "RATE");
   layout.rate = rate ? *rate : fallback("POINT:RATE", double{header.Float(11)});
@@ -121,9 +127,10 @@ DataLayout ReadLayout(const std::filesystem::path& path, const Header& header,
   } else if (*start >= 2) {
     layout.data_start = *start;
   } else {
-    warnings.push_back(fmt::format("{}: POINT:DATA_START: block {} is not a data block; the "
-                                   "header's value {} is used",
-                                   path.string(), *start, header.Word(9)));
+    warnings.push_back(
+        fmt::format("{}: POINT:DATA_START: block {} is not a data block; the "
+                    "header's value {} is used",
+                    path.string(), *start, header.Word(9)));
   }
   ReadFrameRange(header, p, layout);
   ReadAnalogLayout(path, header, p, layout, warnings);
@@ -146,9 +153,8 @@ std::string ReadUnits(const std::filesystem::path& path, const c3d::ParameterSec
                       std::vector<std::string>& warnings) {
   const auto strings = p.Strings("POINT", "UNITS");
   if (strings.empty() || strings[0].empty()) return "mm";
-  std::string units = strings[0];
-  for (char& c : units) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (units == "mm" || units == "cm" || units == "m") return units;
+  const std::string units = internal::ToLower(strings[0]);
+  if (internal::IsLengthUnit(units)) return units;
   warnings.push_back(fmt::format("{}: POINT:UNITS: '{}' is not mm, cm or m; read as mm",
                                  path.string(), strings[0]));
   return "mm";
@@ -167,12 +173,13 @@ std::int64_t FramesPresent(const std::filesystem::path& path, std::size_t file_b
   if (layout.frame_bytes() == 0) return layout.frames;
   const auto present = static_cast<std::int64_t>((file_bytes - offset) / layout.frame_bytes());
   if (present >= layout.frames) return layout.frames;
-  const std::string what = fmt::format("the file declares {} frames but holds {} (truncated)",
-                                       layout.frames, present);
+  const std::string what =
+      fmt::format("the file declares {} frames but holds {} (truncated)", layout.frames, present);
   if (!options.allow_truncated) {
     Fail(path, "POINT data", what + "; ReadOptions::allow_truncated reads the frames present");
   }
-  warnings.push_back(fmt::format("{}: POINT data: {}; read {} frames", path.string(), what, present));
+  warnings.push_back(
+      fmt::format("{}: POINT data: {}; read {} frames", path.string(), what, present));
   return present;
 }
 
@@ -189,10 +196,12 @@ void ReadPoints(std::span<const std::uint8_t> bytes, const DataLayout& layout,
       Eigen::Vector3d p;
       double residual = 0.0;
       if (layout.float_storage()) {
-        for (int c = 0; c < 3; ++c) p[c] = double{decode.Float(at + 4 * static_cast<std::size_t>(c))};
+        for (int c = 0; c < 3; ++c)
+          p[c] = double{decode.Float(at + 4 * static_cast<std::size_t>(c))};
         residual = double{decode.Float(at + 12)};
       } else {
-        for (int c = 0; c < 3; ++c) p[c] = scale * decode.Int16(at + 2 * static_cast<std::size_t>(c));
+        for (int c = 0; c < 3; ++c)
+          p[c] = scale * decode.Int16(at + 2 * static_cast<std::size_t>(c));
         residual = decode.Int16(at + 6);
       }
       const bool zero = p[0] == 0.0 && p[1] == 0.0 && p[2] == 0.0;
@@ -212,12 +221,14 @@ Recording ReadC3d(const std::filesystem::path& path, const ReadOptions& options,
   const std::span<const std::uint8_t> bytes(reinterpret_cast<const std::uint8_t*>(content.data()),
                                             content.size());
   if (bytes.size() < c3d::kBlockBytes) {
-    Fail(path, "header", fmt::format("the file has {} bytes, fewer than the 512 of a C3D header",
-                                     bytes.size()));
+    Fail(path, "header",
+         fmt::format("the file has {} bytes, fewer than the 512 of a C3D header", bytes.size()));
   }
   if (bytes[1] != 0x50 || bytes[0] < 2) {
-    Fail(path, "header", fmt::format("bytes 1–2 are {} and 0x{:02x}, not a parameter block ≥ 2 and "
-                                     "0x50: not a C3D file", bytes[0], bytes[1]));
+    Fail(path, "header",
+         fmt::format("bytes 1–2 are {} and 0x{:02x}, not a parameter block ≥ 2 and "
+                     "0x50: not a C3D file",
+                     bytes[0], bytes[1]));
   }
   const c3d::ParameterSection section = c3d::ParseParameterSection(
       bytes, (std::size_t{bytes[0]} - 1) * c3d::kBlockBytes, path, warnings);
@@ -240,7 +251,8 @@ Recording ReadC3d(const std::filesystem::path& path, const ReadOptions& options,
   format.analog_samples_per_frame = layout.analog_samples_per_frame;
   ReadPoints(bytes, layout, header.decode, options, recording);
   if (!options.units.empty()) recording.ConvertUnits(options.units);
-  if (warnings_out != nullptr) warnings_out->insert(warnings_out->end(), warnings.begin(), warnings.end());
+  if (warnings_out != nullptr)
+    warnings_out->insert(warnings_out->end(), warnings.begin(), warnings.end());
   return recording;
 }
 

@@ -73,8 +73,8 @@ class ParameterWriter {
     if (last_offset_at_ != std::string::npos) out_[last_offset_at_] = out_[last_offset_at_ + 1] = 0;
     std::string section = out_;
     const std::size_t total = 4 + section.size();
-    section.resize(section.size() + (c3d::kBlockBytes - total % c3d::kBlockBytes) % c3d::kBlockBytes,
-                   '\0');
+    section.resize(
+        section.size() + (c3d::kBlockBytes - total % c3d::kBlockBytes) % c3d::kBlockBytes, '\0');
     return section;
   }
 
@@ -107,7 +107,8 @@ class ParameterWriter {
 // LABELS, LABELS2, LABELS3, … with at most 255 strings each.
 void WriteNameChunks(ParameterWriter& w, int group, std::string_view name,
                      const std::vector<std::string>& names) {
-  for (std::size_t begin = 0, k = 1; begin < names.size() || k == 1; begin += kMaxPerParameter, ++k) {
+  for (std::size_t begin = 0, k = 1; begin < names.size() || k == 1;
+       begin += kMaxPerParameter, ++k) {
     const std::size_t end = std::min(names.size(), begin + kMaxPerParameter);
     const std::vector<std::string> chunk(names.begin() + static_cast<std::ptrdiff_t>(begin),
                                          names.begin() + static_cast<std::ptrdiff_t>(end));
@@ -164,15 +165,18 @@ std::string HeaderBytes(const Recording& r, std::int64_t data_start) {
 }  // namespace
 
 void WriteC3d(const Recording& r, const std::filesystem::path& path) {
-  if (r.markers() > 65535) Fail(path, "POINT:USED", fmt::format("{} markers exceed 65535", r.markers()));
+  if (r.markers() > 65535)
+    Fail(path, "POINT:USED", fmt::format("{} markers exceed 65535", r.markers()));
   if (r.first_frame() < 0 || r.first_frame() + r.frames() - 1 > 2147483647) {
     Fail(path, "TRIAL:ACTUAL_START_FIELD",
          fmt::format("frames {} … {} are outside 0 … 2^31 − 1", r.first_frame(),
                      r.first_frame() + r.frames() - 1));
   }
-  const std::size_t section_blocks = (4 + ParameterSectionBytes(r, path, 0).size()) / c3d::kBlockBytes;
+  const std::size_t section_blocks =
+      (4 + ParameterSectionBytes(r, path, 0).size()) / c3d::kBlockBytes;
   if (section_blocks > 255) {
-    Fail(path, "parameter section", fmt::format("{} blocks exceed 255 (too many labels)", section_blocks));
+    Fail(path, "parameter section",
+         fmt::format("{} blocks exceed 255 (too many labels)", section_blocks));
   }
   const auto data_start = static_cast<std::int64_t>(2 + section_blocks);
   std::string out = HeaderBytes(r, data_start);
@@ -185,7 +189,8 @@ void WriteC3d(const Recording& r, const std::filesystem::path& path) {
   for (std::int64_t f = 0; f < r.frames(); ++f) {
     for (int m = 0; m < r.markers(); ++m) {
       const bool observed = r.observed(f, m);
-      for (int c = 0; c < 3; ++c) AppendFloat(out, observed ? static_cast<float>(r.point(f, m)[c]) : 0.0f);
+      for (int c = 0; c < 3; ++c)
+        AppendFloat(out, observed ? static_cast<float>(r.point(f, m)[c]) : 0.0f);
       AppendFloat(out, observed ? 0.0f : -1.0f);
     }
   }

@@ -38,10 +38,12 @@ CsvSample ReadCsvRow(const std::filesystem::path& path, std::size_t line_number,
                      CsvTable& table, double& time) {
   const auto fields = internal::SplitFields(line, ',');
   const std::string where = fmt::format("line {}", line_number);
-  if (fields.size() != 6) Fail(path, where, fmt::format("{} fields, expected 6 ({})", fields.size(), kCsvHeader));
+  if (fields.size() != 6)
+    Fail(path, where, fmt::format("{} fields, expected 6 ({})", fields.size(), kCsvHeader));
   CsvSample s;
   double frame = 0.0;
-  if (!internal::ParseNumber(fields[0], frame) || frame != std::floor(frame) || std::abs(frame) > 1e15) {
+  if (!internal::ParseNumber(fields[0], frame) || frame != std::floor(frame) ||
+      std::abs(frame) > 1e15) {
     Fail(path, where + ", frame", fmt::format("'{}' is not a frame number", fields[0]));
   }
   s.frame = static_cast<std::int64_t>(frame);
@@ -65,7 +67,8 @@ CsvSample ReadCsvRow(const std::filesystem::path& path, std::size_t line_number,
   return s;
 }
 
-CsvTable ReadCsvTable(const std::filesystem::path& path, const std::vector<std::string_view>& lines) {
+CsvTable ReadCsvTable(const std::filesystem::path& path,
+                      const std::vector<std::string_view>& lines) {
   std::size_t i = 0;
   while (i < lines.size() && internal::TrimBlanks(lines[i]).empty()) ++i;
   if (i == lines.size() || internal::TrimBlanks(lines[i]) != kCsvHeader) {
@@ -102,8 +105,9 @@ Recording ReadCsv(const std::filesystem::path& path, const ReadOptions& options,
     Fail(path, "time", "a single frame does not give the rate; set ReadOptions::rate_if_unstated");
   }
   if (table.last - table.first >= 1000000 + 4 * static_cast<std::int64_t>(table.samples.size())) {
-    Fail(path, "frame", fmt::format("frames {} … {} span far more frames than the {} rows hold",
-                                    table.first, table.last, table.samples.size()));
+    Fail(path, "frame",
+         fmt::format("frames {} … {} span far more frames than the {} rows hold", table.first,
+                     table.last, table.samples.size()));
   }
   Recording r(table.labels, table.last - table.first + 1, rate, options.units_if_unstated);
   r.set_first_frame(table.first);
@@ -111,13 +115,17 @@ Recording ReadCsv(const std::filesystem::path& path, const ReadOptions& options,
   std::vector<std::uint8_t> seen(static_cast<std::size_t>(r.frames()) * table.labels.size(), 0);
   for (const CsvSample& s : table.samples) {
     const std::int64_t f = s.frame - table.first;
-    auto& once = seen[static_cast<std::size_t>(f) * table.labels.size() + static_cast<std::size_t>(s.marker)];
+    auto& once = seen[static_cast<std::size_t>(f) * table.labels.size() +
+                      static_cast<std::size_t>(s.marker)];
     if (once != 0) {
-      Fail(path, "rows", fmt::format("marker {} appears twice in frame {}", table.labels[static_cast<std::size_t>(s.marker)], s.frame));
+      Fail(path, "rows",
+           fmt::format("marker {} appears twice in frame {}",
+                       table.labels[static_cast<std::size_t>(s.marker)], s.frame));
     }
     once = 1;
     const bool zero = s.present && (s.p.array() == 0.0).all();
-    if (s.present && s.p.allFinite() && !(zero && options.zero_is_missing)) r.SetPoint(f, s.marker, s.p);
+    if (s.present && s.p.allFinite() && !(zero && options.zero_is_missing))
+      r.SetPoint(f, s.marker, s.p);
   }
   if (!options.units.empty()) r.ConvertUnits(options.units);
   return r;
@@ -126,13 +134,14 @@ Recording ReadCsv(const std::filesystem::path& path, const ReadOptions& options,
 void WriteCsv(const Recording& r, const std::filesystem::path& path) {
   for (const auto& label : r.labels()) {
     if (label.empty() || label.find_first_of(",\"\r\n") != std::string::npos) {
-      Fail(path, "marker label", fmt::format("'{}' is empty or holds a comma, quote or line break", label));
+      Fail(path, "marker label",
+           fmt::format("'{}' is empty or holds a comma, quote or line break", label));
     }
   }
   std::string out = std::string(kCsvHeader) + "\n";
   for (std::int64_t f = 0; f < r.frames(); ++f) {
-    const std::string prefix = fmt::format("{},{},", r.first_frame() + f,
-                                           internal::FormatNumber(static_cast<double>(f) / r.rate()));
+    const std::string prefix = fmt::format(
+        "{},{},", r.first_frame() + f, internal::FormatNumber(static_cast<double>(f) / r.rate()));
     for (int m = 0; m < r.markers(); ++m) {
       out += prefix;
       out += r.labels()[static_cast<std::size_t>(m)];

@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cstring>
@@ -76,8 +77,8 @@ void MakeLabelsUnique(std::vector<std::string>& labels, const std::filesystem::p
     label = unique;
   }
   if (!changes.empty()) {
-    warnings.push_back(fmt::format("{}: {}: labels renamed to be unique: {}", file.string(),
-                                   field, fmt::join(changes, ", ")));
+    warnings.push_back(fmt::format("{}: {}: labels renamed to be unique: {}", file.string(), field,
+                                   fmt::join(changes, ", ")));
   }
 }
 
@@ -116,6 +117,14 @@ bool ParseNumber(std::string_view text, double& value) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   return !text.empty() && ec == std::errc() && end == text.data() + text.size();
 }
+
+std::string ToLower(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+bool IsLengthUnit(std::string_view units) { return units == "mm" || units == "cm" || units == "m"; }
 
 std::string FormatNumber(double value) { return fmt::format("{}", value); }
 

@@ -13,27 +13,26 @@ namespace moreau::mocap {
 
 namespace {
 
-bool IsUnit(std::string_view units) { return units == "mm" || units == "cm" || units == "m"; }
-
 // The extension in lower case, without the dot.
 std::string Extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
+  std::string ext = internal::ToLower(path.extension().string());
   if (!ext.empty()) ext.erase(0, 1);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
 }
 
 }  // namespace
 
 void ReadOptions::Validate() const {
-  if (!units.empty() && !IsUnit(units)) {
-    throw InputError(fmt::format("units: '{}' is not mm, cm or m (or empty to keep the file's)", units));
+  if (!units.empty() && !internal::IsLengthUnit(units)) {
+    throw InputError(
+        fmt::format("units: '{}' is not mm, cm or m (or empty to keep the file's)", units));
   }
-  if (!IsUnit(units_if_unstated)) {
+  if (!internal::IsLengthUnit(units_if_unstated)) {
     throw InputError(fmt::format("units_if_unstated: '{}' is not mm, cm or m", units_if_unstated));
   }
   if (!std::isfinite(rate_if_unstated) || rate_if_unstated < 0.0) {
-    throw InputError(fmt::format("rate_if_unstated: {} is not a rate ≥ 0 (0: none)", rate_if_unstated));
+    throw InputError(
+        fmt::format("rate_if_unstated: {} is not a rate ≥ 0 (0: none)", rate_if_unstated));
   }
 }
 
@@ -43,7 +42,8 @@ Recording ReadRecording(const std::filesystem::path& path, const ReadOptions& op
   if (ext == "c3d") return ReadC3d(path, options, warnings);
   if (ext == "trc") return ReadTrc(path, options, warnings);
   if (ext == "csv") return ReadCsv(path, options, warnings);
-  internal::Fail(path, "extension", fmt::format("'{}' is not .c3d, .trc or .csv", path.extension().string()));
+  internal::Fail(path, "extension",
+                 fmt::format("'{}' is not .c3d, .trc or .csv", path.extension().string()));
 }
 
 void WriteRecording(const Recording& recording, const std::filesystem::path& path) {
@@ -51,7 +51,8 @@ void WriteRecording(const Recording& recording, const std::filesystem::path& pat
   if (ext == "c3d") return WriteC3d(recording, path);
   if (ext == "trc") return WriteTrc(recording, path);
   if (ext == "csv") return WriteCsv(recording, path);
-  internal::Fail(path, "extension", fmt::format("'{}' is not .c3d, .trc or .csv", path.extension().string()));
+  internal::Fail(path, "extension",
+                 fmt::format("'{}' is not .c3d, .trc or .csv", path.extension().string()));
 }
 
 RecordingInventory TakeInventory(const Recording& r, std::vector<std::string> warnings) {
@@ -76,8 +77,10 @@ RecordingInventory TakeInventory(const Recording& r, std::vector<std::string> wa
 nlohmann::json RecordingInventory::ToJson() const {
   nlohmann::json gap_rows = nlohmann::json::array();
   for (const GapRow& g : gaps) {
-    gap_rows.push_back({{"marker", g.marker}, {"first_frame", g.first_frame},
-                        {"last_frame", g.last_frame}, {"length_frames", g.length_frames},
+    gap_rows.push_back({{"marker", g.marker},
+                        {"first_frame", g.first_frame},
+                        {"last_frame", g.last_frame},
+                        {"length_frames", g.length_frames},
                         {"length_seconds", g.length_seconds}});
   }
   std::int64_t observed = 0;

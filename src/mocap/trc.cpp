@@ -15,12 +15,6 @@ namespace {
 
 using internal::Fail;
 
-std::string Lower(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
 // The header values of lines 2 (keys) and 3 (values).
 struct TrcHeader {
   double rate = 0.0;
@@ -32,7 +26,8 @@ struct TrcHeader {
 TrcHeader ReadTrcHeader(const std::filesystem::path& path,
                         const std::vector<std::string_view>& lines) {
   if (lines.size() < 5 || !lines[0].starts_with("PathFileType")) {
-    Fail(path, "line 1", "not a TRC file (it must start with PathFileType and have 5 header lines)");
+    Fail(path, "line 1",
+         "not a TRC file (it must start with PathFileType and have 5 header lines)");
   }
   const auto keys = internal::SplitFields(lines[1], '\t');
   const auto values = internal::SplitFields(lines[2], '\t');
@@ -51,13 +46,14 @@ TrcHeader ReadTrcHeader(const std::filesystem::path& path,
   };
   TrcHeader h;
   h.rate = number("DataRate");
-  if (h.rate <= 0.0) Fail(path, "DataRate", fmt::format("{} frames per second is not positive", h.rate));
+  if (h.rate <= 0.0)
+    Fail(path, "DataRate", fmt::format("{} frames per second is not positive", h.rate));
   h.frames = static_cast<std::int64_t>(number("NumFrames"));
   h.markers = static_cast<std::int64_t>(number("NumMarkers"));
   const auto units = header.find("Units");
   if (units == header.end()) Fail(path, "Units", "missing from header lines 2–3");
-  h.units = Lower(units->second);
-  if (h.units != "mm" && h.units != "cm" && h.units != "m") {
+  h.units = internal::ToLower(units->second);
+  if (!internal::IsLengthUnit(h.units)) {
     Fail(path, "Units", fmt::format("'{}' is not mm, cm or m", units->second));
   }
   return h;
@@ -70,13 +66,16 @@ std::vector<std::string> ReadTrcLabels(const std::filesystem::path& path, std::s
   std::vector<std::string> labels;
   for (std::size_t c = 2; c < fields.size(); c += 3) {
     const std::string_view name = internal::TrimBlanks(fields[c]);
-    if (!name.empty() || static_cast<std::int64_t>(labels.size()) < markers) labels.emplace_back(name);
+    if (!name.empty() || static_cast<std::int64_t>(labels.size()) < markers)
+      labels.emplace_back(name);
   }
-  while (!labels.empty() && labels.back().empty() && static_cast<std::int64_t>(labels.size()) > markers) {
+  while (!labels.empty() && labels.back().empty() &&
+         static_cast<std::int64_t>(labels.size()) > markers) {
     labels.pop_back();
   }
   if (static_cast<std::int64_t>(labels.size()) != markers) {
-    Fail(path, "line 4", fmt::format("{} marker names but NumMarkers is {}", labels.size(), markers));
+    Fail(path, "line 4",
+         fmt::format("{} marker names but NumMarkers is {}", labels.size(), markers));
   }
   return labels;
 }
@@ -90,7 +89,8 @@ void ReadTrcRow(const std::filesystem::path& path, std::size_t line_number, std:
     bool present = true;
     for (int c = 0; c < 3; ++c) {
       const std::size_t column = 2 + 3 * static_cast<std::size_t>(m) + static_cast<std::size_t>(c);
-      const std::string_view text = column < fields.size() ? internal::TrimBlanks(fields[column]) : "";
+      const std::string_view text =
+          column < fields.size() ? internal::TrimBlanks(fields[column]) : "";
       if (text.empty()) {
         present = false;
       } else if (!internal::ParseNumber(text, p[c])) {
@@ -137,7 +137,8 @@ Recording ReadTrc(const std::filesystem::path& path, const ReadOptions& options,
     double first = 0.0;
     const std::string_view field = internal::SplitFields(lines[rows[0]], '\t')[0];
     if (!internal::ParseNumber(field, first) || first != std::floor(first)) {
-      Fail(path, fmt::format("line {}, Frame#", rows[0] + 1), fmt::format("'{}' is not a frame number", field));
+      Fail(path, fmt::format("line {}, Frame#", rows[0] + 1),
+           fmt::format("'{}' is not a frame number", field));
     }
     r.set_first_frame(static_cast<std::int64_t>(first));
   }
@@ -146,7 +147,8 @@ Recording ReadTrc(const std::filesystem::path& path, const ReadOptions& options,
     ReadTrcRow(path, i + 1, lines[i], f, options, r);
   }
   if (!options.units.empty()) r.ConvertUnits(options.units);
-  if (warnings != nullptr) warnings->insert(warnings->end(), local_warnings.begin(), local_warnings.end());
+  if (warnings != nullptr)
+    warnings->insert(warnings->end(), local_warnings.begin(), local_warnings.end());
   return r;
 }
 
@@ -158,7 +160,9 @@ void WriteTrc(const Recording& r, const std::filesystem::path& path) {
   }
   const std::string rate = internal::FormatNumber(r.rate());
   std::string out = fmt::format("PathFileType\t4\t(X/Y/Z)\t{}\n", path.filename().string());
-  out += "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames\n";
+  out +=
+      "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNu"
+      "mFrames\n";
   out += fmt::format("{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n", rate, rate, r.frames(), r.markers(),
                      r.units(), rate, r.first_frame(), r.frames());
   out += "Frame#\tTime";
@@ -167,7 +171,8 @@ void WriteTrc(const Recording& r, const std::filesystem::path& path) {
   for (int m = 1; m <= r.markers(); ++m) out += fmt::format("\tX{0}\tY{0}\tZ{0}", m);
   out += "\n\n";
   for (std::int64_t f = 0; f < r.frames(); ++f) {
-    out += fmt::format("{}\t{}", r.first_frame() + f, internal::FormatNumber(static_cast<double>(f) / r.rate()));
+    out += fmt::format("{}\t{}", r.first_frame() + f,
+                       internal::FormatNumber(static_cast<double>(f) / r.rate()));
     for (int m = 0; m < r.markers(); ++m) {
       if (!r.observed(f, m)) {
         out += "\t\t\t";

@@ -44,10 +44,10 @@ std::size_t MarkersWithGaps(const Recording& r) {
 }
 
 TEST(C3dNumbers, VaxFloatsDecodeToTheirValues) {
-  const std::uint8_t one[4] = {0x80, 0x40, 0x00, 0x00};         // 0.1b × 2^1
-  const std::uint8_t minus_2_5[4] = {0x20, 0xc1, 0x00, 0x00};   // −0.101b × 2^2
+  const std::uint8_t one[4] = {0x80, 0x40, 0x00, 0x00};        // 0.1b × 2^1
+  const std::uint8_t minus_2_5[4] = {0x20, 0xc1, 0x00, 0x00};  // −0.101b × 2^2
   const std::uint8_t zero[4] = {0x00, 0x00, 0x00, 0x00};
-  const std::uint8_t third[4] = {0xaa, 0x3f, 0xab, 0xaa};       // 0.0101…b × 2^−1
+  const std::uint8_t third[4] = {0xaa, 0x3f, 0xab, 0xaa};  // 0.0101…b × 2^−1
   EXPECT_EQ(c3d::DecodeVaxFloat(one), 1.0f);
   EXPECT_EQ(c3d::DecodeVaxFloat(minus_2_5), -2.5f);
   EXPECT_EQ(c3d::DecodeVaxFloat(zero), 0.0f);
@@ -209,7 +209,7 @@ TEST(C3dRead, GaitDecFileDecodesToARigidPelvis) {
     double mean = 0.0, var = 0.0;
     for (double x : d) mean += x / static_cast<double>(d.size());
     for (double x : d) var += (x - mean) * (x - mean) / static_cast<double>(d.size());
-    EXPECT_GT(mean, 80.0);   // mm: pelvis landmarks are 8–35 cm apart
+    EXPECT_GT(mean, 80.0);  // mm: pelvis landmarks are 8–35 cm apart
     EXPECT_LT(mean, 350.0);
     EXPECT_LT(std::sqrt(var), 0.03 * mean);
   }
@@ -265,8 +265,7 @@ TEST(C3dRead, BadInputIsOneInputErrorNamingTheFile) {
     EXPECT_NE(error.find(reason), std::string::npos) << error;
     EXPECT_EQ(error.find('\n'), std::string::npos);
   }
-  const std::string directory =
-      InputErrorOf([&] { (void)ReadC3d(dir.path()); });
+  const std::string directory = InputErrorOf([&] { (void)ReadC3d(dir.path()); });
   EXPECT_NE(directory.find("is a directory"), std::string::npos);
 }
 

@@ -81,7 +81,8 @@ Recording Synthetic(int markers, std::int64_t frames) {
   for (std::int64_t f = 0; f < frames; ++f) {
     for (int m = 0; m < markers; ++m) {
       if (m == 1 && f % 7 == 3) continue;
-      r.SetPoint(f, m, Eigen::Vector3d(0.25 * static_cast<double>(f % 4000), m + 1.5, -0.5 * m - 1.0));
+      r.SetPoint(f, m,
+                 Eigen::Vector3d(0.25 * static_cast<double>(f % 4000), m + 1.5, -0.5 * m - 1.0));
     }
   }
   return r;
@@ -138,11 +139,14 @@ TEST(RecordingWrite, WritesAreAtomicAndFailuresNameTheFile) {
     return "";
   };
   const auto missing_dir = dir / "no" / "such.c3d";
-  EXPECT_NE(message([&] { WriteRecording(r, missing_dir); }).find(missing_dir.string()), std::string::npos);
+  EXPECT_NE(message([&] { WriteRecording(r, missing_dir); }).find(missing_dir.string()),
+            std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(missing_dir));
-  EXPECT_NE(message([&] { WriteRecording(r, dir / "out.xyz"); }).find("extension"), std::string::npos);
+  EXPECT_NE(message([&] { WriteRecording(r, dir / "out.xyz"); }).find("extension"),
+            std::string::npos);
   Recording comma({"a,b"}, 1, 10.0);
-  EXPECT_NE(message([&] { WriteRecording(comma, dir / "comma.csv"); }).find("comma"), std::string::npos);
+  EXPECT_NE(message([&] { WriteRecording(comma, dir / "comma.csv"); }).find("comma"),
+            std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir / "comma.csv"));
 }
 
@@ -193,9 +197,12 @@ TEST(RecordingText, MalformedFilesGiveOneLineErrorsNamingFileAndField) {
       "PathFileType\t4\t(X/Y/Z)\tx.trc\nDataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n"
       "100\t100\t3\t1\tmm\nFrame#\tTime\tA\t\t\n\t\tX1\tY1\tZ1\n";
   check("short.trc", trc_head + "1\t0\t1\t2\t3\n", "truncated");
-  check("units.trc", "PathFileType\t4\nDataRate\tNumFrames\tNumMarkers\tUnits\n100\t1\t1\tinch\n"
-                     "Frame#\tTime\tA\n\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n", "Units");
-  check("value.trc", trc_head + "1\t0\t1\t2\t3\n2\t0.01\t1\tx\t3\n3\t0.02\t1\t2\t3\n", "line 7, column 4");
+  check("units.trc",
+        "PathFileType\t4\nDataRate\tNumFrames\tNumMarkers\tUnits\n100\t1\t1\tinch\n"
+        "Frame#\tTime\tA\n\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n",
+        "Units");
+  check("value.trc", trc_head + "1\t0\t1\t2\t3\n2\t0.01\t1\tx\t3\n3\t0.02\t1\t2\t3\n",
+        "line 7, column 4");
 }
 
 TEST(RecordingInventory, ListsMarkersFramesFormatAndGaps) {

@@ -25,7 +25,7 @@ struct GapRow {
 struct RecordingInventory {
   int markers = 0;
   std::int64_t frames = 0;
-  std::int64_t first_frame = 1;  // the file's number of frame 0
+  std::int64_t first_frame = 1;   // the file's number of frame 0
   double rate = 0.0;              // frames per second
   double duration_seconds = 0.0;  // frames / rate
   std::string units;
