@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <fmt/format.h>
 
 #include "moreau/common/random.h"
 #include "moreau/mocap/recording.h"
@@ -19,7 +20,7 @@ namespace moreau::mocap::testing {
 inline Recording MakeRecording(int markers, std::int64_t frames, double rate,
                                const std::function<Eigen::Vector3d(int, double)>& position) {
   std::vector<std::string> labels;
-  for (int m = 0; m < markers; ++m) labels.push_back("M" + std::to_string(m));
+  for (int m = 0; m < markers; ++m) labels.push_back(fmt::format("M{}", m));
   Recording r(labels, frames, rate, "mm");
   for (std::int64_t f = 0; f < frames; ++f) {
     for (int m = 0; m < markers; ++m) {
