@@ -30,9 +30,10 @@ void CheckComplete(const Recording& truth) {
   for (std::int64_t f = 0; f < truth.frames(); ++f) {
     for (int m = 0; m < truth.markers(); ++m) {
       if (!truth.observed(f, m)) {
-        throw InputError(fmt::format("evaluation: the recording must be complete, but marker '{}' "
-                                     "is missing at frame {}",
-                                     truth.labels()[static_cast<std::size_t>(m)], f));
+        throw InputError(
+            fmt::format("evaluation: the recording must be complete, but marker '{}' "
+                        "is missing at frame {}",
+                        truth.labels()[static_cast<std::size_t>(m)], f));
       }
     }
   }
@@ -48,9 +49,10 @@ std::vector<Trial> DrawTrials(const Recording& truth, const EvaluationOptions& o
         std::max<std::int64_t>(1, std::llround(options.gap_seconds[g] * truth.rate()));
     const std::int64_t positions = truth.frames() - 2 * margin - length + 1;
     if (positions < 1) {
-      throw InputError(fmt::format("evaluation.gap_seconds: a gap of {} s ({} frames) does not "
-                                   "fit in {} frames with {} observed frames on each side",
-                                   options.gap_seconds[g], length, truth.frames(), margin));
+      throw InputError(
+          fmt::format("evaluation.gap_seconds: a gap of {} s ({} frames) does not "
+                      "fit in {} frames with {} observed frames on each side",
+                      options.gap_seconds[g], length, truth.frames(), margin));
     }
     lengths->push_back(length);
     for (int t = 0; t < options.trials; ++t) {
@@ -68,15 +70,20 @@ EvaluationRow Evaluate(const Recording& truth, const Recording& gapped, const Tr
   FillOptions fill_options = options.fill;
   fill_options.method = method;
   const GapFill fill = FillGap(gapped, trial.gap, fill_options);
-  EvaluationRow row{method,           options.gap_seconds[trial.length_index],
-                    trial.gap.length(), trial.trial, trial.gap.marker, trial.gap.first,
-                    kNaN,             kNaN,
+  EvaluationRow row{method,
+                    options.gap_seconds[trial.length_index],
+                    trial.gap.length(),
+                    trial.trial,
+                    trial.gap.marker,
+                    trial.gap.first,
+                    kNaN,
+                    kNaN,
                     fill.status};
   if (fill.status == GapStatus::kFilled) {
     double sum = 0.0, max = 0.0;
     for (std::int64_t f = trial.gap.first; f <= trial.gap.last; ++f) {
-      const double e = (fill.points.col(f - trial.gap.first) - truth.point(f, trial.gap.marker))
-                           .norm();
+      const double e =
+          (fill.points.col(f - trial.gap.first) - truth.point(f, trial.gap.marker)).norm();
       sum += e;
       max = std::max(max, e);
     }

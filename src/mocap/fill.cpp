@@ -49,15 +49,17 @@ const MethodEntry& Entry(FillMethod method) {
 }
 
 void CheckGap(const Recording& in, const Gap& gap, std::size_t index) {
-  const auto where = [&] { return fmt::format("gaps[{}] (marker {}, frames {}…{})", index,
-                                              gap.marker, gap.first, gap.last); };
+  const auto where = [&] {
+    return fmt::format("gaps[{}] (marker {}, frames {}…{})", index, gap.marker, gap.first,
+                       gap.last);
+  };
   if (gap.marker < 0 || gap.marker >= in.markers()) {
-    throw InputError(fmt::format("{}: marker out of range (the recording has {} markers)",
-                                 where(), in.markers()));
+    throw InputError(fmt::format("{}: marker out of range (the recording has {} markers)", where(),
+                                 in.markers()));
   }
   if (gap.first < 0 || gap.last < gap.first || gap.last >= in.frames()) {
-    throw InputError(fmt::format("{}: frames outside 0…{} or first > last", where(),
-                                 in.frames() - 1));
+    throw InputError(
+        fmt::format("{}: frames outside 0…{} or first > last", where(), in.frames() - 1));
   }
   for (std::int64_t f = gap.first; f <= gap.last; ++f) {
     if (in.observed(f, gap.marker)) {
@@ -203,8 +205,13 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const Fi
   for (const Gap& gap : gaps) {
     const Stopwatch watch;
     GapFill fill = FillGap(in, gap, options);
-    GapReport report{gap.marker, in.labels()[static_cast<std::size_t>(gap.marker)],
-                     gap.first,  gap.last, options.method, fill.status, std::move(fill.message),
+    GapReport report{gap.marker,
+                     in.labels()[static_cast<std::size_t>(gap.marker)],
+                     gap.first,
+                     gap.last,
+                     options.method,
+                     fill.status,
+                     std::move(fill.message),
                      0.0};
     if (fill.status == GapStatus::kFilled) {
       for (std::int64_t f = gap.first; f <= gap.last; ++f) {

@@ -54,14 +54,12 @@ std::optional<GapFill> CollectSamples(const Recording& in, const Gap& gap, int k
                                       Samples* samples) {
   if (auto edge = internal::EdgeStatus(in, gap)) return edge;
   std::vector<std::int64_t> before, after;
-  for (std::int64_t f = gap.first - 1; f >= 0 && in.observed(f, gap.marker) &&
-                                       static_cast<int>(before.size()) < k;
-       --f) {
+  for (std::int64_t f = gap.first - 1;
+       f >= 0 && in.observed(f, gap.marker) && static_cast<int>(before.size()) < k; --f) {
     before.push_back(f);
   }
-  for (std::int64_t f = gap.last + 1; f < in.frames() && in.observed(f, gap.marker) &&
-                                      static_cast<int>(after.size()) < k;
-       ++f) {
+  for (std::int64_t f = gap.last + 1;
+       f < in.frames() && in.observed(f, gap.marker) && static_cast<int>(after.size()) < k; ++f) {
     after.push_back(f);
   }
   const auto least = static_cast<int>(std::min(before.size(), after.size()));
@@ -109,9 +107,9 @@ Eigen::Matrix3Xd NotAKnotMoments(const Samples& s) {
     a(i, i - 1) = h[i - 1];
     a(i, i) = 2.0 * (h[i - 1] + h[i]);
     a(i, i + 1) = h[i];
-    rhs.row(i) = 6.0 * ((s.y.col(i + 1) - s.y.col(i)) / h[i] -
-                        (s.y.col(i) - s.y.col(i - 1)) / h[i - 1])
-                           .transpose();
+    rhs.row(i) =
+        6.0 * ((s.y.col(i + 1) - s.y.col(i)) / h[i] - (s.y.col(i) - s.y.col(i - 1)) / h[i - 1])
+                  .transpose();
   }
   return a.fullPivLu().solve(rhs).transpose();
 }
@@ -171,8 +169,7 @@ GapFill FillGapLinear(const Recording& in, const Gap& gap, const FillOptions&) {
 
 GapFill FillGapSpline(const Recording& in, const Gap& gap, const FillOptions& options) {
   Samples s;
-  if (auto status =
-          CollectSamples(in, gap, options.interpolation.samples_per_side, 2, &s)) {
+  if (auto status = CollectSamples(in, gap, options.interpolation.samples_per_side, 2, &s)) {
     return *status;
   }
   const Eigen::Matrix3Xd m = NotAKnotMoments(s);
@@ -184,17 +181,16 @@ GapFill FillGapSpline(const Recording& in, const Gap& gap, const FillOptions& op
     const double h = s.t[i + 1] - s.t[i];
     const double u = s.t[i + 1] - x;
     const double v = x - s.t[i];
-    fill.points.col(f - gap.first) =
-        (m.col(i) * u * u * u + m.col(i + 1) * v * v * v) / (6.0 * h) +
-        (s.y.col(i) / h - m.col(i) * h / 6.0) * u + (s.y.col(i + 1) / h - m.col(i + 1) * h / 6.0) * v;
+    fill.points.col(f - gap.first) = (m.col(i) * u * u * u + m.col(i + 1) * v * v * v) / (6.0 * h) +
+                                     (s.y.col(i) / h - m.col(i) * h / 6.0) * u +
+                                     (s.y.col(i + 1) / h - m.col(i + 1) * h / 6.0) * v;
   }
   return fill;
 }
 
 GapFill FillGapPchip(const Recording& in, const Gap& gap, const FillOptions& options) {
   Samples s;
-  if (auto status =
-          CollectSamples(in, gap, options.interpolation.samples_per_side, 2, &s)) {
+  if (auto status = CollectSamples(in, gap, options.interpolation.samples_per_side, 2, &s)) {
     return *status;
   }
   const Eigen::Matrix3Xd d = MonotoneSlopes(s);
@@ -209,8 +205,8 @@ GapFill FillGapPchip(const Recording& in, const Gap& gap, const FillOptions& opt
     const double h10 = u * (1.0 - u) * (1.0 - u);
     const double h01 = u * u * (3.0 - 2.0 * u);
     const double h11 = u * u * (u - 1.0);
-    fill.points.col(f - gap.first) = h00 * s.y.col(i) + h10 * h * d.col(i) +
-                                     h01 * s.y.col(i + 1) + h11 * h * d.col(i + 1);
+    fill.points.col(f - gap.first) =
+        h00 * s.y.col(i) + h10 * h * d.col(i) + h01 * s.y.col(i + 1) + h11 * h * d.col(i + 1);
   }
   return fill;
 }

@@ -130,9 +130,9 @@ GapFill FillGapPca(const Recording& in, const Gap& gap, const FillOptions& optio
   const double sigma = o.weight_scale_m / internal::MetresPerUnit(in.units());
   Eigen::RowVectorXd scale(sd.size());
   for (std::size_t j = 0; j < used.markers.size(); ++j) {
-    const double w = j == 0 ? o.missing_marker_weight
-                            : std::exp(-used.distance[j - 1] * used.distance[j - 1] /
-                                       (2.0 * sigma * sigma));
+    const double w =
+        j == 0 ? o.missing_marker_weight
+               : std::exp(-used.distance[j - 1] * used.distance[j - 1] / (2.0 * sigma * sigma));
     for (int c = 0; c < 3; ++c) {
       const auto col = static_cast<Eigen::Index>(3 * j) + c;
       scale[col] = w / sd[col];

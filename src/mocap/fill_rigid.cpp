@@ -19,8 +19,7 @@ namespace {
 Eigen::Isometry3d FitRigidMotion(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
   const Eigen::Vector3d from_mean = from.rowwise().mean();
   const Eigen::Vector3d to_mean = to.rowwise().mean();
-  const Eigen::Matrix3d h =
-      (from.colwise() - from_mean) * (to.colwise() - to_mean).transpose();
+  const Eigen::Matrix3d h = (from.colwise() - from_mean) * (to.colwise() - to_mean).transpose();
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
   flip(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
@@ -93,8 +92,8 @@ GapFill FillGapRigid(const Recording& in, const Gap& gap, const FillOptions& opt
     return {GapStatus::kNoDonors,
             fmt::format("{} marker(s) observed from frame {} to {} with {} frames in common "
                         "with the gapped marker; {} donors needed",
-                        donors.size(), gap.first - 1, gap.last + 1,
-                        options.rigid.min_common_frames, options.rigid.donors),
+                        donors.size(), gap.first - 1, gap.last + 1, options.rigid.min_common_frames,
+                        options.rigid.donors),
             {}};
   }
   const std::int64_t a = gap.first - 1;

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 #include "moreau/common/random.h"
 #include "moreau/mocap/recording.h"
@@ -102,52 +102,53 @@ inline Recording MakeWalkingRecording(std::int64_t frames, double rate, std::uin
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY();
   const std::vector<Segment> segments = {
       {-1, {0, 0, 0}, Eigen::Vector3d::UnitZ(), 0.1, 0.0, 4},  // pelvis
-      {0, {0, 0, 100}, y, 0.08, 1.0, 5},                      // trunk
-      {1, {0, 0, 450}, y, 0.1, 2.0, 4},                       // head
-      {1, {0, 180, 400}, y, 0.5, 0.0, 3},                     // upper arm L
-      {3, {0, 0, -300}, y, 0.4, 0.5, 3},                      // forearm L
-      {4, {0, 0, -260}, x, 0.2, 1.0, 3},                      // hand L
-      {1, {0, -180, 400}, y, 0.5, M_PI, 3},                   // upper arm R
-      {6, {0, 0, -300}, y, 0.4, M_PI + 0.5, 3},               // forearm R
-      {7, {0, 0, -260}, x, 0.2, M_PI + 1.0, 3},               // hand R
-      {0, {0, 90, -50}, y, 0.5, M_PI, 4},                     // thigh L
-      {9, {0, 0, -420}, y, 0.6, M_PI + 1.2, 4},               // shank L
-      {10, {0, 0, -400}, y, 0.3, M_PI + 2.0, 4},              // foot L
-      {0, {0, -90, -50}, y, 0.5, 0.0, 4},                     // thigh R
-      {12, {0, 0, -420}, y, 0.6, 1.2, 4},                     // shank R
-      {13, {0, 0, -400}, y, 0.3, 2.0, 4},                     // foot R
+      {0, {0, 0, 100}, y, 0.08, 1.0, 5},                       // trunk
+      {1, {0, 0, 450}, y, 0.1, 2.0, 4},                        // head
+      {1, {0, 180, 400}, y, 0.5, 0.0, 3},                      // upper arm L
+      {3, {0, 0, -300}, y, 0.4, 0.5, 3},                       // forearm L
+      {4, {0, 0, -260}, x, 0.2, 1.0, 3},                       // hand L
+      {1, {0, -180, 400}, y, 0.5, M_PI, 3},                    // upper arm R
+      {6, {0, 0, -300}, y, 0.4, M_PI + 0.5, 3},                // forearm R
+      {7, {0, 0, -260}, x, 0.2, M_PI + 1.0, 3},                // hand R
+      {0, {0, 90, -50}, y, 0.5, M_PI, 4},                      // thigh L
+      {9, {0, 0, -420}, y, 0.6, M_PI + 1.2, 4},                // shank L
+      {10, {0, 0, -400}, y, 0.3, M_PI + 2.0, 4},               // foot L
+      {0, {0, -90, -50}, y, 0.5, 0.0, 4},                      // thigh R
+      {12, {0, 0, -420}, y, 0.6, 1.2, 4},                      // shank R
+      {13, {0, 0, -400}, y, 0.3, 2.0, 4},                      // foot R
   };
   SplitMix64 rng(seed);
   std::vector<std::pair<int, Eigen::Vector3d>> markers;  // (segment, position in its frame)
   for (std::size_t s = 0; s < segments.size(); ++s) {
-    const Eigen::Vector3d along = s + 1 < segments.size() && segments[s + 1].parent ==
-                                                                  static_cast<int>(s)
-                                      ? segments[s + 1].joint
-                                      : Eigen::Vector3d(0, 0, -150);
+    const Eigen::Vector3d along =
+        s + 1 < segments.size() && segments[s + 1].parent == static_cast<int>(s)
+            ? segments[s + 1].joint
+            : Eigen::Vector3d(0, 0, -150);
     for (int k = 0; k < segments[s].markers; ++k) {
       const Eigen::Vector3d jitter(120.0 * (rng.Uniform01() - 0.5), 120.0 * (rng.Uniform01() - 0.5),
                                    60.0 * (rng.Uniform01() - 0.5));
       markers.emplace_back(static_cast<int>(s), along * (0.2 + 0.6 * rng.Uniform01()) + jitter);
     }
   }
-  return MakeRecording(static_cast<int>(markers.size()), frames, rate,
-                       [segments, markers](int m, double t) {
-    std::vector<Eigen::Isometry3d> pose(segments.size());
-    for (std::size_t s = 0; s < segments.size(); ++s) {
-      const Segment& seg = segments[s];
-      const double angle = seg.amplitude * std::sin(2.0 * M_PI * t + seg.phase);
-      Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
-      local.translate(seg.joint).rotate(Eigen::AngleAxisd(angle, seg.axis));
-      if (seg.parent < 0) {
-        local.pretranslate(Eigen::Vector3d(1200.0 * t, 0.0, 950.0 + 20.0 * std::sin(4.0 * M_PI * t)));
-        pose[s] = local;
-      } else {
-        pose[s] = pose[static_cast<std::size_t>(seg.parent)] * local;
-      }
-    }
-    const auto& [segment, local] = markers[static_cast<std::size_t>(m)];
-    return Eigen::Vector3d(pose[static_cast<std::size_t>(segment)] * local);
-  });
+  return MakeRecording(
+      static_cast<int>(markers.size()), frames, rate, [segments, markers](int m, double t) {
+        std::vector<Eigen::Isometry3d> pose(segments.size());
+        for (std::size_t s = 0; s < segments.size(); ++s) {
+          const Segment& seg = segments[s];
+          const double angle = seg.amplitude * std::sin(2.0 * M_PI * t + seg.phase);
+          Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
+          local.translate(seg.joint).rotate(Eigen::AngleAxisd(angle, seg.axis));
+          if (seg.parent < 0) {
+            local.pretranslate(
+                Eigen::Vector3d(1200.0 * t, 0.0, 950.0 + 20.0 * std::sin(4.0 * M_PI * t)));
+            pose[s] = local;
+          } else {
+            pose[s] = pose[static_cast<std::size_t>(seg.parent)] * local;
+          }
+        }
+        const auto& [segment, local] = markers[static_cast<std::size_t>(m)];
+        return Eigen::Vector3d(pose[static_cast<std::size_t>(segment)] * local);
+      });
 }
 
 }  // namespace moreau::mocap::testing

@@ -25,11 +25,11 @@
 namespace moreau::mocap {
 
 struct EvaluationOptions {
-  std::vector<FillMethod> methods = AllFillMethods();   // methods compared (≥ 1)
+  std::vector<FillMethod> methods = AllFillMethods();      // methods compared (≥ 1)
   std::vector<double> gap_seconds = {0.1, 0.2, 0.5, 1.0};  // gap durations, each > 0
-  int trials = 20;                                      // trials per gap length, ≥ 1
-  std::uint64_t seed = 1;                               // SplitMix64 seed of the draws
-  int threads = 0;                                      // OpenMP threads; 0: the default
+  int trials = 20;                                         // trials per gap length, ≥ 1
+  std::uint64_t seed = 1;                                  // SplitMix64 seed of the draws
+  int threads = 0;                                         // OpenMP threads; 0: the default
   FillOptions fill;  // every method's settings (fill.method is ignored)
 
   // Throws InputError("evaluation.<field> …") for a value out of range, or the fill options'.
@@ -40,8 +40,8 @@ struct EvaluationOptions {
 // One method on one trial.
 struct EvaluationRow {
   FillMethod method = FillMethod::kLinear;
-  double gap_seconds = 0.0;      // as asked
-  std::int64_t gap_frames = 0;   // as used
+  double gap_seconds = 0.0;     // as asked
+  std::int64_t gap_frames = 0;  // as used
   int trial = 0;
   int marker = 0;
   std::int64_t first_frame = 0;  // 0-based
@@ -56,16 +56,16 @@ struct EvaluationStatistics {
   double gap_seconds = 0.0;
   std::int64_t gap_frames = 0;
   int trials = 0;
-  int failed = 0;             // trials not filled
-  double mean = 0.0;          // of the per-gap mean error (NaN if none filled)
-  double median = 0.0;        // ditto
-  double percentile_90 = 0.0; // ditto (linear interpolation between order statistics)
+  int failed = 0;              // trials not filled
+  double mean = 0.0;           // of the per-gap mean error (NaN if none filled)
+  double median = 0.0;         // ditto
+  double percentile_90 = 0.0;  // ditto (linear interpolation between order statistics)
 };
 
 struct EvaluationSummary {
   Termination termination = Termination::kCompleted;
   std::string message;
-  std::vector<EvaluationRow> rows;  // ordered by gap length, trial, method
+  std::vector<EvaluationRow> rows;               // ordered by gap length, trial, method
   std::vector<EvaluationStatistics> statistics;  // ordered by gap length, method
   std::string units;
   double total_seconds = 0.0;
