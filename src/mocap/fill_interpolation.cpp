@@ -150,6 +150,48 @@ Eigen::Matrix3Xd MonotoneSlopes(const Samples& s) {
   return d;
 }
 
+// The spline at x in [t_i, t_{i+1}] from its second derivatives m.
+Eigen::Vector3d SplinePiece(const Samples& s, const Eigen::Matrix3Xd& m, Eigen::Index i, double x) {
+  const double h = s.t[i + 1] - s.t[i];
+  const double u = s.t[i + 1] - x;
+  const double v = x - s.t[i];
+  return (m.col(i) * u * u * u + m.col(i + 1) * v * v * v) / (6.0 * h) +
+         (s.y.col(i) / h - m.col(i) * h / 6.0) * u +
+         (s.y.col(i + 1) / h - m.col(i + 1) * h / 6.0) * v;
+}
+
+// The cubic Hermite interpolant at x in [t_i, t_{i+1}] from its derivatives d.
+Eigen::Vector3d HermitePiece(const Samples& s, const Eigen::Matrix3Xd& d, Eigen::Index i,
+                             double x) {
+  const double h = s.t[i + 1] - s.t[i];
+  const double u = (x - s.t[i]) / h;  // in [0, 1]
+  const double h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u);
+  const double h10 = u * (1.0 - u) * (1.0 - u);
+  const double h01 = u * u * (3.0 - 2.0 * u);
+  const double h11 = u * u * (u - 1.0);
+  return h00 * s.y.col(i) + h10 * h * d.col(i) + h01 * s.y.col(i + 1) + h11 * h * d.col(i + 1);
+}
+
+// A piecewise cubic through the samples around the gap: `coefficients` (3 × n, per sample) from
+// the samples, `piece` evaluates the cubic of one interval.
+GapFill FillPiecewiseCubic(const Recording& in, const Gap& gap, const FillOptions& options,
+                           Eigen::Matrix3Xd (*coefficients)(const Samples&),
+                           Eigen::Vector3d (*piece)(const Samples&, const Eigen::Matrix3Xd&,
+                                                    Eigen::Index, double)) {
+  Samples s;
+  if (auto status = CollectSamples(in, gap, options.interpolation.samples_per_side, 2, &s)) {
+    return *status;
+  }
+  const Eigen::Matrix3Xd c = coefficients(s);
+  GapFill fill;
+  fill.points.resize(3, gap.length());
+  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
+    const auto x = static_cast<double>(f);
+    fill.points.col(f - gap.first) = piece(s, c, Interval(s.t, x), x);
+  }
+  return fill;
+}
+
 }  // namespace
 
 GapFill FillGapLinear(const Recording& in, const Gap& gap, const FillOptions&) {
@@ -168,47 +210,11 @@ GapFill FillGapLinear(const Recording& in, const Gap& gap, const FillOptions&) {
 }
 
 GapFill FillGapSpline(const Recording& in, const Gap& gap, const FillOptions& options) {
-  Samples s;
-  if (auto status = CollectSamples(in, gap, options.interpolation.samples_per_side, 2, &s)) {
-    return *status;
-  }
-  const Eigen::Matrix3Xd m = NotAKnotMoments(s);
-  GapFill fill;
-  fill.points.resize(3, gap.length());
-  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
-    const auto x = static_cast<double>(f);
-    const Eigen::Index i = Interval(s.t, x);
-    const double h = s.t[i + 1] - s.t[i];
-    const double u = s.t[i + 1] - x;
-    const double v = x - s.t[i];
-    fill.points.col(f - gap.first) = (m.col(i) * u * u * u + m.col(i + 1) * v * v * v) / (6.0 * h) +
-                                     (s.y.col(i) / h - m.col(i) * h / 6.0) * u +
-                                     (s.y.col(i + 1) / h - m.col(i + 1) * h / 6.0) * v;
-  }
-  return fill;
+  return FillPiecewiseCubic(in, gap, options, &NotAKnotMoments, &SplinePiece);
 }
 
 GapFill FillGapPchip(const Recording& in, const Gap& gap, const FillOptions& options) {
-  Samples s;
-  if (auto status = CollectSamples(in, gap, options.interpolation.samples_per_side, 2, &s)) {
-    return *status;
-  }
-  const Eigen::Matrix3Xd d = MonotoneSlopes(s);
-  GapFill fill;
-  fill.points.resize(3, gap.length());
-  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
-    const auto x = static_cast<double>(f);
-    const Eigen::Index i = Interval(s.t, x);
-    const double h = s.t[i + 1] - s.t[i];
-    const double u = (x - s.t[i]) / h;  // in [0, 1]
-    const double h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u);
-    const double h10 = u * (1.0 - u) * (1.0 - u);
-    const double h01 = u * u * (3.0 - 2.0 * u);
-    const double h11 = u * u * (u - 1.0);
-    fill.points.col(f - gap.first) =
-        h00 * s.y.col(i) + h10 * h * d.col(i) + h01 * s.y.col(i + 1) + h11 * h * d.col(i + 1);
-  }
-  return fill;
+  return FillPiecewiseCubic(in, gap, options, &MonotoneSlopes, &HermitePiece);
 }
 
 }  // namespace moreau::mocap
