@@ -104,6 +104,20 @@ TEST(EvaluateFillMethods, ReproducibleFromTheSeedAndIndependentOfTheThreadCount)
   EXPECT_TRUE(differs);
 }
 
+TEST(EvaluateFillMethods, PcaOnAFullSizeBodyIsIndependentOfTheThreadCount) {
+  // 55 markers: products large enough for Eigen's own OpenMP paths, were they used.
+  const Recording body = testing::MakeWalkingRecording(340, 200.0, 5);
+  EvaluationOptions options;
+  options.methods = {FillMethod::kPca, FillMethod::kRigid};
+  options.gap_seconds = {0.1, 0.5};
+  options.trials = 4;
+  options.threads = 1;
+  const EvaluationSummary one = EvaluateFillMethods(body, options);
+  options.threads = 3;
+  ExpectSameRows(one, EvaluateFillMethods(body, options));
+  for (const EvaluationRow& row : one.rows) EXPECT_EQ(row.status, GapStatus::kFilled);
+}
+
 TEST(EvaluateFillMethods, FailedFillsAreCountedAndWrittenAsNull) {
   // Three markers: rigid never has three donors.
   const Recording line = MakeLineRecording(3, 100, 100.0);
