@@ -1,0 +1,174 @@
+// Gap filling: the established methods for missing marker samples, one gap at a time.
+//
+// Every method fills one Gap (a run of missing frames of one marker, see recording.h) from the
+// *input* recording only, so the result never depends on the order in which gaps are filled. A
+// gap a method cannot fill keeps its samples missing (NaN, observed = false) and gets a status
+// saying why; a filled sample is finite and marked observed.
+//
+//   linear  straight line between the observed samples at frames first − 1 and last + 1.
+//   spline  not-a-knot cubic spline through up to `interpolation.samples_per_side` observed
+//           samples on each side (the observed runs adjacent to the gap, at least 2 per side);
+//           reproduces any cubic polynomial in time exactly.
+//   pchip   monotone piecewise-cubic Hermite interpolation (Fritsch–Carlson: derivatives by the
+//           weighted harmonic mean of the neighbouring secant slopes, zero at local extrema, the
+//           shape-preserving three-point formula at the ends) through the same samples; never
+//           overshoots monotone data.
+//   rigid   rigid-body (pattern) fill: the `rigid.donors` markers whose distance to the gapped
+//           marker varies least (standard deviation over the frames where both are seen) among
+//           those observed throughout the gap and at its bounding frames; the donors' rigid motion
+//           (Kabsch least-squares fit) from frame first − 1 and from frame last + 1 carries the
+//           gapped marker, and the two estimates are blended linearly across the gap, so the fill
+//           meets the observed samples at both ends. Exact for markers on one rigid body.
+//   pca     low-rank fill after Gløersen & Federolf (2016, PLoS ONE 11(3): e0152616): positions
+//           relative to the mean trajectory of the other markers, normalised by the mean and
+//           standard deviation of each coordinate over the complete frames and weighted by
+//           w = exp(−d² / (2σ²)) (d: mean distance to the gapped marker, σ = pca.weight_scale_m;
+//           the gapped marker itself gets pca.missing_marker_weight); principal components of
+//           the complete frames (the fewest whose singular values sum to ≥ explained_fraction of
+//           the total); the gapped coordinates are then reconstructed iteratively: start at the
+//           mean, project the frame onto the retained components, replace the gapped coordinates
+//           by the projection's, repeat until the change is below pca.tolerance. The first
+//           iterate is Gløersen & Federolf's reconstruction (to first order in the
+//           missing-marker weight); the fixed point is the least-squares fit of the retained
+//           components to the observed coordinates, exact for data of rank ≤ the components
+//           retained. Gaps at the start or end of the recording can be filled.
+//
+// Adding a method: one FillMethod entry, one row in the name table (fill.cpp) and one FillGapX
+// function with the signature below.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "moreau/common/termination.h"
+#include "moreau/mocap/recording.h"
+
+namespace moreau::mocap {
+
+enum class FillMethod { kLinear, kSpline, kPchip, kRigid, kPca };
+
+// "linear", "spline", "pchip", "rigid", "pca".
+std::string_view ToString(FillMethod method);
+// Throws InputError naming the unknown method and the known ones.
+FillMethod ParseFillMethod(std::string_view name);
+// Every method, in the order above.
+std::vector<FillMethod> AllFillMethods();
+
+// Why a gap was or was not filled.
+enum class GapStatus {
+  kFilled,         // every sample of the gap is filled
+  kSkippedEdge,    // no observed sample on one side (gap at the start or end of the recording)
+  kTooLong,        // longer than FillOptions::max_gap_seconds
+  kTooFewSamples,  // too few observed samples (per side, or complete frames for pca)
+  kNoDonors,       // rigid/pca: too few usable markers observed throughout the gap
+  kFailed,         // a numerical failure (message says where)
+};
+
+// "filled", "skipped_edge", "too_long", "too_few_samples", "no_donors", "failed".
+std::string_view ToString(GapStatus status);
+// Throws InputError for an unknown name.
+GapStatus ParseGapStatus(std::string_view name);
+
+// Settings of spline and pchip.
+struct InterpolationFillOptions {
+  // Observed samples taken on each side of the gap (the adjacent observed run, up to this many);
+  // ≥ 2. Both methods need at least 2 on each side (else too_few_samples).
+  int samples_per_side = 4;
+};
+
+struct RigidFillOptions {
+  int donors = 3;  // markers carried rigidly with the gapped one, ≥ 3
+  // Frames where a candidate and the gapped marker are both observed, needed to judge how much
+  // their distance varies; ≥ 2.
+  int min_common_frames = 10;
+};
+
+struct PcaFillOptions {
+  // Retain the fewest principal components whose singular values sum to ≥ this fraction of the
+  // total; in (0, 1].
+  double explained_fraction = 0.99;
+  // σ of the distance weights w = exp(−d² / (2σ²)), in metres (converted to the recording's
+  // units); > 0. Gløersen & Federolf use 200 mm.
+  double weight_scale_m = 0.2;
+  // Weight of the gapped marker's coordinates, in (0, 1]. Sets how fast the iteration converges
+  // (the contraction factor is of order weight²), not where.
+  double missing_marker_weight = 0.02;
+  // A candidate marker that has missing samples somewhere and lies farther than this multiple of
+  // the mean candidate distance is left out (so that it does not remove complete frames); > 0.
+  double distal_threshold = 0.5;
+  int min_complete_frames = 10;  // frames where every used marker is observed; ≥ 2
+  int max_iterations = 200;      // reconstruction iterations, ≥ 1
+  // Stop when the largest change of a gapped coordinate, in standard deviations of that
+  // coordinate, is ≤ this; > 0.
+  double tolerance = 1e-10;
+};
+
+struct FillOptions {
+  FillMethod method = FillMethod::kSpline;
+  // Gaps lasting longer than this (length / rate, seconds) are left missing with status
+  // too_long; 0: no limit. ≥ 0.
+  double max_gap_seconds = 0.0;
+  InterpolationFillOptions interpolation;
+  RigidFillOptions rigid;
+  PcaFillOptions pca;
+
+  // Throws InputError("fill.<field> must be … (got …)") for a value out of range.
+  void Validate() const;
+  nlohmann::json ToJson() const;
+};
+
+// The outcome of filling one gap.
+struct GapFill {
+  GapStatus status = GapStatus::kFilled;
+  std::string message;      // why it was not filled, or a note (empty when nothing to say)
+  Eigen::Matrix3Xd points;  // 3 × gap.length(), frames first … last; empty unless filled
+};
+
+// One method on one gap of `in` (gap consistent with `in`: marker in range, first ≤ last inside
+// the recording, every sample missing). The FillGapX functions do not check max_gap_seconds
+// or the recording's edges beyond what the method itself needs; FillGap does both, then
+// dispatches on options.method.
+GapFill FillGapLinear(const Recording& in, const Gap& gap, const FillOptions& options);
+GapFill FillGapSpline(const Recording& in, const Gap& gap, const FillOptions& options);
+GapFill FillGapPchip(const Recording& in, const Gap& gap, const FillOptions& options);
+GapFill FillGapRigid(const Recording& in, const Gap& gap, const FillOptions& options);
+GapFill FillGapPca(const Recording& in, const Gap& gap, const FillOptions& options);
+GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options);
+
+struct GapReport {
+  int marker = 0;
+  std::string label;
+  std::int64_t first = 0;  // 0-based, inclusive
+  std::int64_t last = 0;
+  FillMethod method = FillMethod::kSpline;
+  GapStatus status = GapStatus::kFilled;
+  std::string message;
+  double seconds = 0.0;  // wall-clock time spent on this gap
+  bool filled() const { return status == GapStatus::kFilled; }
+};
+
+struct FillSummary {
+  Termination termination = Termination::kCompleted;  // always completed: see the gap statuses
+  std::string message;                                // "k of n gaps filled; …"
+  std::vector<GapReport> gaps;                        // one per input gap, in input order
+  std::int64_t gaps_filled = 0;
+  std::int64_t samples_filled = 0;  // marker samples written
+  double total_seconds = 0.0;
+  FillOptions settings;
+
+  bool ok() const { return IsSuccess(termination); }
+  nlohmann::json ToJson() const;
+};
+
+// Fills `gaps` (normally FindGaps(in)) of `in` with options.method and writes the result to
+// *out (which may be &in): a copy of `in` with every filled sample set and marked observed.
+// Throws InputError for invalid options or a gap that does not match `in` ("gaps[i]: …").
+FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const FillOptions& options,
+                     Recording* out);
+
+}  // namespace moreau::mocap

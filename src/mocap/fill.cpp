@@ -1,0 +1,238 @@
+#include "moreau/mocap/fill.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "moreau/common/error.h"
+#include "moreau/common/stopwatch.h"
+#include "moreau/common/summary_json.h"
+
+namespace moreau::mocap {
+
+namespace {
+
+using GapFillFunction = GapFill (*)(const Recording&, const Gap&, const FillOptions&);
+
+struct MethodEntry {
+  FillMethod method;
+  std::string_view name;
+  GapFillFunction fill;
+};
+
+// The one place that lists the methods: enum, name, function.
+constexpr std::array<MethodEntry, 5> kMethods{{
+    {FillMethod::kLinear, "linear", &FillGapLinear},
+    {FillMethod::kSpline, "spline", &FillGapSpline},
+    {FillMethod::kPchip, "pchip", &FillGapPchip},
+    {FillMethod::kRigid, "rigid", &FillGapRigid},
+    {FillMethod::kPca, "pca", &FillGapPca},
+}};
+
+constexpr std::array<std::pair<GapStatus, std::string_view>, 6> kStatuses{{
+    {GapStatus::kFilled, "filled"},
+    {GapStatus::kSkippedEdge, "skipped_edge"},
+    {GapStatus::kTooLong, "too_long"},
+    {GapStatus::kTooFewSamples, "too_few_samples"},
+    {GapStatus::kNoDonors, "no_donors"},
+    {GapStatus::kFailed, "failed"},
+}};
+
+const MethodEntry& Entry(FillMethod method) {
+  for (const auto& entry : kMethods) {
+    if (entry.method == method) return entry;
+  }
+  MOREAU_ASSERT(false);
+}
+
+void CheckGap(const Recording& in, const Gap& gap, std::size_t index) {
+  const auto where = [&] {
+    return fmt::format("gaps[{}] (marker {}, frames {}…{})", index, gap.marker, gap.first,
+                       gap.last);
+  };
+  if (gap.marker < 0 || gap.marker >= in.markers()) {
+    throw InputError(fmt::format("{}: marker out of range (the recording has {} markers)", where(),
+                                 in.markers()));
+  }
+  if (gap.first < 0 || gap.last < gap.first || gap.last >= in.frames()) {
+    throw InputError(
+        fmt::format("{}: frames outside 0…{} or first > last", where(), in.frames() - 1));
+  }
+  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
+    if (in.observed(f, gap.marker)) {
+      throw InputError(fmt::format("{}: frame {} is observed, not missing", where(), f));
+    }
+  }
+}
+
+}  // namespace
+
+std::string_view ToString(FillMethod method) { return Entry(method).name; }
+
+FillMethod ParseFillMethod(std::string_view name) {
+  std::string known;
+  for (const auto& entry : kMethods) {
+    if (entry.name == name) return entry.method;
+    known += (known.empty() ? "" : ", ") + std::string(entry.name);
+  }
+  throw InputError(fmt::format("unknown fill method '{}' (expected one of {})", name, known));
+}
+
+std::vector<FillMethod> AllFillMethods() {
+  std::vector<FillMethod> methods;
+  for (const auto& entry : kMethods) methods.push_back(entry.method);
+  return methods;
+}
+
+std::string_view ToString(GapStatus status) {
+  for (const auto& [value, name] : kStatuses) {
+    if (value == status) return name;
+  }
+  MOREAU_ASSERT(false);
+}
+
+GapStatus ParseGapStatus(std::string_view name) {
+  for (const auto& [value, name_of] : kStatuses) {
+    if (name_of == name) return value;
+  }
+  throw InputError(fmt::format("unknown gap status '{}'", name));
+}
+
+void FillOptions::Validate() const {
+  const auto fail = [](std::string_view field, auto value, std::string_view reason) {
+    throw InputError(fmt::format("fill.{} must be {} (got {})", field, reason, value));
+  };
+  if (!(max_gap_seconds >= 0.0) || !std::isfinite(max_gap_seconds)) {
+    fail("max_gap_seconds", max_gap_seconds, "≥ 0 (0: no limit)");
+  }
+  if (interpolation.samples_per_side < 2) {
+    fail("interpolation.samples_per_side", interpolation.samples_per_side, "≥ 2");
+  }
+  if (rigid.donors < 3) fail("rigid.donors", rigid.donors, "≥ 3");
+  if (rigid.min_common_frames < 2) fail("rigid.min_common_frames", rigid.min_common_frames, "≥ 2");
+  if (!(pca.explained_fraction > 0.0 && pca.explained_fraction <= 1.0)) {
+    fail("pca.explained_fraction", pca.explained_fraction, "in (0, 1]");
+  }
+  if (!(pca.weight_scale_m > 0.0) || !std::isfinite(pca.weight_scale_m)) {
+    fail("pca.weight_scale_m", pca.weight_scale_m, "> 0");
+  }
+  if (!(pca.missing_marker_weight > 0.0 && pca.missing_marker_weight <= 1.0)) {
+    fail("pca.missing_marker_weight", pca.missing_marker_weight, "in (0, 1]");
+  }
+  if (!(pca.distal_threshold > 0.0) || !std::isfinite(pca.distal_threshold)) {
+    fail("pca.distal_threshold", pca.distal_threshold, "> 0");
+  }
+  if (pca.min_complete_frames < 2) {
+    fail("pca.min_complete_frames", pca.min_complete_frames, "≥ 2");
+  }
+  if (pca.max_iterations < 1) fail("pca.max_iterations", pca.max_iterations, "≥ 1");
+  if (!(pca.tolerance > 0.0) || !std::isfinite(pca.tolerance)) {
+    fail("pca.tolerance", pca.tolerance, "> 0");
+  }
+}
+
+nlohmann::json FillOptions::ToJson() const {
+  return {{"method", std::string(ToString(method))},
+          {"max_gap_seconds", max_gap_seconds},
+          {"interpolation", {{"samples_per_side", interpolation.samples_per_side}}},
+          {"rigid", {{"donors", rigid.donors}, {"min_common_frames", rigid.min_common_frames}}},
+          {"pca",
+           {{"explained_fraction", pca.explained_fraction},
+            {"weight_scale_m", pca.weight_scale_m},
+            {"missing_marker_weight", pca.missing_marker_weight},
+            {"distal_threshold", pca.distal_threshold},
+            {"min_complete_frames", pca.min_complete_frames},
+            {"max_iterations", pca.max_iterations},
+            {"tolerance", pca.tolerance}}}};
+}
+
+GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options) {
+  const double seconds = static_cast<double>(gap.length()) / in.rate();
+  if (options.max_gap_seconds > 0.0 && seconds > options.max_gap_seconds * (1.0 + 1e-12)) {
+    return {GapStatus::kTooLong,
+            fmt::format("gap of {} frames ({:.4g} s) exceeds max_gap_seconds = {}", gap.length(),
+                        seconds, options.max_gap_seconds),
+            {}};
+  }
+  GapFill result = Entry(options.method).fill(in, gap, options);
+  if (result.status == GapStatus::kFilled) {
+    MOREAU_ASSERT(result.points.cols() == gap.length());
+    if (!result.points.allFinite()) {
+      return {GapStatus::kFailed, "the method produced a non-finite position", {}};
+    }
+  } else {
+    result.points.resize(3, 0);
+  }
+  return result;
+}
+
+nlohmann::json FillSummary::ToJson() const {
+  nlohmann::json j = SummaryJson(termination, message, total_seconds);
+  j["gaps_filled"] = gaps_filled;
+  j["gaps_unfilled"] = static_cast<std::int64_t>(gaps.size()) - gaps_filled;
+  j["samples_filled"] = samples_filled;
+  nlohmann::json rows = nlohmann::json::array();
+  for (const GapReport& gap : gaps) {
+    rows.push_back({{"marker", gap.marker},
+                    {"label", gap.label},
+                    {"first", gap.first},
+                    {"last", gap.last},
+                    {"frames", gap.last - gap.first + 1},
+                    {"method", std::string(ToString(gap.method))},
+                    {"status", std::string(ToString(gap.status))},
+                    {"message", gap.message},
+                    {"seconds", gap.seconds}});
+  }
+  j["gaps"] = std::move(rows);
+  j["settings"] = settings.ToJson();
+  return j;
+}
+
+FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const FillOptions& options,
+                     Recording* out) {
+  MOREAU_ASSERT(out != nullptr);
+  const Stopwatch total;
+  options.Validate();
+  for (std::size_t i = 0; i < gaps.size(); ++i) CheckGap(in, gaps[i], i);
+
+  FillSummary summary;
+  summary.settings = options;
+  Recording result = in;
+  std::map<GapStatus, int> unfilled;
+  for (const Gap& gap : gaps) {
+    const Stopwatch watch;
+    GapFill fill = FillGap(in, gap, options);
+    GapReport report{gap.marker,
+                     in.labels()[static_cast<std::size_t>(gap.marker)],
+                     gap.first,
+                     gap.last,
+                     options.method,
+                     fill.status,
+                     std::move(fill.message),
+                     0.0};
+    if (fill.status == GapStatus::kFilled) {
+      for (std::int64_t f = gap.first; f <= gap.last; ++f) {
+        result.SetPoint(f, gap.marker, fill.points.col(f - gap.first));
+      }
+      ++summary.gaps_filled;
+      summary.samples_filled += gap.length();
+    } else {
+      ++unfilled[fill.status];
+    }
+    report.seconds = watch.Seconds();
+    summary.gaps.push_back(std::move(report));
+  }
+  summary.message = fmt::format("{} of {} gaps filled by {}", summary.gaps_filled, gaps.size(),
+                                ToString(options.method));
+  for (const auto& [status, count] : unfilled) {
+    summary.message += fmt::format("; {} {}", count, ToString(status));
+  }
+  *out = std::move(result);
+  summary.total_seconds = total.Seconds();
+  return summary;
+}
+
+}  // namespace moreau::mocap
