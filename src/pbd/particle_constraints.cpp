@@ -371,6 +371,7 @@ double ParticleConstraints::MaxViolation(ConstVectorRef x) {
   const int k = model_->dimension;
   const double worst = particles::internal::DispatchDimension(
       k, [&](auto kk) { return MaxPairViolation<kk>(x.data()); });
+  if (walls_.empty()) return worst;
   double wall_worst = worst;
   for (int i = 0; i < model_->count(); ++i) {
     const double r = model_->radius[static_cast<std::size_t>(i)];
