@@ -17,12 +17,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <numbers>
 #include <vector>
 
 #include <unistd.h>
 
+#include "moreau/common/hash.h"
 #include "moreau/common/random.h"
 #include "moreau/pbd/cases.h"
 #include "moreau/particles/engine.h"
@@ -104,7 +107,7 @@ void BM_Engine(benchmark::State& state) {
   const auto s = engine.summary().stats;
   state.counters["rebuild_every"] =
       static_cast<double>(s.steps) /
-      static_cast<double>(std::max<std::int64_t>(1, s.neighbour_builds));
+      static_cast<double>(std::max<std::int64_t>(1, s.neighbour_list_builds));
   state.counters["pairs_per_particle"] =
       static_cast<double>(s.candidate_pairs) / static_cast<double>(w.n);
   state.counters["retries"] = static_cast<double>(s.verlet_retries);
@@ -297,6 +300,17 @@ int main(int argc, char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
     setenv("OMP_WAIT_POLICY", "passive", 1);
     execv("/proc/self/exe", argv);  // returns only on failure: carry on with the default
+  }
+  // --hash_steps=S: no timing; runs the 10^6-disk workload (2 threads) for S steps and prints the
+  // hash of the final positions (the regression check on bits recorded in docs/benchmarks.md).
+  if (argc == 2 && std::strncmp(argv[1], "--hash_steps=", 13) == 0) {
+    const std::int64_t steps = std::atoll(argv[1] + 13);
+    const Workload w = MakeWorkload(SideFor(1000000));
+    Engine engine = MakeWorkloadEngine(w, 2);
+    for (std::int64_t i = 0; i < steps; ++i) engine.Step();
+    std::printf("N %d steps %lld positions_hash %s\n", w.n, static_cast<long long>(steps),
+                moreau::HashDoublesHex(engine.Positions()).c_str());
+    return 0;
   }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

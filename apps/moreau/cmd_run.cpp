@@ -106,7 +106,7 @@ int Run(const RunArgs& args) {
   if (problem.solution && summary.ok()) j["error"] = error;
   if (particles) {
     const auto& pc = dynamic_cast<const pbd::ParticleConstraints&>(*constraints);
-    j["neighbour_list_builds"] = pc.neighbour_stats().builds;
+    j["neighbour_list_builds"] = pc.neighbour_stats().neighbour_list_builds;
     j["candidate_pairs"] = pc.neighbour_stats().candidate_pairs;
   }
   j["settings"] = pbd_scenario.ToJson();

@@ -7,13 +7,18 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <memory>
+#include <limits>
+#include <span>
+#include <optional>
 
 #include "moreau/common/error.h"
+#include "moreau/common/hash.h"
 #include "moreau/common/random.h"
+#include "moreau/common/steps.h"
 #include "moreau/io/trajectory.h"
 #include "moreau/particles/engine.h"
-#include "moreau/pbd/cases.h"
-#include "moreau/pbd/stepper.h"
+#include "moreau/particles/room.h"
 #include "output.h"
 #include "progress.h"
 
@@ -108,34 +113,21 @@ void ReadObstacles(Scenario& s, particles::ParticleModel* model) {
   }
 }
 
-// The crowd room of examples/crowd.toml: [room] width, height, door_width → segments for the
-// walls, with a door centred on the right wall (x = width).
-struct Room {
-  double width = 0.0;
-  double height = 0.0;
-  double door_lo = 0.0;
-  double door_hi = 0.0;
-};
-
-std::optional<Room> ReadRoom(Scenario& s, particles::ParticleModel* model) {
+// [room] width, height, door_width: the crowd room of examples/crowd.toml (room.h).
+std::optional<particles::Room> ReadRoom(Scenario& s, particles::ParticleModel* model) {
   if (!s.Has("room")) {
     s.GetNode("room");
     return std::nullopt;
   }
-  if (model->dimension != 2) s.Fail("room", "a room needs dimension 2");
-  Room room;
-  room.width = s.RequirePositive("room.width", s.RequireDouble("room.width"));
-  room.height = s.RequirePositive("room.height", s.RequireDouble("room.height"));
-  const double door = s.RequirePositive("room.door_width", s.RequireDouble("room.door_width"));
-  if (door >= room.height) s.Fail("room.door_width", "must be smaller than the room height");
-  room.door_lo = 0.5 * (room.height - door);
-  room.door_hi = 0.5 * (room.height + door);
-  const double W = room.width, H = room.height;
-  model->segments.push_back({{0.0, 0.0}, {W, 0.0}});
-  model->segments.push_back({{0.0, H}, {W, H}});
-  model->segments.push_back({{0.0, 0.0}, {0.0, H}});
-  model->segments.push_back({{W, 0.0}, {W, room.door_lo}});
-  model->segments.push_back({{W, room.door_hi}, {W, H}});
+  particles::Room room;
+  room.width = s.RequireDouble("room.width");
+  room.height = s.RequireDouble("room.height");
+  room.door_width = s.RequireDouble("room.door_width");
+  try {
+    particles::AddRoom(room, model);  // its messages name the field ("room.width must be > 0")
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", s.path(), e.what()));
+  }
   return room;
 }
 
@@ -165,29 +157,42 @@ void WriteFramesCsv(const std::filesystem::path& path, int k, const std::vector<
   }
 }
 
-}  // namespace
 
-int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
-  namespace fs = std::filesystem;
+// [domain] lo, hi, periodic, box_walls.
+void ReadDomain(Scenario& s, particles::ParticleModel* model) {
+  const int k = model->dimension;
+  const Vec3 lo = ReadVec(s, "domain.lo", k, {0.0, 0.0, 0.0});
+  const Vec3 hi = ReadVec(s, "domain.hi", k, {1.0, 1.0, 1.0});
+  for (int a = 0; a < k; ++a) {
+    if (!(hi[static_cast<std::size_t>(a)] > lo[static_cast<std::size_t>(a)])) {
+      s.Fail("domain.hi", fmt::format("must exceed domain.lo on axis {}", a));
+    }
+  }
+  model->domain_lo = lo;
+  model->domain_hi = hi;
+  if (s.Has("domain.periodic")) {
+    const toml::array* arr = s.GetNode("domain.periodic")->as_array();
+    if (arr == nullptr || static_cast<int>(arr->size()) != k) {
+      s.Fail("domain.periodic", fmt::format("expected {} booleans", k));
+    }
+    for (int a = 0; a < k; ++a) {
+      const auto b = (*arr)[static_cast<std::size_t>(a)].value<bool>();
+      if (!b) s.Fail("domain.periodic", "entries must be true or false");
+      model->periodic[static_cast<std::size_t>(a)] = *b;
+    }
+  }
+  // Walls on the box faces of the non-periodic axes.
+  if (s.GetBool("domain.box_walls", false)) model->AddBoxWalls(lo, hi);
+}
+
+// [problem] count, radius or radius_min/max, mobility; [domain]; obstacles; [room].
+particles::ParticleModel ReadModel(Scenario& s, int k, int n, std::uint64_t seed) {
   particles::ParticleModel model;
-  const std::int64_t dim = s.GetInt("problem.dimension", 2);
-  if (dim != 2 && dim != 3) s.Fail("problem.dimension", fmt::format("must be 2 or 3 (got {})", dim));
-  model.dimension = static_cast<int>(dim);
-  const int k = model.dimension;
-  const std::int64_t count = s.RequireInt("problem.count");
-  if (count < 1) s.Fail("problem.count", fmt::format("must be ≥ 1 (got {})", count));
-  const std::int64_t memory_limit = s.GetInt("solver.memory_limit", 0);
-  if (memory_limit < 0) s.Fail("solver.memory_limit", "must be ≥ 0 (bytes; 0 = physical memory)");
-  // Before anything of size N is allocated.
-  WithKey(s, "problem.count", [&] { particles::CheckParticleMemory(k, count, memory_limit); });
-  if (count > std::numeric_limits<int>::max()) s.Fail("problem.count", "too many particles");
-  const int n = static_cast<int>(count);
-  const std::uint64_t seed = static_cast<std::uint64_t>(s.GetInt("problem.seed", 1));
-  const double T = s.RequirePositive("problem.T", s.RequireDouble("problem.T"));
-
+  model.dimension = k;
   // Radii: one value, or uniform in [radius_min, radius_max] (polydisperse, seeded).
   if (s.Has("problem.radius_min") || s.Has("problem.radius_max")) {
-    const double rmin = s.RequirePositive("problem.radius_min", s.RequireDouble("problem.radius_min"));
+    const double rmin =
+        s.RequirePositive("problem.radius_min", s.RequireDouble("problem.radius_min"));
     const double rmax = s.RequireDouble("problem.radius_max");
     if (!(rmax >= rmin)) s.Fail("problem.radius_max", "must be ≥ problem.radius_min");
     SplitMix64 rng(seed ^ 0x5DEECE66DULL);
@@ -197,51 +202,16 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
     const double r = s.RequirePositive("problem.radius", s.RequireDouble("problem.radius"));
     model.radius.assign(static_cast<std::size_t>(n), r);
   }
-  const double mobility = s.RequirePositive("problem.mobility", s.GetDouble("problem.mobility", 1.0));
+  const double mobility =
+      s.RequirePositive("problem.mobility", s.GetDouble("problem.mobility", 1.0));
   if (mobility != 1.0) model.mobility.assign(static_cast<std::size_t>(n), mobility);
-
-  // Domain and boundaries.
-  const Vec3 lo = ReadVec(s, "domain.lo", k, {0.0, 0.0, 0.0});
-  const Vec3 hi = ReadVec(s, "domain.hi", k, {1.0, 1.0, 1.0});
-  for (int a = 0; a < k; ++a) {
-    if (!(hi[static_cast<std::size_t>(a)] > lo[static_cast<std::size_t>(a)])) {
-      s.Fail("domain.hi", fmt::format("must exceed domain.lo on axis {}", a));
-    }
-  }
-  model.domain_lo = lo;
-  model.domain_hi = hi;
-  if (s.Has("domain.periodic")) {
-    const toml::node* node = s.GetNode("domain.periodic");
-    const toml::array* arr = node->as_array();
-    if (arr == nullptr || static_cast<int>(arr->size()) != k) {
-      s.Fail("domain.periodic", fmt::format("expected {} booleans", k));
-    }
-    for (int a = 0; a < k; ++a) {
-      const auto b = (*arr)[static_cast<std::size_t>(a)].value<bool>();
-      if (!b) s.Fail("domain.periodic", "entries must be true or false");
-      model.periodic[static_cast<std::size_t>(a)] = *b;
-    }
-  }
-  if (s.GetBool("domain.box_walls", false)) {
-    // Walls on the box faces of the non-periodic axes.
-    for (int a = 0; a < k; ++a) {
-      if (model.periodic[static_cast<std::size_t>(a)]) continue;
-      particles::Wall low, high;
-      low.normal = {0.0, 0.0, 0.0};
-      high.normal = {0.0, 0.0, 0.0};
-      low.normal[static_cast<std::size_t>(a)] = 1.0;
-      low.offset = lo[static_cast<std::size_t>(a)];
-      high.normal[static_cast<std::size_t>(a)] = -1.0;
-      high.offset = -hi[static_cast<std::size_t>(a)];
-      model.walls.push_back(low);
-      model.walls.push_back(high);
-    }
-  }
+  ReadDomain(s, &model);
   ReadObstacles(s, &model);
-  const std::optional<Room> room = ReadRoom(s, &model);
-  WithKey(s, "problem", [&] { model.Validate(); });
+  return model;
+}
 
-  // Forces.
+// [forces]; with a room, the walk to its door.
+particles::Forces ReadForces(Scenario& s, int k, const std::optional<particles::Room>& room) {
   particles::Forces forces;
   if (s.Has("forces.trap_gamma")) {
     forces.trap = particles::HarmonicTrap{s.GetDouble("forces.trap_gamma", 0.0),
@@ -251,18 +221,16 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
   }
   forces.constant_force = ReadVec(s, "forces.constant", k, {0.0, 0.0, 0.0});
   if (s.Has("forces.propulsion_speed") || room) {
-    particles::SelfPropulsion p;
-    p.speed = s.GetDouble("forces.propulsion_speed", 1.0);
+    const double speed = s.GetDouble("forces.propulsion_speed", 1.0);
     if (room) {
-      // Head for the door; once through it, keep walking away from the room.
-      p.target = {room->width, room->door_lo, 0.0};
-      p.target_end = Vec3{room->width, room->door_hi, 0.0};
-      p.exit_direction = Vec3{1.0, 0.0, 0.0};
+      forces.propulsion = room->WalkToTheDoor(speed);
     } else {
+      particles::SelfPropulsion p;
+      p.speed = speed;
       p.target = ReadVec(s, "forces.target", k, {0.0, 0.0, 0.0});
       if (s.Has("forces.target_end")) p.target_end = ReadVec(s, "forces.target_end", k, {});
+      forces.propulsion = p;
     }
-    forces.propulsion = p;
   }
   if (s.Has("forces.attraction_stiffness")) {
     forces.attraction = particles::PairAttraction{s.GetDouble("forces.attraction_stiffness", 0.0),
@@ -270,14 +238,19 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
   }
   forces.diffusion = s.GetDouble("forces.diffusion", 0.0);
   WithKey(s, "forces", [&] { forces.Validate(); });
+  return forces;
+}
 
-  // Solver.
+// [solver].
+particles::EngineOptions ReadEngineOptions(Scenario& s, std::uint64_t seed,
+                                           std::int64_t memory_limit) {
   particles::EngineOptions options;
   options.h = s.RequirePositive("solver.h", s.RequireDouble("solver.h"));
   options.seed = seed;
   if (s.Has("solver.order")) {
-    options.order = WithKey(s, "solver.order",
-                            [&] { return particles::ParseSweepOrder(s.GetString("solver.order", "")); });
+    options.order = WithKey(s, "solver.order", [&] {
+      return particles::ParseSweepOrder(s.GetString("solver.order", ""));
+    });
   }
   options.threads = static_cast<int>(s.GetInt("solver.threads", 0));
   options.sweeps = static_cast<int>(s.GetInt("solver.sweeps", 1));
@@ -287,176 +260,219 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
   const std::string method = s.GetString("solver.method", "pbd");
   if (method != "pbd") s.Fail("solver.method", "the particle engine runs pbd");
   WithKey(s, "solver", [&] { options.Validate(); });
-  const std::int64_t steps = WithKey(s, "solver.h", [&] { return StepCount(T, options.h); });
+  return options;
+}
 
-  // Initial state.
+// [initial]: given positions or random sequential addition, then optionally FixOverlaps.
+std::vector<double> ReadInitialState(Scenario& s, const particles::ParticleModel& model,
+                                     std::uint64_t seed, bool fix, int* fix_sweeps) {
+  const int k = model.dimension;
   std::vector<double> x0;
-  const bool fix = flags.fix_overlaps || s.GetBool("problem.fix_overlaps", false);
   if (s.Has("initial.positions")) {
-    x0 = ReadPositions(s, "initial.positions", k, n);
+    x0 = ReadPositions(s, "initial.positions", k, model.count());
   } else {
-    Vec3 ilo = ReadVec(s, "initial.lo", k, lo);
-    Vec3 ihi = ReadVec(s, "initial.hi", k, hi);
-    x0 = WithKey(s, "initial", [&] { return particles::RandomSequentialAddition(model, ilo, ihi, seed); });
+    const Vec3 lo = ReadVec(s, "initial.lo", k, model.domain_lo);
+    const Vec3 hi = ReadVec(s, "initial.hi", k, model.domain_hi);
+    x0 = WithKey(s, "initial",
+                 [&] { return particles::RandomSequentialAddition(model, lo, hi, seed); });
   }
-  int fix_sweeps = 0;
-  if (fix) {
-    fix_sweeps = WithKey(s, "initial", [&] { return particles::FixOverlaps(model, x0); });
-  }
-  const std::int64_t stride_in = s.GetInt("output.stride", 0);
-  if (stride_in < 0) s.Fail("output.stride", "must be ≥ 0");
-  const std::int64_t stride = stride_in > 0 ? stride_in : std::max<std::int64_t>(1, steps / 100);
-  const bool write_hdf5 = s.GetBool("output.hdf5", true);
-  const bool write_vtu = s.GetBool("output.vtu", n <= 100000);
-  const bool snapshots = s.GetBool("output.snapshots", k == 2 && n <= 200000);
-  // Times of the snapshot frames; by default the first and the last frame.
-  std::vector<double> snapshot_times = s.GetDoubleArray("output.snapshot_times", {});
-  if (snapshot_times.size() > 4) s.Fail("output.snapshot_times", "at most four times");
-  for (double t : snapshot_times) {
+  *fix_sweeps = fix ? WithKey(s, "initial", [&] { return particles::FixOverlaps(model, x0); }) : 0;
+  return x0;
+}
+
+// [output].
+struct OutputSettings {
+  std::int64_t stride = 1;           // a trajectory frame every stride steps (and the last)
+  bool hdf5 = true;
+  bool vtu = true;
+  bool snapshots = true;             // snapshots.png (2D)
+  std::vector<double> snapshot_times;  // empty: the first and the last frame
+};
+
+OutputSettings ReadOutputSettings(Scenario& s, int k, int n, std::int64_t steps, double T) {
+  OutputSettings o;
+  const std::int64_t stride = s.GetInt("output.stride", 0);
+  if (stride < 0) s.Fail("output.stride", "must be ≥ 0");
+  o.stride = stride > 0 ? stride : std::max<std::int64_t>(1, steps / 100);
+  o.hdf5 = s.GetBool("output.hdf5", true);
+  o.vtu = s.GetBool("output.vtu", n <= 100000);
+  o.snapshots = s.GetBool("output.snapshots", k == 2 && n <= 200000) && k == 2;
+  o.snapshot_times = s.GetDoubleArray("output.snapshot_times", {});
+  if (o.snapshot_times.size() > 4) s.Fail("output.snapshot_times", "at most four times");
+  for (double t : o.snapshot_times) {
     if (t < 0.0 || t > T) s.Fail("output.snapshot_times", fmt::format("{} is outside [0, T]", t));
   }
-  s.CheckAllKeysUsed();
+  return o;
+}
 
-  particles::Engine engine = WithKey(s, "initial", [&] {
-    return particles::Engine(model, forces, options, x0);
-  });
+// What the run writes as it goes: trajectory frames, snapshot frames, the evacuation series.
+class RunRecorder {
+ public:
+  RunRecorder(OutputDir& out, const OutputSettings& settings, const particles::ParticleModel& model,
+              const std::optional<particles::Room>& room, double h, std::int64_t steps)
+      : settings_(settings), model_(model), h_(h), steps_(steps), ids_(model.radius.size()) {
+    std::iota(ids_.begin(), ids_.end(), 0);
+    if (settings.hdf5) {
+      out.Stage("trajectory.xdmf");
+      hdf5_ = io::MakeHdf5Writer(out.Stage("trajectory.h5"));
+    }
+    if (settings.vtu) {
+      const std::filesystem::path dir = out.Stage("vtu");
+      std::filesystem::create_directories(dir);
+      vtu_ = io::MakeVtuSeriesWriter(dir, "frame");
+    }
+    if (room) evacuation_.emplace(*room, model.count());
+  }
 
-  OutputDir out(flags.out);
-  std::unique_ptr<io::TrajectoryWriter> hdf5, vtu;
-  if (write_hdf5) {
-    out.Stage("trajectory.xdmf");
-    hdf5 = io::MakeHdf5Writer(out.Stage("trajectory.h5"));
+  // The engine's observer.
+  void Observe(std::int64_t step, double t, std::span<const double> x) {
+    if (evacuation_) evacuation_csv_ += fmt::format("{:.9g},{}\n", t, evacuation_->Update(x));
+    if (step % settings_.stride == 0 || step == steps_) WriteFrame(step, t, x);
+    const bool snapshot = step == 0 ? settings_.snapshot_times.empty() || IsSnapshotTime(t)
+                                    : IsSnapshotTime(t);
+    if (snapshot) snapshots_.emplace_back(t, std::vector<double>(x.begin(), x.end()));
+    last_step_ = step;
   }
-  if (write_vtu) {
-    const fs::path dir = out.Stage("vtu");
-    fs::create_directories(dir);
-    vtu = io::MakeVtuSeriesWriter(dir, "frame");
+
+  // After the run: the last good frame after a failure, the final snapshot, writers closed.
+  void Finish(bool ok, double t, std::span<const double> x) {
+    if (!ok && last_step_ % settings_.stride != 0) WriteFrame(last_step_, t, x);
+    if (hdf5_) hdf5_->Close();
+    if (vtu_) vtu_->Close();
+    if (settings_.snapshot_times.empty()) {
+      snapshots_.emplace_back(t, std::vector<double>(x.begin(), x.end()));
+    }
   }
-  std::vector<std::int64_t> ids(static_cast<std::size_t>(n));
-  std::iota(ids.begin(), ids.end(), 0);
-  std::vector<double> x(static_cast<std::size_t>(k) * static_cast<std::size_t>(n));
-  const auto write_frame = [&] {
-    engine.CopyPositions(x);
-    const io::ParticleFrame frame{engine.step(), engine.time(), k, x.data(), ids.data(),
-                                  model.radius.data(), n};
-    if (hdf5) hdf5->Write(frame);
-    if (vtu) vtu->Write(frame);
-  };
-  std::vector<std::pair<double, std::vector<double>>> first_last;
-  const auto is_snapshot_time = [&](double t) {
-    for (double ts : snapshot_times) {
-      if (std::abs(t - ts) <= 0.5 * options.h) return true;
+
+  const std::optional<particles::EvacuationCount>& evacuation() const { return evacuation_; }
+  const std::string& evacuation_csv() const { return evacuation_csv_; }
+  const std::vector<std::pair<double, std::vector<double>>>& snapshots() const {
+    return snapshots_;
+  }
+  bool hdf5() const { return hdf5_ != nullptr; }
+  bool vtu() const { return vtu_ != nullptr; }
+
+ private:
+  bool IsSnapshotTime(double t) const {
+    for (double ts : settings_.snapshot_times) {
+      if (std::abs(t - ts) <= 0.5 * h_) return true;
     }
     return false;
-  };
-  engine.CopyPositions(x);
-  if (snapshot_times.empty() || is_snapshot_time(0.0)) first_last.emplace_back(0.0, x);
-  write_frame();
-
-  std::string evacuation = "t,out\n";
-  // A person is out from the first time their centre passes the door line x = width (noise may
-  // carry them back over it for a moment; they still count as out).
-  std::vector<char> left(room ? static_cast<std::size_t>(n) : 0, 0);
-  int outside = 0;
-  const auto count_out = [&] {
-    for (int i = 0; i < n; ++i) {
-      if (!left[static_cast<std::size_t>(i)] && x[static_cast<std::size_t>(k * i)] > room->width) {
-        left[static_cast<std::size_t>(i)] = 1;
-        ++outside;
-      }
-    }
-    return outside;
-  };
-  if (room) evacuation += fmt::format("0,{}\n", count_out());
-
-  ProgressBar progress("run", steps);
-  bool ok = true;
-  std::string failure;  // a NumericalError from the engine
-  for (std::int64_t step = 1; step <= steps; ++step) {
-    bool stepped = false;
-    try {
-      stepped = engine.Step();
-    } catch (const NumericalError& e) {  // the step could not be completed; the state is the last good one
-      failure = e.what();
-    }
-    if (!stepped) {
-      ok = false;
-      break;
-    }
-    if (room) {
-      engine.CopyPositions(x);
-      evacuation += fmt::format("{:.9g},{}\n", engine.time(), count_out());
-    }
-    if (step % stride == 0 || step == steps) write_frame();
-    if (!snapshot_times.empty() && is_snapshot_time(engine.time())) {
-      engine.CopyPositions(x);
-      first_last.emplace_back(engine.time(), x);
-    }
-    progress.Update(step);
   }
-  progress.Finish();
-  const particles::EngineSummary summary = engine.summary();
-  if (!ok && engine.step() % stride != 0) write_frame();  // the last good frame
-  if (hdf5) hdf5->Close();
-  if (vtu) vtu->Close();
-  engine.CopyPositions(x);
-  if (snapshot_times.empty()) first_last.emplace_back(engine.time(), x);
+  void WriteFrame(std::int64_t step, double t, std::span<const double> x) {
+    const io::ParticleFrame frame{step, t, model_.dimension, x.data(), ids_.data(),
+                                  model_.radius.data(), model_.count()};
+    if (hdf5_) hdf5_->Write(frame);
+    if (vtu_) vtu_->Write(frame);
+  }
 
-  nlohmann::json j;
-  const particles::EngineStats& st = summary.stats;
+  const OutputSettings& settings_;
+  const particles::ParticleModel& model_;
+  double h_;
+  std::int64_t steps_;
+  std::vector<std::int64_t> ids_;
+  std::unique_ptr<io::TrajectoryWriter> hdf5_, vtu_;
+  std::optional<particles::EvacuationCount> evacuation_;
+  std::string evacuation_csv_ = "t,out\n";
+  std::vector<std::pair<double, std::vector<double>>> snapshots_;
+  std::int64_t last_step_ = 0;
+};
+
+// summary.json: the engine's summary (counters, *_seconds, settings) and the run's context.
+nlohmann::json RunSummaryJson(const particles::Engine& engine,
+                              const particles::EngineSummary& summary, const Scenario& s,
+                              int fix_sweeps, std::span<const double> x) {
+  nlohmann::json j = summary.ToJson();
   j["method"] = "pbd";
   j["engine"] = "particles";
-  j["h"] = options.h;
-  j["steps"] = st.steps;
-  j["final_time"] = st.time;
-  j["particles"] = n;
-  j["dimension"] = k;
+  j["h"] = summary.settings.h;
+  j["particles"] = engine.count();
+  j["dimension"] = engine.dimension();
   j["threads"] = engine.threads();
-  j["sweep_order"] = particles::SweepOrderName(options.order);
-  j["constraint_evaluations"] = st.constraint_evaluations;
-  j["constraint_sets_paper_count"] = st.constraint_sets;
-  j["neighbour_list_rebuilds"] = st.neighbour_builds;
-  j["verlet_retries"] = st.verlet_retries;
-  j["candidate_pairs"] = st.candidate_pairs;
-  j["max_overlap"] = st.max_overlap;
-  j["max_violation"] = st.max_overlap;
+  j["sweep_order"] = particles::SweepOrderName(summary.settings.order);
+  j["max_violation"] = summary.stats.max_overlap;
   j["fix_overlaps_sweeps"] = fix_sweeps;
-  j["wall_seconds"] = st.total_seconds;
-  j["timings"] = {{"setup", st.setup_seconds},        {"forces", st.force_seconds},
-                  {"neighbour_lists", st.neighbour_seconds}, {"sweeps", st.sweep_seconds},
-                  {"monitor", st.monitor_seconds},    {"total", st.total_seconds}};
-  j["termination"] = !failure.empty() ? "numerical_failure" : summary.ok() ? "completed" : "non_finite";
-  if (!failure.empty()) {
-    j["message"] = failure + fmt::format("; the state of step {} is kept", engine.step());
-  } else if (!summary.ok()) {
-    j["message"] = summary.message;
-    j["failed_step"] = summary.failed_step;
-    j["failed_particle"] = summary.failed_particle;
-  }
   j["scenario_file"] = s.path();
-  if (room) {
-    j["evacuated"] = count_out();
-    out.WriteText("evacuation.csv", evacuation);
+  j["positions_hash"] = HashDoublesHex(x);  // final positions, id order (FNV-1a of the bits)
+  return j;
+}
+
+// The summary, the evacuation series and the figures into the output directory.
+void WriteRunOutputs(OutputDir& out, const RunRecorder& recorder, nlohmann::json j,
+                     const OutputSettings& settings, const particles::ParticleModel& model) {
+  const auto& evacuation = recorder.evacuation();
+  if (evacuation) {
+    j["evacuated"] = evacuation->out();
+    out.WriteText("evacuation.csv", recorder.evacuation_csv());
     RunPlotScript("plot_particles.py", {"--series", out.Stage("evacuation.png").string(),
                                         out.StagedPath("evacuation.csv").string(), "time",
                                         "people out"});
   }
   out.WriteText("summary.json", j.dump(2) + "\n");
-  if (snapshots && k == 2) {
-    const fs::path csv = out.StagedPath(".snapshots.csv");
-    WriteFramesCsv(csv, k, model.radius, first_last);
+  if (settings.snapshots) {
+    const std::filesystem::path csv = out.StagedPath(".snapshots.csv");
+    WriteFramesCsv(csv, model.dimension, model.radius, recorder.snapshots());
     RunPlotScript("plot_particles.py", {out.Stage("snapshots.png").string(), csv.string()});
-    fs::remove(csv);
+    std::filesystem::remove(csv);
   }
+}
+
+}  // namespace
+
+int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
+  const std::int64_t dim = s.GetInt("problem.dimension", 2);
+  if (dim != 2 && dim != 3) {
+    s.Fail("problem.dimension", fmt::format("must be 2 or 3 (got {})", dim));
+  }
+  const int k = static_cast<int>(dim);
+  const std::int64_t count = s.RequireInt("problem.count");
+  if (count < 1) s.Fail("problem.count", fmt::format("must be ≥ 1 (got {})", count));
+  const std::int64_t memory_limit = s.GetInt("solver.memory_limit", 0);
+  if (memory_limit < 0) s.Fail("solver.memory_limit", "must be ≥ 0 (bytes; 0 = physical memory)");
+  // Before anything of size N is allocated.
+  WithKey(s, "problem.count", [&] { particles::CheckParticleMemory(k, count, memory_limit); });
+  if (count > std::numeric_limits<int>::max()) s.Fail("problem.count", "too many particles");
+  const int n = static_cast<int>(count);
+  const auto seed = static_cast<std::uint64_t>(s.GetInt("problem.seed", 1));
+  const double T = s.RequirePositive("problem.T", s.RequireDouble("problem.T"));
+
+  particles::ParticleModel model = ReadModel(s, k, n, seed);
+  const std::optional<particles::Room> room = ReadRoom(s, &model);
+  WithKey(s, "problem", [&] { model.Validate(); });
+  const particles::Forces forces = ReadForces(s, k, room);
+  const particles::EngineOptions options = ReadEngineOptions(s, seed, memory_limit);
+  const std::int64_t steps = WithKey(s, "solver.h", [&] { return StepCount(T, options.h); });
+  const bool fix = flags.fix_overlaps || s.GetBool("problem.fix_overlaps", false);
+  int fix_sweeps = 0;
+  const std::vector<double> x0 = ReadInitialState(s, model, seed, fix, &fix_sweeps);
+  const OutputSettings settings = ReadOutputSettings(s, k, n, steps, T);
+  s.CheckAllKeysUsed();
+
+  particles::Engine engine =
+      WithKey(s, "initial", [&] { return particles::Engine(model, forces, options, x0); });
+  OutputDir out(flags.out);
+  RunRecorder recorder(out, settings, model, room, options.h, steps);
+  ProgressBar progress("run", steps);
+  const particles::EngineSummary summary =
+      engine.Run(T, [&](std::int64_t step, double t, std::span<const double> x) {
+        recorder.Observe(step, t, x);
+        progress.Update(step);
+      });
+  progress.Finish();
+  const std::vector<double> x = engine.Positions();
+  recorder.Finish(summary.ok(), engine.time(), x);
+  WriteRunOutputs(out, recorder, RunSummaryJson(engine, summary, s, fix_sweeps, x), settings,
+                  model);
   out.Commit();
   std::printf("%s\n", summary.BriefReport().c_str());
-  if (room) std::printf("people out at t = %g: %d of %d\n", engine.time(), outside, n);
+  if (recorder.evacuation()) {
+    std::printf("people out at t = %g: %d of %d\n", engine.time(), recorder.evacuation()->out(), n);
+  }
   std::printf("wrote %s/summary.json%s%s%s\n", out.dir().c_str(),
-              hdf5 ? ", trajectory.h5 + .xdmf" : "", vtu ? ", vtu/frame.pvd" : "",
-              snapshots && k == 2 ? ", snapshots.png" : "");
-  if (!ok) {
-    std::fprintf(stderr, "moreau: numerical failure: %s\n",
-                 failure.empty() ? summary.message.c_str() : failure.c_str());
+              recorder.hdf5() ? ", trajectory.h5 + .xdmf" : "",
+              recorder.vtu() ? ", vtu/frame.pvd" : "", settings.snapshots ? ", snapshots.png" : "");
+  if (!summary.ok()) {
+    std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
     return 3;
   }
   return 0;

@@ -93,7 +93,7 @@ PbdScenario ReadPbdScenario(Scenario& s) {
     out.disks = c;
     // The initial state must be feasible.
     const pbd::Vector x0 = out.InitialState();
-    const pbd::ParticleModel model = c.MakeModel();
+    const particles::ParticleModel model = c.MakeModel();
     const double tol = 1e-12 * std::max(1.0, c.radius);
     for (int i = 0; i < c.count; ++i) {
       for (int j = i + 1; j < c.count; ++j) {
@@ -142,7 +142,7 @@ pbd::StudyProblem PbdScenario::MakeProblem() const {
     p.drift = c.MakeDrift();
     p.solution = [c](double t) { return c.ExactSolution(t); };
   } else {
-    const pbd::ParticleModel model = disks->MakeModel();
+    auto model = std::make_shared<const particles::ParticleModel>(disks->MakeModel());
     p.make_constraints = [model] {
       return std::unique_ptr<pbd::Constraints>(std::make_unique<pbd::ParticleConstraints>(model));
     };

@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/steps.h"
+#include "moreau/common/summary_json.h"
 #include "particles/kernels.h"
 
 namespace moreau::particles {
@@ -44,10 +46,50 @@ void EngineOptions::Validate() const {
   }
 }
 
+nlohmann::json EngineOptions::ToJson() const {
+  return {{"h", h},
+          {"seed", seed},
+          {"order", SweepOrderName(order)},
+          {"search", search == NeighbourSearch::kCellGrid ? "cell_grid" : "brute_force"},
+          {"skin_factor", skin_factor},
+          {"threads", threads},
+          {"block_cells", block_cells},
+          {"sweeps", sweeps},
+          {"monitor_overlap", monitor_overlap},
+          {"check_initial_state", check_initial_state},
+          {"initial_tolerance", initial_tolerance},
+          {"memory_limit_bytes", memory_limit_bytes}};
+}
+
+nlohmann::json EngineSummary::ToJson() const {
+  nlohmann::json j = SummaryJson(termination, message, stats.total_seconds);
+  j["steps"] = stats.steps;
+  j["final_time"] = stats.time;
+  j["neighbour_list_builds"] = stats.neighbour_list_builds;
+  j["verlet_retries"] = stats.verlet_retries;
+  j["candidate_pairs"] = stats.candidate_pairs;
+  j["constraint_evaluations"] = stats.constraint_evaluations;
+  j["constraint_sets_paper_count"] = stats.constraint_sets;
+  j["projections"] = stats.projections;
+  j["max_overlap"] = stats.max_overlap;
+  j["last_overlap"] = stats.last_overlap;
+  j["setup_seconds"] = stats.setup_seconds;
+  j["force_seconds"] = stats.force_seconds;
+  j["neighbour_seconds"] = stats.neighbour_seconds;
+  j["sweep_seconds"] = stats.sweep_seconds;
+  j["monitor_seconds"] = stats.monitor_seconds;
+  if (!ok()) {
+    j["failed_step"] = failed_step;
+    if (failed_particle >= 0) j["failed_particle"] = failed_particle;
+  }
+  j["settings"] = settings.ToJson();
+  return j;
+}
+
 std::string EngineSummary::BriefReport() const {
   std::string s = fmt::format(
       "steps {} t {:.6g} builds {} retries {} pairs {} max overlap {:.3g} wall {:.3f} s",
-      stats.steps, stats.time, stats.neighbour_builds, stats.verlet_retries, stats.candidate_pairs,
+      stats.steps, stats.time, stats.neighbour_list_builds, stats.verlet_retries, stats.candidate_pairs,
       stats.max_overlap, stats.total_seconds);
   if (!ok()) s += " — " + message;
   return s;
@@ -210,6 +252,10 @@ void Engine::Impl::Wrap(double* x) const {
 
 void Engine::Impl::Setup(std::span<const double> positions) {
   options.Validate();
+  if (model.dimension != 2 && model.dimension != 3) {
+    throw InputError(
+        fmt::format("dimension must be 2 or 3 for the particle engine (got {})", model.dimension));
+  }
   CheckParticleMemory(model.dimension, model.count(), options.memory_limit_bytes);
   model.Validate();
   forces.Validate();
@@ -232,13 +278,9 @@ void Engine::Impl::Setup(std::span<const double> positions) {
                                 : std::clamp(n / 20000, 1, std::max(1, omp_get_max_threads()));
   if (options.order == SweepOrder::kLexicographic) threads = 1;
 
-  for (const Wall& w : model.walls) {
-    double n2 = 0.0;
-    for (int a = 0; a < k; ++a)
-      n2 += w.normal[static_cast<std::size_t>(a)] * w.normal[static_cast<std::size_t>(a)];
-    const double nn = std::sqrt(n2);
-    for (int a = 0; a < k; ++a) wall_n.push_back(w.normal[static_cast<std::size_t>(a)] / nn);
-    wall_b.push_back(w.offset / nn);
+  for (const internal::UnitWall& w : internal::UnitWalls(model)) {
+    for (int a = 0; a < k; ++a) wall_n.push_back(w.n[a]);
+    wall_b.push_back(w.b);
   }
   for (const SphereObstacle& o : model.spheres) {
     for (int a = 0; a < k; ++a) sphere_c.push_back(o.center[static_cast<std::size_t>(a)]);
@@ -603,21 +645,9 @@ void Engine::Impl::Rebuild(std::vector<double>* at) {
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (std::int64_t i = 0; i < total; ++i) dst[i] = src[i];
   }
-  switch (k * 2 + (any_periodic ? 1 : 0)) {
-    case 4:
-      BuildRows<2, false>(x);
-      break;
-    case 5:
-      BuildRows<2, true>(x);
-      break;
-    case 6:
-      BuildRows<3, false>(x);
-      break;
-    default:
-      BuildRows<3, true>(x);
-      break;
-  }
-  ++stats.neighbour_builds;
+  internal::DispatchDimensionPeriodic(
+      k, any_periodic, [&](auto kk, auto p) { BuildRows<kk, p>(x); });
+  ++stats.neighbour_list_builds;
   stats.candidate_pairs = static_cast<std::int64_t>(nbr.size());
   built_here = true;
   drift_bound = 0.0;
@@ -953,20 +983,8 @@ void Engine::Impl::PredictImpl(double* max_move, std::int64_t* bad_id) {
 }
 
 void Engine::Impl::Predict(double* max_move, std::int64_t* bad_id) {
-  switch (k * 2 + (any_periodic ? 1 : 0)) {
-    case 4:
-      PredictImpl<2, false>(max_move, bad_id);
-      break;
-    case 5:
-      PredictImpl<2, true>(max_move, bad_id);
-      break;
-    case 6:
-      PredictImpl<3, false>(max_move, bad_id);
-      break;
-    default:
-      PredictImpl<3, true>(max_move, bad_id);
-      break;
-  }
+  internal::DispatchDimensionPeriodic(
+      k, any_periodic, [&](auto kk, auto p) { PredictImpl<kk, p>(max_move, bad_id); });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1004,7 +1022,7 @@ void Engine::Impl::SweepRows(int begin, int end, double* x, double* max_path, st
       const double c = U ? uniform_c : ri + rad[t];
       const double r2 = internal::SquaredNorm<K>(u);
       if (r2 >= (U ? uniform_c2 : c * c)) continue;
-      const double d = internal::ProjectPair<K>(xs, xt, u, c);
+      const double d = internal::ProjectOverlappingPair<K>(xs, xt, u, r2, c);
       add += d;
       local_max = std::max(local_max, AddPath(t, d));
       ++moved;
@@ -1106,16 +1124,8 @@ double Engine::Impl::Sweep(std::int64_t* projections) {
     std::fill(stamp.begin(), stamp.end(), 0);
     sweep_id = 1;
   }
-  switch (k * 2 + (any_periodic ? 1 : 0)) {
-    case 4:
-      return SweepImpl<2, false>(projections);
-    case 5:
-      return SweepImpl<2, true>(projections);
-    case 6:
-      return SweepImpl<3, false>(projections);
-    default:
-      return SweepImpl<3, true>(projections);
-  }
+  return internal::DispatchDimensionPeriodic(
+      k, any_periodic, [&](auto kk, auto p) { return SweepImpl<kk, p>(projections); });
 }
 
 template <int K, bool P>
@@ -1139,16 +1149,8 @@ double Engine::Impl::MaxOverlapImpl(const double* x) const {
 }
 
 double Engine::Impl::MaxOverlap(const double* x) const {
-  switch (k * 2 + (any_periodic ? 1 : 0)) {
-    case 4:
-      return MaxOverlapImpl<2, false>(x);
-    case 5:
-      return MaxOverlapImpl<2, true>(x);
-    case 6:
-      return MaxOverlapImpl<3, false>(x);
-    default:
-      return MaxOverlapImpl<3, true>(x);
-  }
+  return internal::DispatchDimensionPeriodic(
+      k, any_periodic, [&](auto kk, auto p) { return MaxOverlapImpl<kk, p>(x); });
 }
 
 double Engine::Impl::ExactMove() const {
@@ -1203,20 +1205,8 @@ bool Engine::Impl::Step() {
   if (termination != Termination::kCompleted) return false;
   const auto t0 = Clock::now();
   if (!force.empty()) {
-    switch (k * 2 + (any_periodic ? 1 : 0)) {
-      case 4:
-        Attraction<2, false>();
-        break;
-      case 5:
-        Attraction<2, true>();
-        break;
-      case 6:
-        Attraction<3, false>();
-        break;
-      default:
-        Attraction<3, true>();
-        break;
-    }
+    internal::DispatchDimensionPeriodic(k, any_periodic,
+                                        [&](auto kk, auto p) { Attraction<kk, p>(); });
   }
   double step_move = 0.0;
   std::int64_t bad = -1;
@@ -1320,11 +1310,27 @@ Engine& Engine::operator=(Engine&&) noexcept = default;
 
 bool Engine::Step() { return impl_->Step(); }
 
-EngineSummary Engine::Run(std::int64_t steps,
-                          const std::function<void(const Engine&)>& after_step) {
+EngineSummary Engine::Run(double T, const EngineObserver& observer) {
+  const std::int64_t steps = StepCount(T, impl_->options.h);
+  std::vector<double> x(observer ? impl_->cur.size() : 0);
+  if (observer) {
+    CopyPositions(x);
+    observer(step(), time(), x);
+  }
   for (std::int64_t i = 0; i < steps; ++i) {
-    if (!Step()) break;
-    if (after_step) after_step(*this);
+    try {
+      if (!Step()) break;
+    } catch (const NumericalError& e) {  // the state is the last good one
+      Impl& m = *impl_;
+      m.termination = Termination::kNonFinite;
+      m.failed_step = m.step + 1;
+      m.message = fmt::format("{}; the state of step {} is kept", e.what(), m.step);
+      break;
+    }
+    if (observer) {
+      CopyPositions(x);
+      observer(step(), time(), x);
+    }
   }
   return summary();
 }
@@ -1361,6 +1367,7 @@ const EngineOptions& Engine::options() const { return impl_->options; }
 EngineSummary Engine::summary() const {
   EngineSummary s;
   s.stats = impl_->stats;
+  s.settings = impl_->options;
   s.termination = impl_->termination;
   s.message = impl_->message;
   s.failed_step = impl_->failed_step;

@@ -5,11 +5,33 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "moreau/particles/model.h"
 
 namespace moreau::particles::internal {
+
+// The one dispatch from run-time (dimension, periodicity) to compile-time kernels:
+// DispatchDimension(k, f) calls f(std::integral_constant<int, k>{}) for k ∈ {1, 2, 3};
+// DispatchDimensionPeriodic(k, periodic, f) calls f(integral_constant<int, k>, bool_constant<p>)
+// for k ∈ {2, 3} (the engine's dimensions). Returns what f returns.
+template <typename F>
+inline decltype(auto) DispatchDimension(int k, F&& f) {
+  if (k == 1) return f(std::integral_constant<int, 1>{});
+  if (k == 2) return f(std::integral_constant<int, 2>{});
+  return f(std::integral_constant<int, 3>{});
+}
+
+template <typename F>
+inline decltype(auto) DispatchDimensionPeriodic(int k, bool periodic, F&& f) {
+  if (k == 2) {
+    if (periodic) return f(std::integral_constant<int, 2>{}, std::true_type{});
+    return f(std::integral_constant<int, 2>{}, std::false_type{});
+  }
+  if (periodic) return f(std::integral_constant<int, 3>{}, std::true_type{});
+  return f(std::integral_constant<int, 3>{}, std::false_type{});
+}
 
 template <int K>
 inline double SquaredNorm(const double* u) {
@@ -18,13 +40,14 @@ inline double SquaredNorm(const double* u) {
   return r2;
 }
 
-// Pair non-overlap ‖X_i − X_j‖ ≥ c, with u = X_i − X_j (the minimum image on periodic axes):
-// each particle moves by half the overlap along u (the foundation's arithmetic, so bits agree).
-// Coincident centres separate along axis 0. Returns the distance each particle moved (0 if none).
+// Pair non-overlap ‖X_i − X_j‖ ≥ c for an overlapping pair: u = X_i − X_j (the minimum image on
+// periodic axes), r2 = ‖u‖² < c² (the caller's test). Each particle moves by half the overlap along
+// u, computed as q · (½ u) with q = (c − r)/r (scaling by ½ is exact away from subnormals, and
+// keeps the halving off the dependency chain through the square root and the division).
+// Coincident centres separate along axis 0. Returns the distance each particle moved.
 template <int K>
-inline double ProjectPair(double* xi, double* xj, const double* u, double c) {
-  const double r2 = SquaredNorm<K>(u);
-  if (r2 >= c * c) return 0.0;
+inline double ProjectOverlappingPair(double* xi, double* xj, const double* u, double r2,
+                                     double c) {
   const double r = std::sqrt(r2);
   if (r > 0.0) {
     const double q = (c - r) / r;
@@ -38,6 +61,49 @@ inline double ProjectPair(double* xi, double* xj, const double* u, double c) {
   xi[0] += 0.5 * c;
   xj[0] -= 0.5 * c;
   return 0.5 * c;
+}
+
+// The pair projection with its test: the identity when ‖u‖ ≥ c. Returns the distance each
+// particle moved (0 if none).
+template <int K>
+inline double ProjectPair(double* xi, double* xj, const double* u, double c) {
+  const double r2 = SquaredNorm<K>(u);
+  if (r2 >= c * c) return 0.0;
+  return ProjectOverlappingPair<K>(xi, xj, u, r2, c);
+}
+
+// A wall with a unit normal: ⟨n, X⟩ ≥ b + r_i, from a model Wall (n = normal/‖normal‖,
+// b = offset/‖normal‖ with ‖normal‖ summed over the first k components). Axes ≥ k are 0.
+struct UnitWall {
+  double n[3] = {0.0, 0.0, 0.0};
+  double b = 0.0;
+};
+
+inline UnitWall Normalize(const Wall& wall, int k) {
+  double n2 = 0.0;
+  for (int a = 0; a < k; ++a) {
+    n2 += wall.normal[static_cast<std::size_t>(a)] * wall.normal[static_cast<std::size_t>(a)];
+  }
+  const double len = std::sqrt(n2);
+  UnitWall u;
+  for (int a = 0; a < k; ++a) u.n[a] = wall.normal[static_cast<std::size_t>(a)] / len;
+  u.b = wall.offset / len;
+  return u;
+}
+
+inline std::vector<UnitWall> UnitWalls(const ParticleModel& model) {
+  std::vector<UnitWall> out;
+  out.reserve(model.walls.size());
+  for (const Wall& w : model.walls) out.push_back(Normalize(w, model.dimension));
+  return out;
+}
+
+// The gap ⟨n, X⟩ − b − r of particle X (radius r) to a unit wall, the dot product summed in
+// component order (negative inside the wall).
+inline double WallGap(const UnitWall& w, const double* x, int k, double r) {
+  double dot = w.n[0] * x[0];
+  for (int a = 1; a < k; ++a) dot += w.n[a] * x[a];
+  return dot - w.b - r;
 }
 
 // Half-space ⟨n, X⟩ ≥ b, n unit: X ← X − min(0, ⟨n, X⟩ − b) n (the foundation's arithmetic:

@@ -1,7 +1,5 @@
 #include "moreau/particles/model.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -9,7 +7,6 @@
 
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
-#include "moreau/particles/engine.h"
 #include "particles/kernels.h"
 
 namespace moreau::particles {
@@ -21,6 +18,7 @@ double ParticleModel::max_radius() const {
 void ParticleModel::AddBoxWalls(const Vec3& lo, const Vec3& hi) {
   for (int a = 0; a < dimension; ++a) {
     const auto ua = static_cast<std::size_t>(a);
+    if (periodic[ua]) continue;
     Wall low;
     low.normal = {0.0, 0.0, 0.0};
     low.normal[ua] = 1.0;
@@ -35,11 +33,10 @@ void ParticleModel::AddBoxWalls(const Vec3& lo, const Vec3& hi) {
 }
 
 void ParticleModel::Validate() const {
-  if (dimension != 2 && dimension != 3) {
-    throw InputError(fmt::format("dimension must be 2 or 3 (got {})", dimension));
+  if (dimension < 1 || dimension > 3) {
+    throw InputError(fmt::format("dimension must be 1, 2 or 3 (got {})", dimension));
   }
   if (radius.empty()) throw InputError("a particle model needs at least one particle");
-  CheckParticleMemory(dimension, count());
   for (std::size_t i = 0; i < radius.size(); ++i) {
     if (!(radius[i] > 0.0) || !std::isfinite(radius[i])) {
       throw InputError(fmt::format("radius of particle {} must be > 0 (got {})", i, radius[i]));
@@ -108,37 +105,6 @@ void ParticleModel::Validate() const {
   }
 }
 
-std::int64_t EstimateEngineBytes(int dimension, std::int64_t count) {
-  const std::int64_t k = dimension == 3 ? 3 : 2;
-  // Position buffers (current, predicted, list reference, forces, user copy), radius, mobility,
-  // ids, sort keys, path bounds, row starts, cells; neighbour half-lists at 16 (2D) or 32 (3D)
-  // candidates per particle of 5 bytes each.
-  const std::int64_t per_particle = 8 * (5 * k + 8) + (k == 2 ? 80 : 160) + 48;
-  if (count > (std::int64_t{1} << 62) / per_particle) return std::int64_t{1} << 62;
-  return count * per_particle;
-}
-
-void CheckParticleMemory(int dimension, std::int64_t count, std::int64_t limit_bytes) {
-  if (count < 0) throw InputError(fmt::format("count must be ≥ 0 (got {})", count));
-  if (count > std::int64_t{1} << 31) {
-    throw InputError(
-        fmt::format("count: {} particles is more than the engine's limit of 2^31", count));
-  }
-  std::int64_t limit = limit_bytes;
-  if (limit <= 0) {
-    const long pages = sysconf(_SC_PHYS_PAGES);
-    const long page = sysconf(_SC_PAGE_SIZE);
-    limit = pages > 0 && page > 0 ? static_cast<std::int64_t>(pages) * page : std::int64_t{1} << 62;
-  }
-  const std::int64_t need = EstimateEngineBytes(dimension, count);
-  if (need > limit) {
-    constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
-    throw InputError(
-        fmt::format("count: {} particles need about {:.1f} GiB, more than the {:.1f} GiB available",
-                    count, static_cast<double>(need) / kGiB, static_cast<double>(limit) / kGiB));
-  }
-}
-
 namespace internal {
 
 LinkedCells::LinkedCells(int k, const Vec3& lo, const Vec3& hi, const std::array<bool, 3>& periodic,
@@ -193,26 +159,8 @@ void LinkedCells::Insert(int particle, const double* x) {
 
 namespace {
 
-// Normalised walls: n unit, b = offset/|n|.
-struct UnitWall {
-  double n[3];
-  double b;
-};
-
-std::vector<UnitWall> UnitWalls(const ParticleModel& model) {
-  std::vector<UnitWall> out;
-  for (const Wall& w : model.walls) {
-    double n2 = 0.0;
-    for (int a = 0; a < model.dimension; ++a) {
-      n2 += w.normal[static_cast<std::size_t>(a)] * w.normal[static_cast<std::size_t>(a)];
-    }
-    const double len = std::sqrt(n2);
-    UnitWall u{{0.0, 0.0, 0.0}, w.offset / len};
-    for (int a = 0; a < model.dimension; ++a) u.n[a] = w.normal[static_cast<std::size_t>(a)] / len;
-    out.push_back(u);
-  }
-  return out;
-}
+using internal::UnitWall;
+using internal::UnitWalls;
 
 // The displacement X_i − X_j with the minimum image on periodic axes.
 void Displacement(const ParticleModel& model, const double* xi, const double* xj, double* u) {

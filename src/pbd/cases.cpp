@@ -105,12 +105,12 @@ double DisksCase::box_half_width() const {
   return box > 0.0 ? box : radius * std::sqrt(std::numbers::pi * count);
 }
 
-ParticleModel DisksCase::MakeModel() const {
+particles::ParticleModel DisksCase::MakeModel() const {
   Validate();
-  ParticleModel model;
-  model.spatial_dimension = 2;
+  particles::ParticleModel model;
+  model.dimension = 2;
   model.radius.assign(static_cast<std::size_t>(count), radius);
-  if (wall) model.walls.push_back(Wall{Eigen::Vector2d(0.0, 1.0), *wall});
+  if (wall) model.walls.push_back(particles::Wall{{0.0, 1.0, 0.0}, *wall});
   return model;
 }
 

@@ -40,16 +40,20 @@ void LinearizedConstraints::Sweep(VectorRef z) const {
   }
 }
 
-ConstraintSetList::ConstraintSetList(int dimension)
-    : dimension_(dimension), scratch_(dimension), all_indices_(static_cast<std::size_t>(dimension)) {
-  if (dimension <= 0) throw InputError(fmt::format("dimension must be > 0 (got {})", dimension));
+ConstraintSetList::ConstraintSetList(int state_size)
+    : state_size_(state_size),
+      scratch_(state_size),
+      all_indices_(static_cast<std::size_t>(std::max(state_size, 0))) {
+  if (state_size <= 0) {
+    throw InputError(fmt::format("state size must be > 0 (got {})", state_size));
+  }
   std::iota(all_indices_.begin(), all_indices_.end(), 0);
 }
 
 void ConstraintSetList::Add(std::unique_ptr<const ConstraintSet> set) {
-  if (set->dimension() != dimension_) {
-    throw InputError(fmt::format("constraint set of dimension {} added to a problem of dimension {}",
-                                 set->dimension(), dimension_));
+  if (set->dimension() != state_size_) {
+    throw InputError(fmt::format("constraint set of dimension {} added to a problem of state size {}",
+                                 set->dimension(), state_size_));
   }
   sets_.push_back(std::move(set));
 }
@@ -63,7 +67,7 @@ void ConstraintSetList::Linearize(ConstVectorRef y, LinearizedConstraints* out) 
   for (const auto& set : sets_) {
     set->Gradient(y, scratch_);
     const double b = scratch_.dot(y) - set->Value(y);
-    out->AddRow(all_indices_.data(), scratch_.data(), dimension_, b);
+    out->AddRow(all_indices_.data(), scratch_.data(), state_size_, b);
   }
 }
 

@@ -7,28 +7,14 @@
 #include <limits>
 
 #include "moreau/common/error.h"
+#include "particles/kernels.h"
 #include "unit_vector.h"
 
 namespace moreau::pbd {
 
-void ParticleModel::Validate() const {
-  if (spatial_dimension < 1 || spatial_dimension > 3) {
-    throw InputError(fmt::format("spatial dimension must be 1, 2 or 3 (got {})", spatial_dimension));
-  }
-  if (radius.empty()) throw InputError("a particle model needs at least one particle");
-  for (std::size_t i = 0; i < radius.size(); ++i) {
-    if (!(radius[i] > 0.0) || !std::isfinite(radius[i])) {
-      throw InputError(fmt::format("radius of particle {} must be > 0 (got {})", i, radius[i]));
-    }
-  }
-  for (std::size_t w = 0; w < walls.size(); ++w) {
-    if (walls[w].normal.size() != spatial_dimension || !(walls[w].normal.norm() > 0.0)) {
-      throw InputError(fmt::format("wall {} needs a non-zero normal of size {}", w, spatial_dimension));
-    }
-  }
-}
-
 namespace {
+
+using particles::internal::SquaredNorm;
 
 // Given cc = fl(c · c), a double t > c² (exact): cc is within half an ulp of c², so its successor
 // lies above c². A squared distance r2 ≥ t has √r2 > c exactly, so fl(√r2) ≥ c.
@@ -36,13 +22,19 @@ double SeparatedSquare(double cc) {
   return std::nextafter(cc, std::numeric_limits<double>::infinity());
 }
 
-// ‖u‖² summed in component order. Starts from u_0² rather than 0 + u_0² (the same value: a square
-// is never −0), which saves an addition on the sweep's dependency chain.
-template <int K>
-inline double SquaredNorm(const double* u) {
-  double r2 = u[0] * u[0];
-  for (int c = 1; c < K; ++c) r2 += u[c] * u[c];
-  return r2;
+void CheckHandled(const particles::ParticleModel& model) {
+  model.Validate();
+  if (!model.spheres.empty() || !model.segments.empty()) {
+    throw InputError(
+        "spheres and segments: ParticleConstraints handles pairs and walls only (use the "
+        "particle engine)");
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (model.periodic[static_cast<std::size_t>(a)]) {
+      throw InputError(fmt::format(
+          "periodic[{}]: ParticleConstraints has no periodic axes (use the particle engine)", a));
+    }
+  }
 }
 
 }  // namespace
@@ -55,26 +47,30 @@ void ParticleConstraints::AddCandidate(int i, int j, double contact) {
   separated2_.push_back(SeparatedSquare(contact * contact));
 }
 
-ParticleConstraints::ParticleConstraints(ParticleModel model, ParticleConstraintsOptions options)
+ParticleConstraints::ParticleConstraints(particles::ParticleModel model,
+                                         ParticleConstraintsOptions options)
+    : ParticleConstraints(std::make_shared<const particles::ParticleModel>(std::move(model)),
+                          options) {}
+
+ParticleConstraints::ParticleConstraints(std::shared_ptr<const particles::ParticleModel> model,
+                                         ParticleConstraintsOptions options)
     : model_(std::move(model)), options_(options) {
-  model_.Validate();
-  for (Wall& w : model_.walls) {
-    const double n = w.normal.norm();
-    w.normal /= n;
-    w.offset /= n;
+  if (!model_) throw InputError("model: ParticleConstraints needs a particle model");
+  CheckHandled(*model_);
+  if (!(options_.skin_factor > 0.0)) {
+    throw InputError(fmt::format("skin_factor must be > 0 (got {})", options_.skin_factor));
   }
-  if (!(options_.skin_factor > 0.0)) throw InputError("skin_factor must be > 0");
-  skin_ = options_.skin_factor * *std::max_element(model_.radius.begin(), model_.radius.end());
-  uniform_contact_ = std::all_of(model_.radius.begin(), model_.radius.end(),
-                                 [&](double r) { return r == model_.radius.front(); });
-  const int n = model_.count();
+  walls_ = particles::internal::UnitWalls(*model_);
+  const std::vector<double>& radius = model_->radius;
+  skin_ = options_.skin_factor * model_->max_radius();
+  uniform_contact_ =
+      std::all_of(radius.begin(), radius.end(), [&](double r) { return r == radius.front(); });
+  const int n = model_->count();
   row_start_.assign(static_cast<std::size_t>(n) + 1, 0);
   if (options_.search == PairSearch::kAllPairs) {
     for (int i = 0; i < n; ++i) {
       for (int j = i + 1; j < n; ++j) {
-        const double c =
-            model_.radius[static_cast<std::size_t>(i)] + model_.radius[static_cast<std::size_t>(j)];
-        AddCandidate(i, j, c);
+        AddCandidate(i, j, radius[static_cast<std::size_t>(i)] + radius[static_cast<std::size_t>(j)]);
       }
       row_start_[static_cast<std::size_t>(i) + 1] = static_cast<int>(neighbour_.size());
     }
@@ -83,9 +79,11 @@ ParticleConstraints::ParticleConstraints(ParticleModel model, ParticleConstraint
 }
 
 std::int64_t ParticleConstraints::num_sets() const {
-  const std::int64_t n = model_.count();
-  return n * (n - 1) / 2 + n * static_cast<std::int64_t>(model_.walls.size());
+  const std::int64_t n = model_->count();
+  return n * (n - 1) / 2 + n * static_cast<std::int64_t>(walls_.size());
 }
+
+ParticleConstraints::~ParticleConstraints() = default;
 
 // Rebuild when some particle moved more than skin/4: two particles then approach by less than
 // skin/2 before the check, leaving skin/2 for motion within one sweep. A NaN displacement does
@@ -95,7 +93,7 @@ template <int K>
 bool ParticleConstraints::NeedsRebuild(const double* x) const {
   const double limit2 = 0.0625 * skin_ * skin_;
   const double* ref = reference_.data();
-  const int n = model_.count();
+  const int n = model_->count();
   double worst = 0.0;
   int i = 0;
 #if defined(__GNUC__) && !defined(__clang__)  // GCC vector extensions
@@ -132,48 +130,59 @@ bool ParticleConstraints::NeedsRebuild(const double* x) const {
   return worst > limit2;
 }
 
+
+// The candidate pairs with the particle core's cell grid (cells of edge 2 max r + skin over the
+// positions' bounding box): each row sorted by j, so the list is the all-pairs list restricted to
+// pairs within reach, in the same lexicographic order.
 template <int K>
 void ParticleConstraints::BuildPairs(const double* x) {
-  const int n = model_.count();
+  const int n = model_->count();
+  const std::vector<double>& radius = model_->radius;
   first_.clear();
   neighbour_.clear();
   contact_.clear();
   contact2_.clear();
   separated2_.clear();
+  particles::Vec3 lo{0.0, 0.0, 0.0};
+  particles::Vec3 hi{0.0, 0.0, 0.0};
+  for (int c = 0; c < K; ++c) {
+    const auto uc = static_cast<std::size_t>(c);
+    lo[uc] = hi[uc] = x[c];
+    for (int i = 1; i < n; ++i) {
+      lo[uc] = std::min(lo[uc], x[K * i + c]);
+      hi[uc] = std::max(hi[uc], x[K * i + c]);
+    }
+  }
+  particles::internal::LinkedCells cells(K, lo, hi, {false, false, false},
+                                         2.0 * model_->max_radius() + skin_,
+                                         4 * static_cast<std::int64_t>(n));
+  for (int i = 0; i < n; ++i) cells.Insert(i, x + K * i);
   for (int i = 0; i < n; ++i) {
     const double* xi = x + K * i;
-    const double ri = model_.radius[static_cast<std::size_t>(i)];
-    for (int j = i + 1; j < n; ++j) {
-      const double* xj = x + K * j;
-      const double c = ri + model_.radius[static_cast<std::size_t>(j)];
-      const double reach = c + skin_;
-      double r2 = 0.0;
-      for (int d = 0; d < K; ++d) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
-      if (r2 < reach * reach) {
-        AddCandidate(i, j, c);
-      }
-    }
+    const double ri = radius[static_cast<std::size_t>(i)];
+    row_.clear();
+    cells.ForEachNear(xi, [&](int j) {
+      if (j <= i) return;
+      const double reach = ri + radius[static_cast<std::size_t>(j)] + skin_;
+      double u[K];
+      for (int c = 0; c < K; ++c) u[c] = xi[c] - x[K * j + c];
+      if (SquaredNorm<K>(u) < reach * reach) row_.push_back(j);
+    });
+    std::sort(row_.begin(), row_.end());
+    for (const int j : row_) AddCandidate(i, j, ri + radius[static_cast<std::size_t>(j)]);
     row_start_[static_cast<std::size_t>(i) + 1] = static_cast<int>(neighbour_.size());
   }
   reference_ = Eigen::Map<const Vector>(x, K * n);
   built_ = true;
-  ++stats_.builds;
+  ++stats_.neighbour_list_builds;
   stats_.candidate_pairs = static_cast<std::int64_t>(neighbour_.size());
 }
 
 void ParticleConstraints::UpdatePairs(ConstVectorRef x) {
   if (options_.search == PairSearch::kAllPairs) return;
-  switch (model_.spatial_dimension) {
-    case 1:
-      if (!built_ || NeedsRebuild<1>(x.data())) BuildPairs<1>(x.data());
-      break;
-    case 2:
-      if (!built_ || NeedsRebuild<2>(x.data())) BuildPairs<2>(x.data());
-      break;
-    default:
-      if (!built_ || NeedsRebuild<3>(x.data())) BuildPairs<3>(x.data());
-      break;
-  }
+  particles::internal::DispatchDimension(model_->dimension, [&](auto k) {
+    if (!built_ || NeedsRebuild<k>(x.data())) BuildPairs<k>(x.data());
+  });
 }
 
 // One sweep in the documented order. The pairs (i, ·) are consecutive and no other pair touches
@@ -181,7 +190,7 @@ void ParticleConstraints::UpdatePairs(ConstVectorRef x) {
 // order as visiting the pairs one by one, without a store and reload of X_i per pair.
 template <int K>
 void ParticleConstraints::SweepImpl(double* x) const {
-  const int n = model_.count();
+  const int n = model_->count();
   const int* row_start = row_start_.data();
   const int* neighbour = neighbour_.data();
   const double* contact = contact_.data();
@@ -199,52 +208,31 @@ void ParticleConstraints::SweepImpl(double* x) const {
       for (int c = 0; c < K; ++c) u[c] = xi[c] - xj[c];
       const double r2 = SquaredNorm<K>(u);
       if (r2 >= contact2[p]) continue;
-      const double r = std::sqrt(r2);
-      if (r > 0.0) {
-        // The projection moves X_i by s u and X_j by −s u, s = ½ (c − r) / r. Computed as
-        // q · (½ u) with q = (c − r) / r: the same rounded products (scaling by ½ is exact away
-        // from subnormal numbers), with the halving off the dependency chain through the square
-        // root and the division.
-        const double q = (contact[p] - r) / r;
-        for (int c = 0; c < K; ++c) {
-          const double step = q * (0.5 * u[c]);
-          xi[c] += step;
-          xj[c] -= step;
-        }
-      } else {
-        xi[0] += 0.5 * contact[p];
-        xj[0] -= 0.5 * contact[p];
-      }
+      particles::internal::ProjectOverlappingPair<K>(xi, xj, u, r2, contact[p]);
     }
     for (int c = 0; c < K; ++c) xi_mem[c] = xi[c];
   }
-  if (model_.walls.empty()) return;
+  if (walls_.empty()) return;
+  const std::vector<double>& radius = model_->radius;
   for (int i = 0; i < n; ++i) {
     double* xi = x + K * i;
-    for (const Wall& w : model_.walls) {
-      double g = -w.offset - model_.radius[static_cast<std::size_t>(i)];
-      for (int c = 0; c < K; ++c) g += w.normal[c] * xi[c];
-      if (g < 0.0) {
-        for (int c = 0; c < K; ++c) xi[c] -= g * w.normal[c];
-      }
+    for (const particles::internal::UnitWall& w : walls_) {
+      particles::internal::ProjectWall<K>(xi, w.n, w.b + radius[static_cast<std::size_t>(i)]);
     }
   }
 }
 
 void ParticleConstraints::Sweep(VectorRef x) {
   UpdatePairs(x);
-  switch (model_.spatial_dimension) {
-    case 1: SweepImpl<1>(x.data()); break;
-    case 2: SweepImpl<2>(x.data()); break;
-    default: SweepImpl<3>(x.data()); break;
-  }
+  particles::internal::DispatchDimension(model_->dimension,
+                                         [&](auto k) { SweepImpl<k>(x.data()); });
 }
 
 void ParticleConstraints::Linearize(ConstVectorRef y, LinearizedConstraints* out) {
   UpdatePairs(y);
   out->Clear();
-  const int k = model_.spatial_dimension;
-  const int n = model_.count();
+  const int k = model_->dimension;
+  const int n = model_->count();
   int index[6];
   double coeff[6];
   for (int i = 0; i < n; ++i) {
@@ -264,20 +252,20 @@ void ParticleConstraints::Linearize(ConstVectorRef y, LinearizedConstraints* out
     }
   }
   for (int i = 0; i < n; ++i) {
-    for (const Wall& w : model_.walls) {
+    for (const particles::internal::UnitWall& w : walls_) {
       for (int c = 0; c < k; ++c) {
         index[c] = i * k + c;
-        coeff[c] = w.normal[c];
+        coeff[c] = w.n[c];
       }
-      out->AddRow(index, coeff, k, w.offset + model_.radius[static_cast<std::size_t>(i)]);
+      out->AddRow(index, coeff, k, w.b + model_->radius[static_cast<std::size_t>(i)]);
     }
   }
 }
 
 void ParticleConstraints::AddPenaltyDirection(ConstVectorRef x, VectorRef out) {
   UpdatePairs(x);
-  const int k = model_.spatial_dimension;
-  const int n = model_.count();
+  const int k = model_->dimension;
+  const int n = model_->count();
   for (int i = 0; i < n; ++i) {
     for (int p = row_start_[static_cast<std::size_t>(i)];
          p < row_start_[static_cast<std::size_t>(i) + 1]; ++p) {
@@ -298,10 +286,11 @@ void ParticleConstraints::AddPenaltyDirection(ConstVectorRef x, VectorRef out) {
     }
   }
   for (int i = 0; i < n; ++i) {
-    for (const Wall& w : model_.walls) {
-      const double g = w.normal.dot(x.segment(i * k, k)) - w.offset -
-                       model_.radius[static_cast<std::size_t>(i)];
-      if (g < 0.0) out.segment(i * k, k) += g * w.normal;
+    const double r = model_->radius[static_cast<std::size_t>(i)];
+    for (const particles::internal::UnitWall& w : walls_) {
+      const double g = particles::internal::WallGap(w, x.data() + i * k, k, r);
+      if (g >= 0.0) continue;
+      for (int c = 0; c < k; ++c) out[i * k + c] += g * w.n[c];
     }
   }
 }
@@ -314,7 +303,7 @@ void ParticleConstraints::AddPenaltyDirection(ConstVectorRef x, VectorRef out) {
 //   r2, so the maximum is c − fl(√min r2): one square root per call.
 template <int K>
 double ParticleConstraints::MaxPairViolation(const double* x) const {
-  const int n = model_.count();
+  const int n = model_->count();
   const int* row_start = row_start_.data();
   const int* neighbour = neighbour_.data();
   const double* contact = contact_.data();
@@ -379,38 +368,28 @@ double ParticleConstraints::MaxPairViolation(const double* x) const {
 
 double ParticleConstraints::MaxViolation(ConstVectorRef x) {
   UpdatePairs(x);
-  const int k = model_.spatial_dimension;
-  double worst = 0.0;
-  switch (k) {
-    case 1:
-      worst = MaxPairViolation<1>(x.data());
-      break;
-    case 2:
-      worst = MaxPairViolation<2>(x.data());
-      break;
-    default:
-      worst = MaxPairViolation<3>(x.data());
-      break;
-  }
-  if (model_.walls.empty()) return worst;
-  for (int i = 0; i < model_.count(); ++i) {
-    for (const Wall& w : model_.walls) {
-      const double g = w.normal.dot(x.segment(i * k, k)) - w.offset -
-                       model_.radius[static_cast<std::size_t>(i)];
-      worst = std::max(worst, -g);
+  const int k = model_->dimension;
+  const double worst = particles::internal::DispatchDimension(
+      k, [&](auto kk) { return MaxPairViolation<kk>(x.data()); });
+  if (walls_.empty()) return worst;
+  double wall_worst = worst;
+  for (int i = 0; i < model_->count(); ++i) {
+    const double r = model_->radius[static_cast<std::size_t>(i)];
+    for (const particles::internal::UnitWall& w : walls_) {
+      wall_worst = std::max(wall_worst, -particles::internal::WallGap(w, x.data() + i * k, k, r));
     }
   }
-  return worst;
+  return wall_worst;
 }
 
 double ParticleConstraints::MaxPairOverlapAllPairs(ConstVectorRef x) const {
-  const int k = model_.spatial_dimension;
-  const int n = model_.count();
+  const int k = model_->dimension;
+  const int n = model_->count();
+  const std::vector<double>& radius = model_->radius;
   double worst = 0.0;
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
-      const double c = model_.radius[static_cast<std::size_t>(i)] +
-                       model_.radius[static_cast<std::size_t>(j)];
+      const double c = radius[static_cast<std::size_t>(i)] + radius[static_cast<std::size_t>(j)];
       worst = std::max(worst, c - (x.segment(i * k, k) - x.segment(j * k, k)).norm());
     }
   }

@@ -50,8 +50,8 @@ TimeStepper::TimeStepper(const Drift& drift, Constraints& constraints,
     : drift_(drift),
       constraints_(constraints),
       options_(options),
-      f_(constraints.dimension()),
-      previous_(constraints.dimension()) {
+      f_(constraints.state_size()),
+      previous_(constraints.state_size()) {
   options_.Validate();
 }
 
@@ -60,7 +60,7 @@ bool TimeStepper::Converged(const Vector& before, const Vector& after) const {
 }
 
 void TimeStepper::Step(VectorRef x) {
-  MOREAU_ASSERT(x.size() == constraints_.dimension());
+  MOREAU_ASSERT(x.size() == constraints_.state_size());
   const std::int64_t m = constraints_.num_sets();
   const double h = options_.h;
   drift_.Evaluate(x, f_);
@@ -119,9 +119,9 @@ bool AllFinite(const Vector& x) { return (x.array() - x.array()).sum() == 0.0; }
 SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
                            const StepperOptions& options, ConstVectorRef x0, double T,
                            const Observer& observer, Vector* final_state) {
-  if (x0.size() != constraints.dimension()) {
+  if (x0.size() != constraints.state_size()) {
     throw InputError(fmt::format("initial state has size {}, the problem has dimension {}",
-                                 x0.size(), constraints.dimension()));
+                                 x0.size(), constraints.state_size()));
   }
   const std::int64_t n = StepCount(T, options.h);
   TimeStepper stepper(drift, constraints, options);

@@ -38,8 +38,13 @@ DisksSetup FromDisksCase(const pbd::DisksCase& c) {
 std::vector<double> RunEngine(const DisksSetup& s, EngineOptions o, double T,
                               const std::function<void(const Engine&)>& after = {}) {
   Engine e(s.model, s.forces, o, s.x0);
-  const auto steps = StepCount(T, o.h);
-  const EngineSummary summary = e.Run(steps, after);
+  EngineObserver observer;
+  if (after) {
+    observer = [&](std::int64_t step, double, std::span<const double>) {
+      if (step > 0) after(e);
+    };
+  }
+  const EngineSummary summary = e.Run(T, observer);
   EXPECT_TRUE(summary.ok()) << summary.message;
   return e.Positions();
 }
@@ -83,7 +88,7 @@ TEST(ParticleEngine, ColouredOrderConvergesToThePngsReference) {
   c.T = 1.0;
   const DisksSetup s = FromDisksCase(c);
   pbd::StudyProblem problem;
-  const pbd::ParticleModel fmodel = c.MakeModel();
+  const particles::ParticleModel fmodel = c.MakeModel();
   problem.make_constraints = [fmodel] {
     return std::unique_ptr<pbd::Constraints>(std::make_unique<pbd::ParticleConstraints>(fmodel));
   };
@@ -164,16 +169,16 @@ TEST(ParticleEngine, BitIdenticalForAnyThreadCount2d) {
     o.threads = threads;
     o.block_cells = 3;
     Engine e(s.model, s.forces, o, s.x0);
-    const EngineSummary summary = e.Run(40);
+    const EngineSummary summary = e.Run(40 * o.h);
     ASSERT_TRUE(summary.ok()) << summary.message;
     results.push_back(e.Positions());
     stats.push_back(summary.stats);
   }
-  EXPECT_GT(stats[0].neighbour_builds, 2);
+  EXPECT_GT(stats[0].neighbour_list_builds, 2);
   EXPECT_GT(stats[0].projections, 100);
   for (std::size_t t = 1; t < results.size(); ++t) {
     EXPECT_TRUE(results[t] == results[0]) << "thread count #" << t;
-    EXPECT_EQ(stats[t].neighbour_builds, stats[0].neighbour_builds);
+    EXPECT_EQ(stats[t].neighbour_list_builds, stats[0].neighbour_list_builds);
     EXPECT_EQ(stats[t].projections, stats[0].projections);
     EXPECT_EQ(stats[t].max_overlap, stats[0].max_overlap);
   }
@@ -201,7 +206,7 @@ TEST(ParticleEngine, BitIdenticalForAnyThreadCount3dWithObstacles) {
     o.threads = threads;
     o.block_cells = 2;
     Engine e(m, f, o, x0);
-    const EngineSummary summary = e.Run(40);
+    const EngineSummary summary = e.Run(40 * o.h);
     ASSERT_TRUE(summary.ok()) << summary.message;
     EXPECT_LT(e.MaxViolation(), 0.5);
     results.push_back(e.Positions());
@@ -331,7 +336,7 @@ TEST(ParticleEngine, MoreSweepsShrinkTheOverlapsAndStayDeterministic) {
     for (const int threads : {1, 2}) {
       o.threads = threads;
       Engine e(m, f, o, x0);
-      e.Run(800);
+      e.Run(800 * o.h);
       if (threads == 1) {
         x_one = e.Positions();
         const double overlap = e.summary().stats.max_overlap;
@@ -356,7 +361,7 @@ TEST(ParticleEngine, MoreSweepsShrinkTheOverlapsAndStayDeterministic) {
   EngineOptions o;
   o.h = 0.01;
   Engine e(one, g, o, std::vector<double>{1.5, 0.5});
-  e.Run(10);
+  e.Run(10 * o.h);
   const std::vector<double> x = e.Positions();
   EXPECT_NEAR(x[0], 1.5 + 10 * 0.01 * 2.0, 1e-12);
   EXPECT_NEAR(x[1], 0.5, 1e-12);

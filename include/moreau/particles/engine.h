@@ -37,7 +37,7 @@
 //
 // Bad input throws InputError (message names the field); a non-finite predicted position stops
 // the step, keeps the last good state and reports the step and particle id (Step returns false;
-// Run's summary has termination kNonFinite).
+// Run's summary has termination kNonFinite; Run also reports Step's NumericalError so).
 #pragma once
 
 #include <cstdint>
@@ -48,6 +48,8 @@
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "moreau/common/termination.h"
 #include "moreau/particles/forces.h"
@@ -90,13 +92,15 @@ struct EngineOptions {
 
   // Throws InputError naming the field ("h must be > 0 (got 0)", …).
   void Validate() const;
+  // Every field by its name here ("order": "coloured", "search": "cell_grid" | "brute_force").
+  nlohmann::json ToJson() const;
 };
 
 // Counters and timings; every count is exact and independent of the thread count.
 struct EngineStats {
   std::int64_t steps = 0;
   double time = 0.0;                        // steps · h
-  std::int64_t neighbour_builds = 0;        // Verlet-list builds (the initial one included)
+  std::int64_t neighbour_list_builds = 0;   // Verlet-list builds (the initial one included)
   std::int64_t verlet_retries = 0;          // steps redone because the skin bound was reached
   std::int64_t candidate_pairs = 0;         // pairs in the list at the last build
   std::int64_t constraint_evaluations = 0;  // sets visited: candidate pairs + N · (walls +
@@ -118,13 +122,22 @@ struct EngineStats {
 
 struct EngineSummary {
   EngineStats stats;
-  Termination termination = Termination::kCompleted;
+  EngineOptions settings;              // the options the engine ran with
+  Termination termination = Termination::kCompleted;  // kCompleted or kNonFinite
   std::string message;                // why it stopped, naming step and particle
-  std::int64_t failed_step = -1;      // the step that produced a non-finite value (1-based)
-  std::int64_t failed_particle = -1;  // its particle id
-  bool ok() const { return termination == Termination::kCompleted; }
+  std::int64_t failed_step = -1;      // the step that failed (1-based)
+  std::int64_t failed_particle = -1;  // its particle id (−1 when the failure names none)
+  bool ok() const { return IsSuccess(termination); }
   std::string BriefReport() const;  // one line
+  // SummaryJson (termination, ok, message, total_seconds), the counters and *_seconds of stats
+  // under their names here, failed_step/failed_particle on failure, and "settings".
+  nlohmann::json ToJson() const;
 };
+
+// Called with (step, t, positions) for step = 0 (the initial state) … the last step taken;
+// positions: size k·N, particle-id order, wrapped into the periodic domain.
+using EngineObserver =
+    std::function<void(std::int64_t step, double t, std::span<const double> positions)>;
 
 class Engine {
  public:
@@ -145,8 +158,11 @@ class Engine {
   // any neighbour list can cover (20 redos in one step, or a skin at the periodic limit).
   bool Step();
 
-  // Runs up to `steps` steps; after each successful step calls after_step(*this) if given.
-  EngineSummary Run(std::int64_t steps, const std::function<void(const Engine&)>& after_step = {});
+  // Runs n = T/h steps (T/h a whole number to within 1e−9, else InputError), calling the
+  // observer, if given, at step 0 and after every step. Stops early at a numerical failure (a
+  // non-finite position, or Step's NumericalError) with termination kNonFinite, the message
+  // naming the step, and the last good state kept; never throws for it.
+  EngineSummary Run(double T, const EngineObserver& observer = {});
 
   // Positions (size k·N, id order, wrapped into the periodic domain).
   void CopyPositions(std::span<double> out) const;
@@ -174,6 +190,15 @@ class Engine {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// Bytes the engine needs for `count` particles in `dimension` (positions, buffers, neighbour
+// lists at a generous contact count, grid): an estimate made before anything is allocated.
+std::int64_t EstimateEngineBytes(int dimension, std::int64_t count);
+
+// Throws InputError "count: N particles need about X GiB, more than the Y GiB available" when
+// EstimateEngineBytes exceeds limit_bytes (0: the machine's physical memory). Call it before
+// generating a large initial state.
+void CheckParticleMemory(int dimension, std::int64_t count, std::int64_t limit_bytes = 0);
 
 struct FixOverlapsOptions {
   double tolerance = 1e-10;  // stop when every violation ≤ tolerance · min r

@@ -1,6 +1,6 @@
 // The particle model at scale: what the problem is (immutable once validated).
 //
-// N particles in R^k, k ∈ {2, 3}, with per-particle radius r_i > 0 and mobility μ_i > 0, subject
+// N particles in R^k, k ∈ {1, 2, 3} (the engine runs k ∈ {2, 3}), with per-particle radius r_i > 0 and mobility μ_i > 0, subject
 // to (the sets S_j of x' ∈ f(x) − N(S, x), all with exact orthogonal projections):
 //   - pair non-overlap        ‖X_i − X_j‖ ≥ r_i + r_j (minimum image on periodic axes);
 //   - walls (half-spaces)     ⟨n, X_i⟩ ≥ offset + r_i;
@@ -47,7 +47,7 @@ struct SegmentObstacle {
 };
 
 struct ParticleModel {
-  int dimension = 2;             // k ∈ {2, 3}
+  int dimension = 2;             // k ∈ {1, 2, 3}; the engine needs 2 or 3
   std::vector<double> radius;    // r_i > 0, one per particle (the particle count N = radius.size())
   std::vector<double> mobility;  // μ_i > 0, one per particle; empty means μ_i = 1 for all
   std::vector<Wall> walls;
@@ -65,12 +65,13 @@ struct ParticleModel {
   }
   double max_radius() const;
 
-  // Adds the 2k walls of the box [lo, hi] (particle centres then stay in
-  // [lo + r_i, hi − r_i] on every axis). Order: for each axis a, the wall at lo[a], then hi[a].
+  // Adds the walls of the box [lo, hi] on every axis that is not (yet) periodic (particle
+  // centres then stay in [lo + r_i, hi − r_i] there). Order: for each such axis a, the wall at
+  // lo[a], then hi[a].
   void AddBoxWalls(const Vec3& lo, const Vec3& hi);
 
   // Throws InputError naming the offending field and value:
-  //   "dimension must be 2 or 3 (got 4)", "a particle model needs at least one particle",
+  //   "dimension must be 1, 2 or 3 (got 4)", "a particle model needs at least one particle",
   //   "radius of particle 12 must be > 0 (got -1)", "mobility of particle 3 must be > 0 (got 0)",
   //   "mobility has 5 entries for 6 particles", "walls[2].normal must be non-zero",
   //   "spheres[1].radius must be > 0", "segments[0] needs a ≠ b",
@@ -78,18 +79,8 @@ struct ParticleModel {
   //   "domain of periodic axis 1 needs lo < hi (got [0, 0))",
   //   "radius of particle 7 (0.6) is too large for periodic axis 0 of length 2: need 4 r < L"
   //   (the minimum image of a pair in contact must be unique).
-  // Also checks count() against the memory estimate (CheckParticleMemory).
   void Validate() const;
 };
-
-// Bytes the engine needs for `count` particles in `dimension` (positions, buffers, neighbour
-// lists at a generous contact count, grid): an estimate made before anything is allocated.
-std::int64_t EstimateEngineBytes(int dimension, std::int64_t count);
-
-// Throws InputError "count: N particles need about X GiB, more than the Y GiB available" when
-// EstimateEngineBytes exceeds limit_bytes (0: the machine's physical memory). Call it before
-// generating a large initial state.
-void CheckParticleMemory(int dimension, std::int64_t count, std::int64_t limit_bytes = 0);
 
 // Feasibility of positions (size k·N, id order) for the model, with tolerance tol ≥ 0 on every
 // constraint (a pair may overlap by at most tol·(r_i + r_j), a particle may be inside a wall or

@@ -7,6 +7,7 @@
 
 #include "moreau/pbd/constraints.h"
 #include "moreau/pbd/drift.h"
+#include "moreau/particles/model.h"
 #include "moreau/pbd/particle_constraints.h"
 
 namespace moreau::pbd {
@@ -54,7 +55,7 @@ struct DisksCase {
 
   void Validate() const;
   double box_half_width() const;
-  ParticleModel MakeModel() const;
+  particles::ParticleModel MakeModel() const;  // the particle core's model (k = 2)
   std::unique_ptr<Drift> MakeDrift() const;
   // Random sequential addition of non-overlapping disks, reproducible from the seed on every
   // platform (SplitMix64). Throws InputError when the disks do not fit.

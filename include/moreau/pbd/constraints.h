@@ -2,7 +2,7 @@
 // a fixed order, linearisations for PGS, penalty directions, violations.
 //
 // Two implementations: ConstraintSetList (any ConstraintSet objects; the general path) and
-// ParticleConstraints (particle_constraints.h; pair and wall constraints with fast kernels).
+// ParticleConstraints (particle_constraints.h; particle systems through the particle core).
 // A Constraints object may keep per-run workspace (a neighbour list), so its methods are not const
 // and one object serves one simulation at a time.
 #pragma once
@@ -38,8 +38,8 @@ class Constraints {
  public:
   virtual ~Constraints() = default;
 
-  // Dimension d of the state x ∈ R^d.
-  virtual int dimension() const = 0;
+  // Size d of the state x ∈ R^d (k·N for N particles in R^k).
+  virtual int state_size() const = 0;
   // Number m of sets S_j; a sweep counts as m constraint evaluations.
   virtual std::int64_t num_sets() const = 0;
 
@@ -60,12 +60,12 @@ class Constraints {
 // S given as a list of ConstraintSet objects, visited in list order.
 class ConstraintSetList final : public Constraints {
  public:
-  explicit ConstraintSetList(int dimension);
+  explicit ConstraintSetList(int state_size);
   // Throws InputError if the set's dimension differs.
   void Add(std::unique_ptr<const ConstraintSet> set);
   const ConstraintSet& set(std::int64_t j) const { return *sets_[static_cast<std::size_t>(j)]; }
 
-  int dimension() const override { return dimension_; }
+  int state_size() const override { return state_size_; }
   std::int64_t num_sets() const override { return static_cast<std::int64_t>(sets_.size()); }
   void Sweep(VectorRef x) override;
   void Linearize(ConstVectorRef y, LinearizedConstraints* out) override;
@@ -73,7 +73,7 @@ class ConstraintSetList final : public Constraints {
   double MaxViolation(ConstVectorRef x) override;
 
  private:
-  int dimension_;
+  int state_size_;
   std::vector<std::unique_ptr<const ConstraintSet>> sets_;
   Vector scratch_;
   std::vector<int> all_indices_;

@@ -1,0 +1,55 @@
+// A crowd room with a door and the count of people who left it (examples/crowd.toml): the
+// Maury–Venel evacuation set-up as particle-core data, lengths in the scenario's unit (metres).
+//
+// The room is [0, width] × [0, height] in the plane (dimension 2); its walls are line segments
+// (particles stay at distance ≥ r_i from them) with a door of width door_width centred on the
+// right wall x = width, spanning y ∈ [door_lo, door_hi].
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "moreau/particles/forces.h"
+#include "moreau/particles/model.h"
+
+namespace moreau::particles {
+
+struct Room {
+  double width = 15.0;      // > 0
+  double height = 15.0;     // > 0
+  double door_width = 1.2;  // in (0, height)
+
+  // Throws InputError naming the field: "room.width must be > 0 (got 0)",
+  // "room.door_width must be smaller than the room height (got 16 ≥ 15)".
+  void Validate() const;
+  double door_lo() const { return 0.5 * (height - door_width); }
+  double door_hi() const { return 0.5 * (height + door_width); }
+
+  // The five wall segments, in this order: bottom, top, left, right below the door, right above
+  // the door.
+  std::vector<SegmentObstacle> Walls() const;
+  // Walking at `speed` toward the nearest point of the door; once through it (x > width), along
+  // +e_0, away from the room.
+  SelfPropulsion WalkToTheDoor(double speed) const;
+};
+
+// Validates the room and appends its walls to model->segments. Throws InputError for a model
+// that is not two-dimensional ("room: a room needs dimension 2 (got 3)").
+void AddRoom(const Room& room, ParticleModel* model);
+
+// People out of the room: a person counts as out from the first time their centre passes the
+// door line x = width (noise may carry them back over it for a moment; they stay counted).
+class EvacuationCount {
+ public:
+  EvacuationCount(const Room& room, int count);
+  // positions: size 2·count, particle-id order. Returns the number out so far.
+  int Update(std::span<const double> positions);
+  int out() const { return out_; }
+
+ private:
+  double door_line_;
+  std::vector<char> left_;
+  int out_ = 0;
+};
+
+}  // namespace moreau::particles

@@ -1,0 +1,68 @@
+#include "moreau/particles/room.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+
+namespace moreau::particles {
+
+void Room::Validate() const {
+  if (!(width > 0.0) || !std::isfinite(width)) {
+    throw InputError(fmt::format("room.width must be > 0 (got {})", width));
+  }
+  if (!(height > 0.0) || !std::isfinite(height)) {
+    throw InputError(fmt::format("room.height must be > 0 (got {})", height));
+  }
+  if (!(door_width > 0.0) || !std::isfinite(door_width)) {
+    throw InputError(fmt::format("room.door_width must be > 0 (got {})", door_width));
+  }
+  if (door_width >= height) {
+    throw InputError(fmt::format(
+        "room.door_width must be smaller than the room height (got {} ≥ {})", door_width, height));
+  }
+}
+
+std::vector<SegmentObstacle> Room::Walls() const {
+  const double W = width;
+  const double H = height;
+  return {{{0.0, 0.0}, {W, 0.0}},
+          {{0.0, H}, {W, H}},
+          {{0.0, 0.0}, {0.0, H}},
+          {{W, 0.0}, {W, door_lo()}},
+          {{W, door_hi()}, {W, H}}};
+}
+
+SelfPropulsion Room::WalkToTheDoor(double speed) const {
+  SelfPropulsion p;
+  p.speed = speed;
+  p.target = {width, door_lo(), 0.0};
+  p.target_end = Vec3{width, door_hi(), 0.0};
+  p.exit_direction = Vec3{1.0, 0.0, 0.0};
+  return p;
+}
+
+void AddRoom(const Room& room, ParticleModel* model) {
+  room.Validate();
+  if (model->dimension != 2) {
+    throw InputError(
+        fmt::format("room: a room needs dimension 2 (got {})", model->dimension));
+  }
+  for (const SegmentObstacle& s : room.Walls()) model->segments.push_back(s);
+}
+
+EvacuationCount::EvacuationCount(const Room& room, int count)
+    : door_line_(room.width), left_(static_cast<std::size_t>(count), 0) {}
+
+int EvacuationCount::Update(std::span<const double> positions) {
+  for (std::size_t i = 0; i < left_.size(); ++i) {
+    if (!left_[i] && positions[2 * i] > door_line_) {
+      left_[i] = 1;
+      ++out_;
+    }
+  }
+  return out_;
+}
+
+}  // namespace moreau::particles

@@ -1,0 +1,45 @@
+// Regression checks on bits: the final positions of the crowd example (examples/crowd.toml at
+// T = 4 instead of 45) hash to the value recorded before the particle core was refactored
+// (issue 7; `moreau run examples/crowd.toml --set problem.T=4.0` printed it as positions_hash).
+#include <gtest/gtest.h>
+
+#include "moreau/common/hash.h"
+#include "moreau/common/random.h"
+#include "moreau/particles/engine.h"
+#include "moreau/particles/room.h"
+
+namespace moreau::particles {
+namespace {
+
+TEST(PositionsHash, CrowdExampleKeepsItsBits) {
+  constexpr std::uint64_t kSeed = 7;
+  ParticleModel model;
+  model.dimension = 2;
+  SplitMix64 rng(kSeed ^ 0x5DEECE66DULL);  // the CLI's polydisperse radii
+  for (int i = 0; i < 200; ++i) model.radius.push_back(0.2 + (0.3 - 0.2) * rng.Uniform01());
+  model.domain_lo = {0.5, 0.5, 0.0};
+  model.domain_hi = {14.5, 14.5, 1.0};
+  const Room room{15.0, 15.0, 1.2};
+  AddRoom(room, &model);
+  Forces forces;
+  forces.propulsion = room.WalkToTheDoor(1.3);
+  forces.diffusion = 0.005;
+  EngineOptions options;
+  options.h = 0.002;
+  options.seed = kSeed;
+  options.sweeps = 8;
+  options.skin_factor = 2.0;
+  const std::vector<double> x0 =
+      RandomSequentialAddition(model, model.domain_lo, model.domain_hi, kSeed);
+  Engine engine(model, forces, options, x0);
+  EvacuationCount out(room, model.count());
+  const EngineSummary summary = engine.Run(4.0, [&](std::int64_t, double, std::span<const double> x) {
+    out.Update(x);
+  });
+  ASSERT_TRUE(summary.ok()) << summary.message;
+  EXPECT_EQ(out.out(), 14);  // "people out at t = 4: 14 of 200"
+  EXPECT_EQ(HashDoublesHex(engine.Positions()), "af2ea1e2b4fa72c1");
+}
+
+}  // namespace
+}  // namespace moreau::particles
