@@ -10,9 +10,9 @@ std::string ScenarioArgs::OutDir(std::string_view suffix) const {
   return (std::filesystem::path("out") / (stem + std::string(suffix))).string();
 }
 
-CLI::App* AddScenarioCommand(CLI::App& app, const std::string& name,
-                             const std::string& description, ScenarioArgs* args,
-                             const std::string& default_out, std::function<int()> run) {
+CLI::App* AddScenarioCommand(CLI::App& app, const std::string& name, const std::string& description,
+                             ScenarioArgs* args, const std::string& default_out,
+                             std::function<int()> run) {
   CLI::App* cmd = app.add_subcommand(name, description);
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
   cmd->add_option("--set", args->overrides, "Override a scenario value: key=value (repeatable)");

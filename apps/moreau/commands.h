@@ -1,6 +1,6 @@
 // The subcommands of the `moreau` tool. Each adds itself to the app; main() runs the one chosen.
 //
-// A command has three parts (docs: "how to add a command" in README.md): a scenario (a
+// A command has three parts ("Adding a command" in README.md): a scenario (a
 // FieldTable of its settings, field_table.h), a run (scenario → model → library solver →
 // summary) and a report (summary.json, CSV, figures, the lines printed). The helpers below give
 // every command the same arguments and the same exit codes.
@@ -31,8 +31,8 @@ struct ScenarioArgs {
 
 // Adds subcommand NAME with the scenario arguments bound to *args; `run` returns the exit code
 // (0, or 3 after a numerical failure). Bad input is an InputError (exit code 2, from main).
-CLI::App* AddScenarioCommand(CLI::App& app, const std::string& name,
-                             const std::string& description, ScenarioArgs* args,
-                             const std::string& default_out, std::function<int()> run);
+CLI::App* AddScenarioCommand(CLI::App& app, const std::string& name, const std::string& description,
+                             ScenarioArgs* args, const std::string& default_out,
+                             std::function<int()> run);
 
 }  // namespace moreau::cli

@@ -31,8 +31,8 @@ std::string Range::Describe() const {
 void Range::Check(const Scenario& scenario, std::string_view key, double v,
                   std::string_view got) const {
   if (Contains(v)) return;
-  scenario.Fail(key, fmt::format("must be {} (got {}){}{}", Describe(), got,
-                                 why.empty() ? "" : " ", why));
+  scenario.Fail(
+      key, fmt::format("must be {} (got {}){}{}", Describe(), got, why.empty() ? "" : " ", why));
 }
 
 void SetDotted(nlohmann::json& j, std::string_view key, nlohmann::json value) {

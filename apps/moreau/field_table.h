@@ -17,9 +17,9 @@
 #include <functional>
 #include <limits>
 #include <optional>
-#include <tuple>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -41,7 +41,7 @@ struct Range {
   std::string why;  // added to the error message ("so that the time step T/N is positive")
 
   static Range Any() { return {}; }
-  static Range Positive() { return {0.0, Range{}.max, true, false, ""}; }  // > 0
+  static Range Positive() { return {0.0, Range{}.max, true, false, ""}; }      // > 0
   static Range NonNegative() { return {0.0, Range{}.max, false, false, ""}; }  // ≥ 0
   static Range AtLeast(double a) { return {a, Range{}.max, false, false, ""}; }
   static Range Closed(double a, double b) { return {a, b, false, false, ""}; }   // [a, b]
@@ -237,7 +237,9 @@ class FieldTable {
     for (const Field& f : fields_) {
       const nlohmann::json value = f.echo ? f.echo(defaults) : nlohmann::json();
       out += fmt::format("{:<32} {:<18} {:<14} {:<16} {}\n", f.key, f.type,
-                         f.required ? "(required)" : value.is_null() ? "-" : value.dump(),
+                         f.required        ? "(required)"
+                         : value.is_null() ? "-"
+                                           : value.dump(),
                          f.range, f.help);
     }
     return out;

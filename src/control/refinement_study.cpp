@@ -115,8 +115,8 @@ namespace {
 // Fills everything but the comparison columns; y is the solution.
 RefinementLevel SolveLevel(const ProblemFamily& family, const RefinementStudyOptions& options,
                            const PontryaginDiscretization& disc,
-                           const PontryaginDiscretization* coarser, const Eigen::VectorXd& y_coarser,
-                           Eigen::VectorXd& y) {
+                           const PontryaginDiscretization* coarser,
+                           const Eigen::VectorXd& y_coarser, Eigen::VectorXd& y) {
   const Stopwatch stopwatch;
   RefinementLevel level;
   level.steps = disc.steps();

@@ -12,10 +12,10 @@ namespace moreau {
 namespace {
 
 TEST(Termination, NamesRoundTripAndOnlyCompletedOrConvergedSucceed) {
-  for (Termination t : {Termination::kCompleted, Termination::kConverged,
-                        Termination::kMaxIterations, Termination::kLineSearchFailed,
-                        Termination::kSingularJacobian, Termination::kDiverged,
-                        Termination::kNonFinite, Termination::kInterrupted}) {
+  for (Termination t :
+       {Termination::kCompleted, Termination::kConverged, Termination::kMaxIterations,
+        Termination::kLineSearchFailed, Termination::kSingularJacobian, Termination::kDiverged,
+        Termination::kNonFinite, Termination::kInterrupted}) {
     EXPECT_EQ(ParseTermination(ToString(t)), t);
     EXPECT_EQ(IsSuccess(t), t == Termination::kCompleted || t == Termination::kConverged);
   }

@@ -139,7 +139,8 @@ int ReportControlRun(const ControlScenario& scenario, const ControlRunResult& r,
   return 0;
 }
 
-int ReportControlStudy(const ControlScenario& scenario, const control::RefinementStudySummary& study,
+int ReportControlStudy(const ControlScenario& scenario,
+                       const control::RefinementStudySummary& study,
                        const std::string& scenario_file, const std::string& out_dir) {
   const control::RefinementLevel& finest = study.levels.back();
   nlohmann::json j = study.ToJson();
@@ -167,9 +168,10 @@ int ReportControlStudy(const ControlScenario& scenario, const control::Refinemen
                 l.ok() ? "yes" : "no", l.value, l.residual, l.diff_previous, l.diff_finest,
                 l.tracking_rms);
   }
-  std::printf("wrote %s/summary.json, convergence.csv, value_vs_steps.png, "
-              "difference_vs_steps.png\n",
-              out.dir().c_str());
+  std::printf(
+      "wrote %s/summary.json, convergence.csv, value_vs_steps.png, "
+      "difference_vs_steps.png\n",
+      out.dir().c_str());
   if (!study.ok()) {
     std::fprintf(stderr, "moreau: some levels of the study did not converge\n");
     return 3;

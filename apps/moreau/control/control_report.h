@@ -28,7 +28,8 @@ std::string ConvergenceCsv(const control::RefinementStudySummary& study, double 
 // Write DIR and print; return the exit code (0, or 3 when the solve or a level failed).
 int ReportControlRun(const ControlScenario& scenario, const ControlRunResult& result,
                      const std::string& scenario_file, const std::string& out_dir);
-int ReportControlStudy(const ControlScenario& scenario, const control::RefinementStudySummary& study,
+int ReportControlStudy(const ControlScenario& scenario,
+                       const control::RefinementStudySummary& study,
                        const std::string& scenario_file, const std::string& out_dir);
 
 }  // namespace moreau::cli

@@ -16,8 +16,7 @@ ControlRunResult RunControl(const ControlScenario& scenario) {
   const control::PontryaginDiscretization disc(target, scenario.steps);
   ControlRunResult r;
   Eigen::VectorXd y;
-  r.continuation =
-      control::SolveWithContinuation(family, scenario.steps, scenario.continuation, y);
+  r.continuation = control::SolveWithContinuation(family, scenario.steps, scenario.continuation, y);
   // y belongs to the last accepted problem; evaluate it on the target (its residual says whether
   // it solves the target).
   control::PontryaginWorkspace ws;

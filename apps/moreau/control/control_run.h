@@ -16,7 +16,7 @@ struct ControlRunResult {
   double value = 0.0;          // ū_N of the solution on the target problem
   double residual_norm = 0.0;  // ‖F‖_∞ on the target problem (the last accepted problem may differ)
   double tracking_rms = 0.0;
-  double delta = 0.0;          // δ of the target problem
+  double delta = 0.0;  // δ of the target problem
   double dt = 0.0;
   Eigen::MatrixXd z;         // n_z × (N+1)
   Eigen::MatrixXd controls;  // num_springs × N effective rest lengths

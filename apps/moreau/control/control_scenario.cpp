@@ -94,9 +94,10 @@ FieldTable<control::NewtonOptions> NewtonFields() {
   FieldTable<O> t;
   t.Integer("max_iterations", &O::max_iterations, Range::Any(), "Newton iterations")
       .Number("residual_tolerance", &O::residual_tolerance, Range::Any(), "‖F‖_∞ tolerance")
-      .Choice("linear_solver", &O::linear_solver, control::ParseLinearSolverType,
-              [](control::LinearSolverType type) { return control::ToString(type); },
-              "riccati, sparse_lu", "solver of the Newton system")
+      .Choice(
+          "linear_solver", &O::linear_solver, control::ParseLinearSolverType,
+          [](control::LinearSolverType type) { return control::ToString(type); },
+          "riccati, sparse_lu", "solver of the Newton system")
       .Number("armijo", &O::armijo, Range::Any(), "sufficient decrease c")
       .Number("min_step", &O::min_step, Range::Any(), "smallest line-search step")
       .Number("divergence_threshold", &O::divergence_threshold, Range::Any(),
@@ -107,10 +108,13 @@ FieldTable<control::NewtonOptions> NewtonFields() {
 FieldTable<control::ValueErrorConstants> TheoremFields() {
   using C = control::ValueErrorConstants;
   FieldTable<C> t;
-  t.Number("c1", &C::c1, Range::NonNegative(), "C1").Required()
-      .Number("c2", &C::c2, Range::NonNegative(), "C2").Required()
+  t.Number("c1", &C::c1, Range::NonNegative(), "C1")
+      .Required()
+      .Number("c2", &C::c2, Range::NonNegative(), "C2")
+      .Required()
       .Number("c3", &C::c3, Range::NonNegative(), "C3 (0 without terminal cost)")
-      .Number("delta", &C::delta, Range::NonNegative(), "δ").Required();
+      .Number("delta", &C::delta, Range::NonNegative(), "δ")
+      .Required();
   return t;
 }
 
@@ -120,7 +124,8 @@ void ReadTheorem(Scenario& s, S& c, const std::string& key) {
     return;
   }
   FieldTable<control::ValueErrorConstants> t;
-  t.Mount(key, [](auto& x) -> auto& { return x; }, TheoremFields());
+  t.Mount(
+      key, [](auto& x) -> auto& { return x; }, TheoremFields());
   control::ValueErrorConstants constants;
   t.Read(s, constants);
   c.theorem = constants;
@@ -130,50 +135,68 @@ void ReadTheorem(Scenario& s, S& c, const std::string& key) {
 void AddModelFields(FieldTable<S>& t, const std::string& model) {
   if (model == "oscillator") {
     t.Mount("oscillator", &S::oscillator, OscillatorFields())
-        .Number("problem.horizon", [](auto& s) -> auto& { return s.oscillator.horizon; },
-                Range::Positive(), "T")
-        .Number("regularization.gamma", [](auto& s) -> auto& { return s.oscillator.gamma; },
-                Range::Any(), "γ")
-        .Number("cost.position", [](auto& s) -> auto& { return s.oscillator.position_weight; },
-                Range::NonNegative(), "μ_x")
-        .Number("cost.velocity", [](auto& s) -> auto& { return s.oscillator.velocity_weight; },
-                Range::NonNegative(), "μ_v");
+        .Number(
+            "problem.horizon", [](auto& s) -> auto& { return s.oscillator.horizon; },
+            Range::Positive(), "T")
+        .Number(
+            "regularization.gamma", [](auto& s) -> auto& { return s.oscillator.gamma; },
+            Range::Any(), "γ")
+        .Number(
+            "cost.position", [](auto& s) -> auto& { return s.oscillator.position_weight; },
+            Range::NonNegative(), "μ_x")
+        .Number(
+            "cost.velocity", [](auto& s) -> auto& { return s.oscillator.velocity_weight; },
+            Range::NonNegative(), "μ_v");
   } else if (model == "arm") {
     t.Mount("arm", &S::arm, ArmFields())
         .OptionalNumber("arm.bounds_time", &S::arm_bounds_time, Range::Any(),
                         "time of the bounds' reference configuration (default T/2)")
-        .Number("problem.horizon", [](auto& s) -> auto& { return s.arm.horizon; },
-                Range::Positive(), "T")
-        .Number("regularization.gamma", [](auto& s) -> auto& { return s.arm.gamma; },
-                Range::Any(), "γ")
-        .Number("cost.position", [](auto& s) -> auto& { return s.arm.position_weight; },
-                Range::NonNegative(), "μ_x")
-        .Number("cost.velocity", [](auto& s) -> auto& { return s.arm.velocity_weight; },
-                Range::NonNegative(), "μ_v");
+        .Number(
+            "problem.horizon", [](auto& s) -> auto& { return s.arm.horizon; }, Range::Positive(),
+            "T")
+        .Number(
+            "regularization.gamma", [](auto& s) -> auto& { return s.arm.gamma; }, Range::Any(), "γ")
+        .Number(
+            "cost.position", [](auto& s) -> auto& { return s.arm.position_weight; },
+            Range::NonNegative(), "μ_x")
+        .Number(
+            "cost.velocity", [](auto& s) -> auto& { return s.arm.velocity_weight; },
+            Range::NonNegative(), "μ_v");
   } else {
     auto matrix = [](Eigen::MatrixXd NetworkSettings::*m) {
-      return [m](Scenario& sc, S& s, const std::string& k) { ReadReferenceMatrix(sc, k, &(s.network.*m)); };
+      return [m](Scenario& sc, S& s, const std::string& k) {
+        ReadReferenceMatrix(sc, k, &(s.network.*m));
+      };
     };
-    t.Integer("network.dimension", [](auto& s) -> auto& { return s.network.dimension; },
-              Range::Closed(1, 3), "d")
-        .Custom("network.nodes", "array of tables", ReadNetworkNodes,
-                [](const S& s) { return nlohmann::json(s.network.nodes.size()); },
-                "{mass, position, velocity, fixed}").Required()
-        .Custom("network.springs", "array of tables", ReadNetworkSprings,
-                [](const S& s) { return nlohmann::json(s.network.springs.size()); },
-                "{nodes, stiffness, damping, rest_min, rest_max}").Required()
-        .Number("problem.horizon", [](auto& s) -> auto& { return s.network.horizon; },
-                Range::Positive(), "T").Required()
-        .Number("regularization.gamma", [](auto& s) -> auto& { return s.network.gamma; },
-                Range::Any(), "γ")
-        .Mount("cost", [](auto& s) -> auto& { return s.network.cost; }, CostFields(true))
+    t.Integer(
+         "network.dimension", [](auto& s) -> auto& { return s.network.dimension; },
+         Range::Closed(1, 3), "d")
+        .Custom(
+            "network.nodes", "array of tables", ReadNetworkNodes,
+            [](const S& s) { return nlohmann::json(s.network.nodes.size()); },
+            "{mass, position, velocity, fixed}")
+        .Required()
+        .Custom(
+            "network.springs", "array of tables", ReadNetworkSprings,
+            [](const S& s) { return nlohmann::json(s.network.springs.size()); },
+            "{nodes, stiffness, damping, rest_min, rest_max}")
+        .Required()
+        .Number(
+            "problem.horizon", [](auto& s) -> auto& { return s.network.horizon; },
+            Range::Positive(), "T")
+        .Required()
+        .Number(
+            "regularization.gamma", [](auto& s) -> auto& { return s.network.gamma; }, Range::Any(),
+            "γ")
+        .Mount(
+            "cost", [](auto& s) -> auto& { return s.network.cost; }, CostFields(true))
         .Custom("reference.positions", "frames × (d · free nodes)",
                 matrix(&NetworkSettings::positions), {}, "sampled reference positions")
         .Required()
         .Custom("reference.velocities", "frames × (d · free nodes)",
                 matrix(&NetworkSettings::velocities), {}, "sampled reference velocities")
-        .Custom("reference.weights", "frames × free nodes", matrix(&NetworkSettings::weights),
-                {}, "weights; 0 marks a missing sample");
+        .Custom("reference.weights", "frames × free nodes", matrix(&NetworkSettings::weights), {},
+                "weights; 0 marks a missing sample");
   }
 }
 
@@ -185,15 +208,18 @@ FieldTable<S> MakeFields(const std::string& model) {
             Range::Closed(1, 1e8).Because("so that the time step T/N is positive"),
             "number of time steps N")
       .Mount("continuation", &S::continuation, ContinuationFields())
-      .Mount("fixed_point", [](auto& s) -> auto& { return s.continuation.fixed_point; },
-             FixedPointFields())
-      .Mount("newton", [](auto& s) -> auto& { return s.continuation.newton; }, NewtonFields())
+      .Mount(
+          "fixed_point", [](auto& s) -> auto& { return s.continuation.fixed_point; },
+          FixedPointFields())
+      .Mount(
+          "newton", [](auto& s) -> auto& { return s.continuation.newton; }, NewtonFields())
       .Flag("study.warm_start", &S::warm_start, "Newton from the coarser solution first")
       .Integer("study.compare_samples", &S::compare_samples, Range::NonNegative(),
                "instants for diff_finest (0: the coarsest grid's nodes)")
-      .Custom("study.theorem", "table {c1, c2, c3, delta}", ReadTheorem,
-              [](const S& s) { return s.theorem ? s.theorem->ToJson() : nlohmann::json(); },
-              "constants of Theorem 5.1 for the bounds in convergence.csv");
+      .Custom(
+          "study.theorem", "table {c1, c2, c3, delta}", ReadTheorem,
+          [](const S& s) { return s.theorem ? s.theorem->ToJson() : nlohmann::json(); },
+          "constants of Theorem 5.1 for the bounds in convergence.csv");
   return t;
 }
 

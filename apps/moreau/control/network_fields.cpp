@@ -91,8 +91,7 @@ void ReadNetworkNodes(Scenario& s, ControlScenario& c, const std::string& key) {
 }
 
 void ReadNetworkSprings(Scenario& s, ControlScenario& c, const std::string& key) {
-  const auto entries =
-      Entries(s, key, {"nodes", "stiffness", "damping", "rest_min", "rest_max"});
+  const auto entries = Entries(s, key, {"nodes", "stiffness", "damping", "rest_min", "rest_max"});
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const toml::table& t = *entries[k];
     const std::string entry = fmt::format("{}[{}]", key, k);

@@ -31,9 +31,9 @@ int Run(const RunArgs& args) {
 
 void AddRunCommand(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
-  CLI::App* cmd = AddScenarioCommand(app, "run", "Run one simulation of a scenario file",
-                                     args.get(), "out/<scenario name>",
-                                     [args] { return Run(*args); });
+  CLI::App* cmd =
+      AddScenarioCommand(app, "run", "Run one simulation of a scenario file", args.get(),
+                         "out/<scenario name>", [args] { return Run(*args); });
   cmd->add_flag("--fix-overlaps", args->fix_overlaps,
                 "Particle scenarios: project an overlapping initial state to a feasible one "
                 "(repeated PBD sweeps) instead of rejecting it");

@@ -51,9 +51,10 @@ int ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
   OutputDir out(out_dir);
   out.WriteText("summary.json", PbdRunJson(scenario, result, scenario_file).dump(2) + "\n");
   out.WriteText("trajectory.csv", PbdTrajectoryCsv(scenario, result));
-  RunPlotScript("plot_run.py",
-                {out.Stage("trajectory.png").string(), out.StagedPath("trajectory.csv").string(),
-                 scenario.kind, fmt::format("{}", scenario.is_disks() ? scenario.disks.radius : 0.0)});
+  RunPlotScript(
+      "plot_run.py",
+      {out.Stage("trajectory.png").string(), out.StagedPath("trajectory.csv").string(),
+       scenario.kind, fmt::format("{}", scenario.is_disks() ? scenario.disks.radius : 0.0)});
   out.Commit();
 
   const pbd::SimulationSummary& summary = result.summary;

@@ -19,9 +19,8 @@ PbdRunResult RunPbdScenario(const PbdScenario& scenario) {
         pbd::ComputeReference(problem, scenario.reference, options.h));
     problem.solution = [reference](double t) { return reference->At(t); };
   }
-  const std::int64_t stride = scenario.output_stride > 0
-                                  ? scenario.output_stride
-                                  : std::max<std::int64_t>(1, steps / 1000);
+  const std::int64_t stride =
+      scenario.output_stride > 0 ? scenario.output_stride : std::max<std::int64_t>(1, steps / 1000);
 
   // Disks: hold the particle constraints by their own type, for their neighbour-list statistics.
   std::unique_ptr<pbd::ParticleConstraints> particles;
@@ -36,13 +35,14 @@ PbdRunResult RunPbdScenario(const PbdScenario& scenario) {
   PbdRunResult result;
   double error = 0.0;
   ProgressBar progress("run", steps);
-  result.summary = pbd::Simulate(
-      *problem.drift, constraints, options, problem.x0, problem.T,
-      [&](std::int64_t k, double t, pbd::ConstVectorRef x) {
-        if (problem.solution) error = std::max(error, (x - problem.solution(t)).norm());
-        if (k % stride == 0 || k == steps) result.frames.push_back({t, x});
-        progress.Update(k);
-      });
+  result.summary = pbd::Simulate(*problem.drift, constraints, options, problem.x0, problem.T,
+                                 [&](std::int64_t k, double t, pbd::ConstVectorRef x) {
+                                   if (problem.solution)
+                                     error = std::max(error, (x - problem.solution(t)).norm());
+                                   if (k % stride == 0 || k == steps)
+                                     result.frames.push_back({t, x});
+                                   progress.Update(k);
+                                 });
   progress.Finish();
   if (problem.solution && result.summary.ok()) result.error = error;
   if (particles) result.neighbour_list = particles->neighbour_stats();

@@ -84,8 +84,8 @@ void CheckNoOverlap(const PbdScenario& s) {
     for (int j = i + 1; j < c.count; ++j) {
       const double overlap = 2.0 * c.radius - (x0.segment<2>(2 * i) - x0.segment<2>(2 * j)).norm();
       if (overlap > tol) {
-        throw InputError(fmt::format(
-            "infeasible initial state: disks {} and {} overlap by {:.3g}", i, j, overlap));
+        throw InputError(fmt::format("infeasible initial state: disks {} and {} overlap by {:.3g}",
+                                     i, j, overlap));
       }
     }
   }
@@ -148,8 +148,8 @@ PbdScenario ReadPbdScenario(Scenario& s) {
   PbdScenario out;
   out.kind = s.RequireString("problem.kind");
   if (out.kind != "sliding" && out.kind != "disks") {
-    s.Fail("problem.kind", fmt::format("unknown kind '{}' (expected sliding, disks or particles)",
-                                       out.kind));
+    s.Fail("problem.kind",
+           fmt::format("unknown kind '{}' (expected sliding, disks or particles)", out.kind));
   }
   PbdFields(out.kind).Read(s, out);
   return out;

@@ -29,8 +29,8 @@ int Study(const StudyArgs& args) {
 void AddStudyCommand(CLI::App& app) {
   auto args = std::make_shared<StudyArgs>();
   CLI::App* cmd = AddScenarioCommand(
-      app, "study", "Convergence and precision-work study over methods and step sizes",
-      args.get(), "out/<scenario name>_study", [args] { return Study(*args); });
+      app, "study", "Convergence and precision-work study over methods and step sizes", args.get(),
+      "out/<scenario name>_study", [args] { return Study(*args); });
   cmd->add_option("--methods", args->request.methods, "pbd,pngs,pgs,penalty[:gamma]")
       ->delimiter(',')
       ->required();

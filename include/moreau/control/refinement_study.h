@@ -50,7 +50,7 @@ struct RefinementStudyOptions {
 struct RefinementStudySummary {
   // kConverged when every level converged, else the termination of the first level that did not.
   Termination termination = Termination::kConverged;
-  std::string message;  // which N failed and why
+  std::string message;                  // which N failed and why
   std::vector<RefinementLevel> levels;  // in increasing N
   double total_seconds = 0.0;
   RefinementStudyOptions options;  // the settings used (without on_level)
