@@ -194,11 +194,12 @@ class FieldTable {
     return *this;
   }
 
-  // Every field and check of `sub` (a table of the struct ref(s)) under "prefix.".
+  // Every field and check of `sub` (a table of the struct ref(s)) under "prefix." (an empty
+  // prefix keeps the sub-table's keys).
   template <class T, class A>
   FieldTable& Mount(const std::string& prefix, A ref, const FieldTable<T>& sub) {
     for (const typename FieldTable<T>::Field& f : sub.fields()) {
-      Add({prefix + "." + f.key, f.type, f.range, f.help, f.required,
+      Add({Prefixed(prefix, f.key), f.type, f.range, f.help, f.required,
            [ref, read = f.read](Scenario& sc, S& s, const std::string& k) {
              read(sc, std::invoke(ref, s), k);
            },
@@ -207,7 +208,7 @@ class FieldTable {
                   : nullptr});
     }
     for (const auto& [key, check] : sub.checks()) {
-      checks_.emplace_back(prefix + "." + key,
+      checks_.emplace_back(Prefixed(prefix, key),
                            [ref, check](const S& s) { check(std::invoke(ref, s)); });
     }
     return *this;
@@ -251,6 +252,10 @@ class FieldTable {
   }
 
  private:
+  static std::string Prefixed(const std::string& prefix, const std::string& key) {
+    return prefix.empty() ? key : prefix + "." + key;
+  }
+
   FieldTable& Add(Field field) {
     fields_.push_back(std::move(field));
     return *this;

@@ -54,6 +54,17 @@ FieldTable<control::ArmExample> ArmFields() {
   return t;
 }
 
+// The keys the thesis examples share: horizon, γ and the running-cost weights.
+template <class E>
+FieldTable<E> ExampleProblemFields() {
+  FieldTable<E> t;
+  t.Number("problem.horizon", &E::horizon, Range::Positive(), "T")
+      .Number("regularization.gamma", &E::gamma, Range::Any(), "γ")
+      .Number("cost.position", &E::position_weight, Range::NonNegative(), "μ_x")
+      .Number("cost.velocity", &E::velocity_weight, Range::NonNegative(), "μ_v");
+  return t;
+}
+
 FieldTable<control::CostWeights> CostFields(bool terminal) {
   using W = control::CostWeights;
   FieldTable<W> t;
@@ -135,33 +146,12 @@ void ReadTheorem(Scenario& s, S& c, const std::string& key) {
 void AddModelFields(FieldTable<S>& t, const std::string& model) {
   if (model == "oscillator") {
     t.Mount("oscillator", &S::oscillator, OscillatorFields())
-        .Number(
-            "problem.horizon", [](auto& s) -> auto& { return s.oscillator.horizon; },
-            Range::Positive(), "T")
-        .Number(
-            "regularization.gamma", [](auto& s) -> auto& { return s.oscillator.gamma; },
-            Range::Any(), "γ")
-        .Number(
-            "cost.position", [](auto& s) -> auto& { return s.oscillator.position_weight; },
-            Range::NonNegative(), "μ_x")
-        .Number(
-            "cost.velocity", [](auto& s) -> auto& { return s.oscillator.velocity_weight; },
-            Range::NonNegative(), "μ_v");
+        .Mount("", &S::oscillator, ExampleProblemFields<control::OscillatorExample>());
   } else if (model == "arm") {
     t.Mount("arm", &S::arm, ArmFields())
         .OptionalNumber("arm.bounds_time", &S::arm_bounds_time, Range::Any(),
                         "time of the bounds' reference configuration (default T/2)")
-        .Number(
-            "problem.horizon", [](auto& s) -> auto& { return s.arm.horizon; }, Range::Positive(),
-            "T")
-        .Number(
-            "regularization.gamma", [](auto& s) -> auto& { return s.arm.gamma; }, Range::Any(), "γ")
-        .Number(
-            "cost.position", [](auto& s) -> auto& { return s.arm.position_weight; },
-            Range::NonNegative(), "μ_x")
-        .Number(
-            "cost.velocity", [](auto& s) -> auto& { return s.arm.velocity_weight; },
-            Range::NonNegative(), "μ_v");
+        .Mount("", &S::arm, ExampleProblemFields<control::ArmExample>());
   } else {
     auto matrix = [](Eigen::MatrixXd NetworkSettings::*m) {
       return [m](Scenario& sc, S& s, const std::string& k) {
