@@ -1,0 +1,222 @@
+#include "mocap/ocp_window.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "moreau/common/error.h"
+#include "moreau/control/continuation.h"
+
+namespace moreau::mocap::internal {
+namespace {
+
+using Track = Eigen::Matrix<double, Eigen::Dynamic, 3>;  // frames × 3, solver units
+
+// C¹ cubic Hermite interpolation of a track at t ∈ [0, frames − 1] (time in frames), tangents by
+// central differences (one-sided at the ends).
+struct HermiteTrack {
+  Track x, m;
+  explicit HermiteTrack(Track positions) : x(std::move(positions)), m(x.rows(), 3) {
+    const Eigen::Index f = x.rows();
+    for (Eigen::Index k = 0; k < f; ++k) {
+      const Eigen::Index lo = std::max<Eigen::Index>(k - 1, 0);
+      const Eigen::Index hi = std::min<Eigen::Index>(k + 1, f - 1);
+      m.row(k) = (x.row(hi) - x.row(lo)) / static_cast<double>(std::max<Eigen::Index>(hi - lo, 1));
+    }
+  }
+  void At(double t, double* position, double* velocity) const {
+    const Eigen::Index f = x.rows();
+    if (f == 1) {
+      for (int i = 0; i < 3; ++i) position[i] = x(0, i), velocity[i] = 0.0;
+      return;
+    }
+    t = std::clamp(t, 0.0, static_cast<double>(f - 1));
+    const Eigen::Index k = std::min<Eigen::Index>(static_cast<Eigen::Index>(t), f - 2);
+    const double s = t - static_cast<double>(k), s2 = s * s, s3 = s2 * s;
+    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2,
+                 h11 = s3 - s2;
+    const double d00 = 6 * s2 - 6 * s, d10 = 3 * s2 - 4 * s + 1, d01 = -d00, d11 = 3 * s2 - 2 * s;
+    for (int i = 0; i < 3; ++i) {
+      position[i] = h00 * x(k, i) + h10 * m(k, i) + h01 * x(k + 1, i) + h11 * m(k + 1, i);
+      velocity[i] = d00 * x(k, i) + d10 * m(k, i) + d01 * x(k + 1, i) + d11 * m(k + 1, i);
+    }
+  }
+};
+
+// The marker's track over the window in solver units; samples missing in `base` (gaps not asked
+// for) are interpolated linearly between the window's finite samples, or held at the ends.
+Track WindowTrack(const Recording& base, int marker, const OcpWindow& w,
+                  const Eigen::Vector3d& origin, double scale) {
+  const Eigen::Index f = w.last - w.first + 1;
+  Track t(f, 3);
+  std::vector<Eigen::Index> finite;
+  for (Eigen::Index k = 0; k < f; ++k) {
+    const auto p = base.point(w.first + k, marker);
+    if (p.allFinite()) {
+      t.row(k) = ((p - origin) / scale).transpose();
+      finite.push_back(k);
+    }
+  }
+  if (finite.empty()) return Track();
+  std::size_t next = 0;
+  for (Eigen::Index k = 0; k < f; ++k) {
+    while (next < finite.size() && finite[next] < k) ++next;
+    if (next < finite.size() && finite[next] == k) continue;
+    if (next == 0) {
+      t.row(k) = t.row(finite.front());
+    } else if (next == finite.size()) {
+      t.row(k) = t.row(finite.back());
+    } else {
+      const Eigen::Index a = finite[next - 1], b = finite[next];
+      const double tau = static_cast<double>(k - a) / static_cast<double>(b - a);
+      t.row(k) = (1.0 - tau) * t.row(a) + tau * t.row(b);
+    }
+  }
+  return t;
+}
+
+struct WindowModel {
+  std::vector<control::NetworkNode> nodes;
+  std::vector<control::NetworkSpring> springs;
+  std::vector<std::shared_ptr<const HermiteTrack>> free_tracks;
+  int anchors = 0;
+};
+
+WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, const OcpWindow& w,
+                             const Eigen::Vector3d& origin, double scale) {
+  WindowModel model;
+  std::map<int, int> node_of;
+  const double kappa = net.stiffness / (base.rate() * base.rate());
+  const double xi = net.damping / base.rate();
+  for (int marker : w.free) {
+    auto track = std::make_shared<const HermiteTrack>(WindowTrack(base, marker, w, origin, scale));
+    control::NetworkNode node;
+    node.mass = net.mass;
+    track->At(0.0, node.position.data(), node.velocity.data());
+    node_of[marker] = static_cast<int>(model.nodes.size());
+    model.nodes.push_back(node);
+    model.free_tracks.push_back(std::move(track));
+  }
+  for (int marker : w.free) {
+    for (int s : net.springs_of[static_cast<std::size_t>(marker)]) {
+      const int other = net.Partner(s, marker);
+      const bool other_free = std::find(w.free.begin(), w.free.end(), other) != w.free.end();
+      if (other_free && other < marker) continue;  // added from the other end
+      if (!node_of.contains(other)) {
+        Track t = WindowTrack(base, other, w, origin, scale);
+        if (t.rows() == 0) continue;  // never seen in the window: no anchor
+        auto track = std::make_shared<const HermiteTrack>(std::move(t));
+        control::NetworkNode node;
+        node.fixed = true;
+        node.motion = [track](double time, double* x, double* v) { track->At(time, x, v); };
+        node_of[other] = static_cast<int>(model.nodes.size());
+        model.nodes.push_back(std::move(node));
+        ++model.anchors;
+      }
+      const MarkerSpring& sp = net.springs[static_cast<std::size_t>(s)];
+      model.springs.push_back(control::NetworkSpring{node_of[marker], node_of[other], kappa, xi,
+                                                     sp.rest_min / scale, sp.rest_max / scale});
+    }
+  }
+  return model;
+}
+
+}  // namespace
+
+OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
+                               const OcpWindow& w, const OcpFillOptions& o) {
+  OcpWindowResult result;
+  const Eigen::Index frames = w.last - w.first + 1;
+  const int m = static_cast<int>(w.free.size());
+  const double scale = net.length_scale;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  for (int marker : w.free) origin += base.point(w.first, marker) / m;
+  try {
+    WindowModel model = BuildWindowModel(base, net, w, origin, scale);
+    result.anchors = model.anchors;
+    result.springs = static_cast<int>(model.springs.size());
+    const control::SpringNetwork network(3, model.nodes, model.springs);
+    const double omega = std::sqrt(net.stiffness) / base.rate();
+    const int substeps =
+        static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
+    const double horizon = static_cast<double>(frames - 1);
+    const int steps = static_cast<int>(frames - 1) * substeps;
+    result.steps = steps;
+    Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
+    for (int j = 0; j < m; ++j) {
+      const auto& track = *model.free_tracks[static_cast<std::size_t>(j)];
+      ref.middleCols(3 * j, 3) = track.x;
+      for (Eigen::Index k = 0; k < frames; ++k) {
+        const bool seen = in.observed(w.first + k, w.free[static_cast<std::size_t>(j)]);
+        const bool prior = base.point(w.first + k, w.free[static_cast<std::size_t>(j)]).allFinite();
+        weights(k, j) = seen ? o.observed_weight : (prior ? o.prior_weight : 0.0);
+      }
+    }
+    control::ReferenceFunction reference = control::SampledReference(
+        network, horizon, std::move(ref), Eigen::MatrixXd(), std::move(weights), "ocp.reference");
+    const control::TrackingProblem target(network, horizon, std::move(reference),
+                                          control::CostWeights{}, o.gamma);
+    const control::ProblemFamily family = [&target](double) { return target; };
+    // Warm start: the prior trajectory (positions and Hermite velocities) and its dual.
+    auto guess_for = [&](double stiffness_scale) {
+      const control::TrackingProblem start =
+          control::ContinuationProblem(family, 1.0, stiffness_scale, o.gamma_start);
+      const control::PontryaginDiscretization disc(start, steps);
+      Eigen::MatrixXd z(network.state_size(), steps + 1);
+      for (int n = 0; n <= steps; ++n) {
+        for (int j = 0; j < m; ++j) {
+          model.free_tracks[static_cast<std::size_t>(j)]->At(static_cast<double>(n) / substeps,
+                                                             z.col(n).data() + 6 * j,
+                                                             z.col(n).data() + 6 * j + 3);
+        }
+      }
+      Eigen::VectorXd y;
+      control::FixedPointSweep(disc, z, control::FixedPointOptions{}, y);
+      return y;
+    };
+    control::ContinuationOptions copt;
+    copt.gamma_start = o.gamma_start;
+    copt.newton = o.newton;
+    Eigen::VectorXd y, warm = guess_for(1.0);
+    control::ContinuationSummary cs = control::SolveWithContinuation(family, steps, copt, y, &warm);
+    result.newton_iterations = cs.newton_iterations;
+    if (!cs.converged) {
+      copt.stiffness_start = o.stiffness_start;
+      copt.gamma_decrease = 0.3;
+      warm = guess_for(o.stiffness_start);
+      cs = control::SolveWithContinuation(family, steps, copt, y, &warm);
+      result.newton_iterations += cs.newton_iterations;
+    }
+    result.residual = cs.last_newton.final_residual;
+    if (!cs.converged) {
+      result.termination = Termination::kDiverged;
+      if (cs.last_newton.termination == control::NewtonTermination::kMaxIterations) {
+        result.termination = Termination::kMaxIterations;
+      }
+      result.message = cs.message;
+      return result;
+    }
+    const control::PontryaginDiscretization disc(target, steps);
+    Eigen::MatrixXd z, rho;
+    disc.Unpack(y, z, rho);
+    result.positions.resize(frames, 3 * m);
+    for (Eigen::Index k = 0; k < frames; ++k) {
+      for (int j = 0; j < m; ++j) {
+        const Eigen::Vector3d x = z.col(k * substeps).segment<3>(6 * j);
+        result.positions.block<1, 3>(k, 3 * j) = (origin + scale * x).transpose();
+      }
+    }
+    result.termination =
+        result.positions.allFinite() ? Termination::kConverged : Termination::kDiverged;
+  } catch (const InputError& e) {
+    // A degenerate window (e.g. an anchor on top of a free marker): reported, filled by fallback.
+    result.termination = Termination::kDiverged;
+    result.message = fmt::format("window model rejected: {}", e.what());
+  }
+  return result;
+}
+
+}  // namespace moreau::mocap::internal
