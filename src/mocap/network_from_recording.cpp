@@ -86,8 +86,8 @@ void MarkerNetworkOptions::Validate() const {
   if (!(bound_floor >= 0.0) || !std::isfinite(bound_floor)) {
     fail("bound_floor", fmt::format("must be >= 0 and finite, got {}", bound_floor));
   }
-  if (!(natural_period_frames > 0.0) || !std::isfinite(natural_period_frames)) {
-    fail("natural_period_frames", fmt::format("must be > 0, got {}", natural_period_frames));
+  if (!(natural_period_seconds > 0.0) || !std::isfinite(natural_period_seconds)) {
+    fail("natural_period_seconds", fmt::format("must be > 0, got {}", natural_period_seconds));
   }
   if (!(damping_ratio >= 0.0) || !std::isfinite(damping_ratio)) {
     fail("damping_ratio", fmt::format("must be >= 0, got {}", damping_ratio));
@@ -101,7 +101,7 @@ nlohmann::json MarkerNetworkOptions::ToJson() const {
           {"min_common_frames", min_common_frames},
           {"bound_margin", bound_margin},
           {"bound_floor", bound_floor},
-          {"natural_period_frames", natural_period_frames},
+          {"natural_period_seconds", natural_period_seconds},
           {"damping_ratio", damping_ratio},
           {"springs", pairs}};
 }
@@ -188,7 +188,7 @@ MarkerNetwork BuildMarkerNetwork(const Recording& rec, const MarkerNetworkOption
                      lengths.end());
     net.length_scale = std::max(lengths[lengths.size() / 2], 1e-12);
   }
-  const double omega = 2.0 * std::numbers::pi * rec.rate() / o.natural_period_frames;
+  const double omega = 2.0 * std::numbers::pi / o.natural_period_seconds;
   net.mass = 1.0;
   net.stiffness = omega * omega;
   net.damping = 2.0 * o.damping_ratio * omega;

@@ -133,6 +133,9 @@ void OcpFillOptions::Validate() const {
   if (!(gamma_start >= gamma) || !std::isfinite(gamma_start)) {
     fail("gamma_start", gamma_start, "must be >= ocp.gamma and finite");
   }
+  if (!(retry_gamma_start >= gamma_start) || !std::isfinite(retry_gamma_start)) {
+    fail("retry_gamma_start", retry_gamma_start, "must be >= ocp.gamma_start and finite");
+  }
   if (!(max_step_frames > 0.0) || !std::isfinite(max_step_frames)) {
     fail("max_step_frames", max_step_frames, "must be > 0");
   }
@@ -152,6 +155,7 @@ nlohmann::json OcpFillOptions::ToJson() const {
           {"gamma_start", gamma_start},
           {"max_step_frames", max_step_frames},
           {"stiffness_start", stiffness_start},
+          {"retry_gamma_start", retry_gamma_start},
           {"newton",
            {{"max_iterations", newton.max_iterations},
             {"residual_tolerance", newton.residual_tolerance}}}};

@@ -15,11 +15,13 @@ namespace {
 
 using Track = Eigen::Matrix<double, Eigen::Dynamic, 3>;  // frames × 3, solver units
 
-// C¹ cubic Hermite interpolation of a track at t ∈ [0, frames − 1] (time in frames), tangents by
-// central differences (one-sided at the ends).
+// C¹ cubic Hermite interpolation of a track sampled at every frame, tangents by central
+// differences (one-sided at the ends). Time t is in solver units, `frames_per_unit` frames each.
 struct HermiteTrack {
   Track x, m;
-  explicit HermiteTrack(Track positions) : x(std::move(positions)), m(x.rows(), 3) {
+  double frames_per_unit = 1.0;
+  HermiteTrack(Track positions, double fpu)
+      : x(std::move(positions)), m(x.rows(), 3), frames_per_unit(fpu) {
     const Eigen::Index f = x.rows();
     for (Eigen::Index k = 0; k < f; ++k) {
       const Eigen::Index lo = std::max<Eigen::Index>(k - 1, 0);
@@ -33,7 +35,7 @@ struct HermiteTrack {
       for (int i = 0; i < 3; ++i) position[i] = x(0, i), velocity[i] = 0.0;
       return;
     }
-    t = std::clamp(t, 0.0, static_cast<double>(f - 1));
+    t = std::clamp(t * frames_per_unit, 0.0, static_cast<double>(f - 1));
     const Eigen::Index k = std::min<Eigen::Index>(static_cast<Eigen::Index>(t), f - 2);
     const double s = t - static_cast<double>(k), s2 = s * s, s3 = s2 * s;
     const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2,
@@ -41,7 +43,8 @@ struct HermiteTrack {
     const double d00 = 6 * s2 - 6 * s, d10 = 3 * s2 - 4 * s + 1, d01 = -d00, d11 = 3 * s2 - 2 * s;
     for (int i = 0; i < 3; ++i) {
       position[i] = h00 * x(k, i) + h10 * m(k, i) + h01 * x(k + 1, i) + h11 * m(k + 1, i);
-      velocity[i] = d00 * x(k, i) + d10 * m(k, i) + d01 * x(k + 1, i) + d11 * m(k + 1, i);
+      velocity[i] = frames_per_unit *
+                    (d00 * x(k, i) + d10 * m(k, i) + d01 * x(k + 1, i) + d11 * m(k + 1, i));
     }
   }
 };
@@ -89,12 +92,15 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
                              const Eigen::Vector3d& origin, double scale) {
   WindowModel model;
   std::map<int, int> node_of;
-  const double kappa = net.stiffness / (base.rate() * base.rate());
-  const double xi = net.damping / base.rate();
+  // Time unit 1/ω (ω = √(κ/m)): κ = 1 and ξ = 2ζ in solver units, whatever the rate.
+  const double omega = std::sqrt(net.stiffness / net.mass);
+  const double fpu = base.rate() / omega;
+  const double kappa = 1.0;
+  const double xi = net.damping / omega;
   for (int marker : w.free) {
-    auto track = std::make_shared<const HermiteTrack>(WindowTrack(base, marker, w, origin, scale));
+    auto track = std::make_shared<const HermiteTrack>(WindowTrack(base, marker, w, origin, scale), fpu);
     control::NetworkNode node;
-    node.mass = net.mass;
+    node.mass = 1.0;
     track->At(0.0, node.position.data(), node.velocity.data());
     node_of[marker] = static_cast<int>(model.nodes.size());
     model.nodes.push_back(node);
@@ -108,7 +114,7 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
       if (!node_of.contains(other)) {
         Track t = WindowTrack(base, other, w, origin, scale);
         if (t.rows() == 0) continue;  // never seen in the window: no anchor
-        auto track = std::make_shared<const HermiteTrack>(std::move(t));
+        auto track = std::make_shared<const HermiteTrack>(std::move(t), fpu);
         control::NetworkNode node;
         node.fixed = true;
         node.motion = [track](double time, double* x, double* v) { track->At(time, x, v); };
@@ -139,10 +145,11 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
     result.anchors = model.anchors;
     result.springs = static_cast<int>(model.springs.size());
     const control::SpringNetwork network(3, model.nodes, model.springs);
-    const double omega = std::sqrt(net.stiffness) / base.rate();
-    const int substeps =
-        static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
-    const double horizon = static_cast<double>(frames - 1);
+    // ω Δt <= 0.5 and Δt <= max_step_frames frames; time unit 1/ω.
+    const double units_per_frame = std::sqrt(net.stiffness / net.mass) / base.rate();
+    const int substeps = static_cast<int>(
+        std::ceil(std::max(1.0 / o.max_step_frames, units_per_frame / 0.5) - 1e-9));
+    const double horizon = static_cast<double>(frames - 1) * units_per_frame;
     const int steps = static_cast<int>(frames - 1) * substeps;
     result.steps = steps;
     Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
@@ -161,14 +168,14 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
                                           control::CostWeights{}, o.gamma);
     const control::ProblemFamily family = [&target](double) { return target; };
     // Warm start: the prior trajectory (positions and Hermite velocities) and its dual.
-    auto guess_for = [&](double stiffness_scale) {
+    auto guess_for = [&](double stiffness_scale, double gamma_start) {
       const control::TrackingProblem start =
-          control::ContinuationProblem(family, 1.0, stiffness_scale, o.gamma_start);
+          control::ContinuationProblem(family, 1.0, stiffness_scale, gamma_start);
       const control::PontryaginDiscretization disc(start, steps);
       Eigen::MatrixXd z(network.state_size(), steps + 1);
       for (int n = 0; n <= steps; ++n) {
         for (int j = 0; j < m; ++j) {
-          model.free_tracks[static_cast<std::size_t>(j)]->At(static_cast<double>(n) / substeps,
+          model.free_tracks[static_cast<std::size_t>(j)]->At(static_cast<double>(n) * units_per_frame / substeps,
                                                              z.col(n).data() + 6 * j,
                                                              z.col(n).data() + 6 * j + 3);
         }
@@ -180,13 +187,14 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
     control::ContinuationOptions copt;
     copt.gamma_start = o.gamma_start;
     copt.newton = o.newton;
-    Eigen::VectorXd y, warm = guess_for(1.0);
+    Eigen::VectorXd y, warm = guess_for(1.0, o.gamma_start);
     control::ContinuationSummary cs = control::SolveWithContinuation(family, steps, copt, y, &warm);
     result.newton_iterations = cs.newton_iterations;
     if (!cs.converged) {
       copt.stiffness_start = o.stiffness_start;
-      copt.gamma_decrease = 0.3;
-      warm = guess_for(o.stiffness_start);
+      copt.gamma_start = o.retry_gamma_start;
+      copt.gamma_decrease = 0.1;
+      warm = guess_for(o.stiffness_start, o.retry_gamma_start);
       cs = control::SolveWithContinuation(family, steps, copt, y, &warm);
       result.newton_iterations += cs.newton_iterations;
     }

@@ -8,9 +8,9 @@
 // than it chose. Rest-length bounds come from the observed range with a margin:
 //   L− = max(0, d_min − m),  L+ = d_max + m,  m = bound_margin (d_max − d_min) + bound_floor
 //   d_mean.
-// Dynamics are set from the recording's rate (units: the recording's length unit, seconds, unit
+// Dynamics (units: the recording's length unit, seconds, unit
 // mass per marker): every node has mass 1, every spring the natural period
-// T_n = natural_period_frames / rate, i.e. κ = (2π / T_n)², and the damping ratio ζ, ξ = 2 ζ √κ.
+// T_n = natural_period_seconds, i.e. κ = (2π / T_n)², and the damping ratio ζ, ξ = 2 ζ √κ.
 // The network is written to reports by MarkerNetwork::ToJson.
 #pragma once
 
@@ -29,8 +29,8 @@ struct MarkerNetworkOptions {
                                // 3 are needed in 3D for a hidden marker to stay determined)
   int min_common_frames = 10;  // a pair seen together in fewer frames is never a spring (>= 2)
   double bound_margin = 0.1;   // m = bound_margin (d_max − d_min) + bound_floor d_mean (>= 0)
-  double bound_floor = 0.002;  // relative floor of the margin (>= 0; keeps L− < L+)
-  double natural_period_frames = 4.0;  // T_n in frames: κ = (2π rate / T_n)² (> 0)
+  double bound_floor = 0.01;   // relative floor of the margin (>= 0; keeps L− < L+)
+  double natural_period_seconds = 0.065;  // T_n: κ = (2π / T_n)² (> 0)
   double damping_ratio = 1.0;          // ζ: ξ = 2 ζ √κ (>= 0; 1 = critical for one spring)
   // Explicit springs by marker label; when non-empty they replace the automatic choice (their
   // statistics and bounds are still measured from the recording).

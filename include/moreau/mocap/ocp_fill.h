@@ -39,8 +39,9 @@ struct OcpFillOptions {
   double prior_weight = 0.05;     // w on the prior inside a gap (>= 0; 0: no prior)
   double gamma = 1e-4;            // target γ of the regularised Hamiltonian (solver units, > 0)
   double gamma_start = 1e-2;      // continuation in γ starts here (>= gamma)
-  double max_step_frames = 0.25;  // time step Δt <= this many frames and ω Δt <= 0.5 (> 0)
+  double max_step_frames = 1.0;  // time step Δt <= this many frames and ω Δt <= 0.5 (> 0)
   double stiffness_start = 0.25;  // retry: continuation in κ, ξ from this scale (0, 1]
+  double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
   control::NewtonOptions newton;  // every Newton solve (tolerance in solver units)
 
   // Throws InputError("ocp.<field>: ...") for a value out of range.
