@@ -115,4 +115,29 @@ TrackingProblem MakeArmProblem(const ArmExample& ex, double p) {
   return TrackingProblem(std::move(network), ex.horizon, std::move(reference), weights, ex.gamma);
 }
 
+TrackingProblem MakeSaturatingProblem(const SaturatingExample& ex, double p) {
+  if (!(ex.period > 0.0)) {
+    throw InputError(fmt::format("saturating.period: must be positive, got {}", ex.period));
+  }
+  NetworkNode wall;
+  wall.fixed = true;
+  NetworkNode mass;
+  mass.mass = ex.mass;
+  mass.position[0] = ex.centre;
+  NetworkSpring spring{0, 1, ex.stiffness, ex.damping, ex.rest_min, ex.rest_max};
+  SpringNetwork network(1, {wall, mass}, {spring});
+  const double amplitude = p * ex.amplitude;
+  const double omega = 2.0 * std::numbers::pi / ex.period;
+  const double centre = ex.centre;
+  ReferenceFunction reference = [=](double t, double* x, double* v, double* w) {
+    x[0] = centre + amplitude * std::sin(omega * t);
+    v[0] = amplitude * omega * std::cos(omega * t);
+    w[0] = 1.0;
+  };
+  CostWeights weights;
+  weights.position = ex.position_weight;
+  weights.velocity = ex.velocity_weight;
+  return TrackingProblem(std::move(network), ex.horizon, std::move(reference), weights, ex.gamma);
+}
+
 }  // namespace moreau::control

@@ -136,6 +136,9 @@ void OcpFillOptions::Validate() const {
   if (!(retry_gamma_start >= gamma_start) || !std::isfinite(retry_gamma_start)) {
     fail("retry_gamma_start", retry_gamma_start, "must be >= ocp.gamma_start and finite");
   }
+  if (!(guard_ratio >= 1.0) || !std::isfinite(guard_ratio)) {
+    fail("guard_ratio", guard_ratio, "must be >= 1 and finite");
+  }
   if (!(max_step_frames > 0.0) || !std::isfinite(max_step_frames)) {
     fail("max_step_frames", max_step_frames, "must be > 0");
   }
@@ -156,6 +159,7 @@ nlohmann::json OcpFillOptions::ToJson() const {
           {"max_step_frames", max_step_frames},
           {"stiffness_start", stiffness_start},
           {"retry_gamma_start", retry_gamma_start},
+          {"guard_ratio", guard_ratio},
           {"newton",
            {{"max_iterations", newton.max_iterations},
             {"residual_tolerance", newton.residual_tolerance}}}};
@@ -174,6 +178,7 @@ nlohmann::json OcpGapReport::ToJson() const {
           {"steps", steps},
           {"newton_iterations", newton_iterations},
           {"residual", residual},
+          {"disagreement", disagreement},
           {"seconds", seconds},
           {"termination", std::string(ToString(termination))},
           {"status", status},
@@ -205,6 +210,7 @@ namespace {
 struct GapPrior {
   GapTrack track;
   std::vector<double> weights;
+  std::vector<double> disagreement;  // E_c per candidate
   std::size_t best = 0;
 };
 
@@ -215,6 +221,7 @@ GapPrior MakePrior(const Recording& in, const MarkerNetwork& net, const Gap& gap
   for (std::size_t c = 0; c < tracks.size(); ++c) {
     error[c] = internal::DistanceDisagreement(in, net, gap, tracks[c]);
   }
+  prior.disagreement = error;
   prior.best =
       static_cast<std::size_t>(std::min_element(error.begin(), error.end()) - error.begin());
   double total = 0.0;
@@ -332,11 +339,26 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
       rep.termination = r.termination;
       rep.message = r.message;
       rep.candidate_weights = priors[i].weights;
-      rep.status = ok ? "ocp" : "fallback";
+      bool use = ok;
       if (ok) {
         const auto j = std::find(win.free.begin(), win.free.end(), g.marker) - win.free.begin();
-        SetTrack(*out, g, r.positions.block(g.first - win.first, 3 * j, g.length(), 3));
-      } else {
+        const GapTrack track = r.positions.block(g.first - win.first, 3 * j, g.length(), 3);
+        // Guard (Tits et al.): never keep a fill that disagrees with the partners' distance
+        // distributions much more than the best candidate does.
+        rep.disagreement = internal::DistanceDisagreement(in, net, g, track);
+        const double best = priors[i].disagreement[priors[i].best];
+        if (rep.disagreement > options.guard_ratio * best + 1.0) {
+          use = false;
+          rep.message = fmt::format(
+              "the optimal-control fill disagrees with the distance "
+              "distributions ({:.3g}) more than '{}' ({:.3g})",
+              rep.disagreement, summary.methods[priors[i].best], best);
+        } else {
+          SetTrack(*out, g, track);
+        }
+      }
+      rep.status = use ? "ocp" : "fallback";
+      if (!use) {
         rep.fallback_method = summary.methods[priors[i].best];
         SetTrack(*out, g, tracks[i][priors[i].best]);
         ++summary.fallbacks;

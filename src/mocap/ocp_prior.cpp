@@ -102,8 +102,9 @@ double DistanceDisagreement(const Recording& in, const MarkerNetwork& net, const
       const int k = net.Partner(s, gap.marker);
       if (!in.observed(f, k)) continue;
       const MarkerSpring& sp = net.springs[static_cast<std::size_t>(s)];
-      const double z =
-          ((x - in.point(f, k)).norm() - sp.mean) / std::max(sp.spread, 1e-3 * sp.mean);
+      // Scale: the spread, at least the margin of the spring's rest-length bounds.
+      const double scale = std::max(sp.spread, sp.rest_max - sp.max);
+      const double z = ((x - in.point(f, k)).norm() - sp.mean) / std::max(scale, 1e-12);
       sum += z * z;
       ++count;
     }

@@ -25,7 +25,8 @@ GapTrack LinearGapFill(const Recording& in, const Gap& gap);
 GapTrack RigidGapFill(const Recording& in, const MarkerNetwork& network, const Gap& gap);
 
 // Mean squared z-score of the distances from the filled marker to its spring partners observed at
-// the same frames, (d − mean) / max(spread, 1e−3 mean), over the gap. 0 when no partner is seen.
+// the same frames, (d − mean) / max(spread, margin) with margin = L+ − d_max of the spring, over
+// the gap. 0 when no partner is seen.
 double DistanceDisagreement(const Recording& in, const MarkerNetwork& network, const Gap& gap,
                             const GapTrack& fill);
 

@@ -43,8 +43,8 @@ struct HermiteTrack {
     const double d00 = 6 * s2 - 6 * s, d10 = 3 * s2 - 4 * s + 1, d01 = -d00, d11 = 3 * s2 - 2 * s;
     for (int i = 0; i < 3; ++i) {
       position[i] = h00 * x(k, i) + h10 * m(k, i) + h01 * x(k + 1, i) + h11 * m(k + 1, i);
-      velocity[i] = frames_per_unit *
-                    (d00 * x(k, i) + d10 * m(k, i) + d01 * x(k + 1, i) + d11 * m(k + 1, i));
+      velocity[i] =
+          frames_per_unit * (d00 * x(k, i) + d10 * m(k, i) + d01 * x(k + 1, i) + d11 * m(k + 1, i));
     }
   }
 };
@@ -92,13 +92,13 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
                              const Eigen::Vector3d& origin, double scale) {
   WindowModel model;
   std::map<int, int> node_of;
-  // Time unit 1/ω (ω = √(κ/m)): κ = 1 and ξ = 2ζ in solver units, whatever the rate.
-  const double omega = std::sqrt(net.stiffness / net.mass);
-  const double fpu = base.rate() / omega;
-  const double kappa = 1.0;
-  const double xi = net.damping / omega;
+  // Time unit: one frame.
+  const double fpu = 1.0;
+  const double kappa = net.stiffness / (base.rate() * base.rate());
+  const double xi = net.damping / base.rate();
   for (int marker : w.free) {
-    auto track = std::make_shared<const HermiteTrack>(WindowTrack(base, marker, w, origin, scale), fpu);
+    auto track =
+        std::make_shared<const HermiteTrack>(WindowTrack(base, marker, w, origin, scale), fpu);
     control::NetworkNode node;
     node.mass = 1.0;
     track->At(0.0, node.position.data(), node.velocity.data());
@@ -145,11 +145,15 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
     result.anchors = model.anchors;
     result.springs = static_cast<int>(model.springs.size());
     const control::SpringNetwork network(3, model.nodes, model.springs);
-    // ω Δt <= 0.5 and Δt <= max_step_frames frames; time unit 1/ω.
-    const double units_per_frame = std::sqrt(net.stiffness / net.mass) / base.rate();
-    const int substeps = static_cast<int>(
-        std::ceil(std::max(1.0 / o.max_step_frames, units_per_frame / 0.5) - 1e-9));
-    const double horizon = static_cast<double>(frames - 1) * units_per_frame;
+    // Time unit one frame; ω Δt <= 0.5 and Δt <= max_step_frames; γ relative to κ (per frame²),
+    // so that P/γ, which decides how close the controls come to bang-bang, does not depend on
+    // the rate.
+    const double omega = std::sqrt(net.stiffness / net.mass) / base.rate();
+    const double units_per_frame = 1.0;
+    const int substeps =
+        static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
+    const double horizon = static_cast<double>(frames - 1);
+    const double gamma_scale = omega * omega;
     const int steps = static_cast<int>(frames - 1) * substeps;
     result.steps = steps;
     Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
@@ -165,19 +169,19 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
     control::ReferenceFunction reference = control::SampledReference(
         network, horizon, std::move(ref), Eigen::MatrixXd(), std::move(weights), "ocp.reference");
     const control::TrackingProblem target(network, horizon, std::move(reference),
-                                          control::CostWeights{}, o.gamma);
+                                          control::CostWeights{}, o.gamma * gamma_scale);
     const control::ProblemFamily family = [&target](double) { return target; };
     // Warm start: the prior trajectory (positions and Hermite velocities) and its dual.
     auto guess_for = [&](double stiffness_scale, double gamma_start) {
       const control::TrackingProblem start =
-          control::ContinuationProblem(family, 1.0, stiffness_scale, gamma_start);
+          control::ContinuationProblem(family, 1.0, stiffness_scale, gamma_start * gamma_scale);
       const control::PontryaginDiscretization disc(start, steps);
       Eigen::MatrixXd z(network.state_size(), steps + 1);
       for (int n = 0; n <= steps; ++n) {
         for (int j = 0; j < m; ++j) {
-          model.free_tracks[static_cast<std::size_t>(j)]->At(static_cast<double>(n) * units_per_frame / substeps,
-                                                             z.col(n).data() + 6 * j,
-                                                             z.col(n).data() + 6 * j + 3);
+          model.free_tracks[static_cast<std::size_t>(j)]->At(
+              static_cast<double>(n) * units_per_frame / substeps, z.col(n).data() + 6 * j,
+              z.col(n).data() + 6 * j + 3);
         }
       }
       Eigen::VectorXd y;
@@ -185,14 +189,14 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
       return y;
     };
     control::ContinuationOptions copt;
-    copt.gamma_start = o.gamma_start;
+    copt.gamma_start = o.gamma_start * gamma_scale;
     copt.newton = o.newton;
     Eigen::VectorXd y, warm = guess_for(1.0, o.gamma_start);
     control::ContinuationSummary cs = control::SolveWithContinuation(family, steps, copt, y, &warm);
     result.newton_iterations = cs.newton_iterations;
     if (!cs.converged) {
       copt.stiffness_start = o.stiffness_start;
-      copt.gamma_start = o.retry_gamma_start;
+      copt.gamma_start = o.retry_gamma_start * gamma_scale;
       copt.gamma_decrease = 0.1;
       warm = guess_for(o.stiffness_start, o.retry_gamma_start);
       cs = control::SolveWithContinuation(family, steps, copt, y, &warm);

@@ -50,13 +50,16 @@ TEST(MocapOcpFill, RigidBodyHiddenMarkerIsRecovered) {
 
 TEST(MocapOcpFill, ReachableReferenceIsReproduced) {
   // The candidate is the truth itself: the reference is reachable by the network (distances at
-  // the middle of their bounds), so the optimal trajectory reproduces it.
+  // the middle of their bounds), tracked with full weight; with a small γ (continuation from
+  // the default) the optimal trajectory reproduces it.
   const Recording truth = testing::RigidBodies(1, 5, 120, 100.0);
   Recording in = truth;
   const Gap gap = testing::Hide(in, 0, 40, 79);
+  OcpFillOptions o;
+  o.prior_weight = 1.0;
+  o.gamma = 1e-4;
   Recording out;
-  const OcpFillSummary s =
-      FillGapsOcp(in, {gap}, OcpFillOptions{}, &out, {CandidateFill{"truth", &truth}});
+  const OcpFillSummary s = FillGapsOcp(in, {gap}, o, &out, {CandidateFill{"truth", &truth}});
   ASSERT_TRUE(s.ok()) << s.gaps[0].message;
   EXPECT_EQ(s.methods, std::vector<std::string>{"truth"});
   EXPECT_DOUBLE_EQ(s.gaps[0].candidate_weights[0], 1.0);

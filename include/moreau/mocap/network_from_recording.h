@@ -31,7 +31,7 @@ struct MarkerNetworkOptions {
   double bound_margin = 0.1;   // m = bound_margin (d_max − d_min) + bound_floor d_mean (>= 0)
   double bound_floor = 0.01;   // relative floor of the margin (>= 0; keeps L− < L+)
   double natural_period_seconds = 0.065;  // T_n: κ = (2π / T_n)² (> 0)
-  double damping_ratio = 1.0;          // ζ: ξ = 2 ζ √κ (>= 0; 1 = critical for one spring)
+  double damping_ratio = 1.0;             // ζ: ξ = 2 ζ √κ (>= 0; 1 = critical for one spring)
   // Explicit springs by marker label; when non-empty they replace the automatic choice (their
   // statistics and bounds are still measured from the recording).
   std::vector<std::pair<std::string, std::string>> springs;

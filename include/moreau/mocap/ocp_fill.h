@@ -13,9 +13,12 @@
 //     distributions, Tits et al. 2018) with weight `prior_weight`;
 //   * the window spans the group's gaps plus `padding_seconds` on each side, so the cost grows
 //     with the gaps, not with the recording.
-// Units inside the solver: length in network.length_scale, time in frames (docs/mocap_ocp.md).
-// A window that fails to converge is retried with stiffness continuation; if that fails too,
-// its gaps are filled by the best candidate and reported with status "fallback".
+// Units inside the solver: length in network.length_scale, time in frames, γ relative to the
+// spring stiffness per frame² (docs/mocap_ocp.md).
+// A window that fails to converge is retried with stiffness continuation from a smooth γ; if that
+// fails too, or a solved gap disagrees with the partners' distance distributions much more than
+// the best candidate (guard_ratio), the gap is filled by the best candidate (smallest
+// disagreement) and reported with status "fallback".
 #pragma once
 
 #include <cstdint>
@@ -32,17 +35,19 @@
 namespace moreau::mocap {
 
 struct OcpFillOptions {
-  MarkerNetworkOptions network;   // how the network is built from the recording
-  double padding_seconds = 0.1;   // observed frames tracked on each side of a gap (>= 0)
-  int min_padding_frames = 3;     // at least this many padding frames (>= 1)
-  double observed_weight = 1.0;   // μ_x w on observed samples (per frame, lengths in ℓ; > 0)
-  double prior_weight = 0.05;     // w on the prior inside a gap (>= 0; 0: no prior)
-  double gamma = 1e-4;            // target γ of the regularised Hamiltonian (solver units, > 0)
-  double gamma_start = 1e-2;      // continuation in γ starts here (>= gamma)
-  double max_step_frames = 1.0;  // time step Δt <= this many frames and ω Δt <= 0.5 (> 0)
-  double stiffness_start = 0.25;  // retry: continuation in κ, ξ from this scale (0, 1]
+  MarkerNetworkOptions network;  // how the network is built from the recording
+  double padding_seconds = 0.1;  // observed frames tracked on each side of a gap (>= 0)
+  int min_padding_frames = 3;    // at least this many padding frames (>= 1)
+  double observed_weight = 1.0;  // μ_x w on observed samples (per frame, lengths in ℓ; > 0)
+  double prior_weight = 0.05;    // w on the prior inside a gap (>= 0; 0: no prior)
+  double gamma = 0.04;        // target γ, relative: γ_solver = gamma · κ (κ per frame²) (> 0)
+  double gamma_start = 0.04;  // first solve at this relative γ, then continuation (>= gamma)
+  double max_step_frames = 1.0;    // time step Δt <= this many frames and ω Δt <= 0.5 (> 0)
+  double stiffness_start = 0.25;   // retry: continuation in κ, ξ from this scale (0, 1]
   double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
-  control::NewtonOptions newton;  // every Newton solve (tolerance in solver units)
+  double guard_ratio = 1.5;        // keep the solved fill only if its distance disagreement E is
+                                   // <= guard_ratio E_best + 1 (E_best: best candidate's) (>= 1)
+  control::NewtonOptions newton;   // every Newton solve (tolerance in solver units)
 
   // Throws InputError("ocp.<field>: ...") for a value out of range.
   void Validate() const;
@@ -71,6 +76,7 @@ struct OcpGapReport {
   int steps = 0;              // N of the Symplectic Pontryagin scheme
   int newton_iterations = 0;  // all Newton solves of the window
   double residual = 0.0;      // ‖F‖_∞ of the final iterate (solver units)
+  double disagreement = 0.0;  // mean squared z-score of the solved fill's partner distances
   double seconds = 0.0;       // wall-clock time of the window
   Termination termination = Termination::kConverged;
   std::string status;           // "ocp" or "fallback"
