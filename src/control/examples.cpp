@@ -8,18 +8,27 @@
 #include "moreau/common/error.h"
 
 namespace moreau::control {
+namespace {
+
+// One free mass at x(0) = start, at rest, on a spring–damper to a wall at 0 (d = 1).
+template <typename Example>
+SpringNetwork WallAndMass(const Example& ex, double start) {
+  NetworkNode wall;
+  wall.fixed = true;
+  NetworkNode mass;
+  mass.mass = ex.mass;
+  mass.position[0] = start;
+  NetworkSpring spring{0, 1, ex.stiffness, ex.damping, ex.rest_min, ex.rest_max};
+  return SpringNetwork(1, {wall, mass}, {spring});
+}
+
+}  // namespace
 
 TrackingProblem MakeOscillatorProblem(const OscillatorExample& ex, double p) {
   if (!(ex.move_time > 0.0)) {
     throw InputError(fmt::format("oscillator.move_time: must be positive, got {}", ex.move_time));
   }
-  NetworkNode wall;
-  wall.fixed = true;
-  NetworkNode mass;
-  mass.mass = ex.mass;
-  mass.position[0] = ex.start;
-  NetworkSpring spring{0, 1, ex.stiffness, ex.damping, ex.rest_min, ex.rest_max};
-  SpringNetwork network(1, {wall, mass}, {spring});
+  SpringNetwork network = WallAndMass(ex, ex.start);
   const double delta = p * (ex.target - ex.start);
   const double tm = ex.move_time;
   const double x0 = ex.start;
@@ -119,13 +128,7 @@ TrackingProblem MakeSaturatingProblem(const SaturatingExample& ex, double p) {
   if (!(ex.period > 0.0)) {
     throw InputError(fmt::format("saturating.period: must be positive, got {}", ex.period));
   }
-  NetworkNode wall;
-  wall.fixed = true;
-  NetworkNode mass;
-  mass.mass = ex.mass;
-  mass.position[0] = ex.centre;
-  NetworkSpring spring{0, 1, ex.stiffness, ex.damping, ex.rest_min, ex.rest_max};
-  SpringNetwork network(1, {wall, mass}, {spring});
+  SpringNetwork network = WallAndMass(ex, ex.centre);
   const double amplitude = p * ex.amplitude;
   const double omega = 2.0 * std::numbers::pi / ex.period;
   const double centre = ex.centre;

@@ -88,7 +88,7 @@ TEST(MocapOcpFill, MarkersHiddenTogetherAreSolvedInOneWindow) {
   for (const Gap& g : gaps) EXPECT_LT(MaxError(out, truth, g), 1e-3) << "marker " << g.marker;
 }
 
-TEST(MocapOcpFill, WholeSegmentHiddenIsFilled) {
+TEST(MocapOcpFillSlow, WholeSegmentHiddenIsFilled) {
   // Every marker of body 0 hidden at once: no anchor is left, the network carries the segment
   // from its padding; the fill is complete and keeps the body's distances.
   const Recording truth = testing::RigidBodies(1, 4, 80, 100.0);
