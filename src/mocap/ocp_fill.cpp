@@ -123,6 +123,7 @@ void OcpFillOptions::Validate() const {
     fail("padding_seconds", padding_seconds, "must be >= 0 and finite");
   }
   if (min_padding_frames < 1) fail("min_padding_frames", min_padding_frames, "must be >= 1");
+  if (anchor_springs < 0) fail("anchor_springs", anchor_springs, "must be >= 0 (0: all)");
   if (!(observed_weight > 0.0) || !std::isfinite(observed_weight)) {
     fail("observed_weight", observed_weight, "must be > 0 and finite");
   }
@@ -152,6 +153,7 @@ nlohmann::json OcpFillOptions::ToJson() const {
   return {{"network", network.ToJson()},
           {"padding_seconds", padding_seconds},
           {"min_padding_frames", min_padding_frames},
+          {"anchor_springs", anchor_springs},
           {"observed_weight", observed_weight},
           {"prior_weight", prior_weight},
           {"gamma", gamma},
@@ -257,13 +259,9 @@ void CheckCandidates(const Recording& in, const std::vector<CandidateFill>& cand
 
 }  // namespace
 
-OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
-                           const OcpFillOptions& options, Recording* out,
-                           const std::vector<CandidateFill>& candidates) {
-  const Stopwatch total;
-  options.Validate();
-  MOREAU_ASSERT(out != nullptr);
-  CheckCandidates(in, candidates);
+namespace {
+
+std::int64_t PaddingFrames(const Recording& in, const OcpFillOptions& options) {
   const auto padding = std::max<std::int64_t>(options.min_padding_frames,
                                               std::llround(options.padding_seconds * in.rate()));
   if (padding >= in.frames()) {
@@ -272,6 +270,95 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
                     "shorter than the recording ({} frames)",
                     padding, in.frames()));
   }
+  return padding;
+}
+
+internal::OcpWindow MakeWindow(const std::vector<Gap>& gaps, const std::vector<std::size_t>& group,
+                               std::int64_t padding, std::int64_t frames) {
+  internal::OcpWindow win;
+  win.first = frames;
+  for (std::size_t i : group) {
+    win.first = std::min(win.first, std::max<std::int64_t>(gaps[i].first - padding, 0));
+    win.last = std::max(win.last, std::min(gaps[i].last + padding, frames - 1));
+    if (std::find(win.free.begin(), win.free.end(), gaps[i].marker) == win.free.end()) {
+      win.free.push_back(gaps[i].marker);
+    }
+  }
+  return win;
+}
+
+// Everything a gap's report and its fill need from its window.
+struct WindowOutcome {
+  std::size_t index = 0;
+  const internal::OcpWindow* window = nullptr;
+  const internal::OcpWindowResult* result = nullptr;
+  double seconds = 0.0;
+};
+
+void ReportWindow(const Recording& in, const Gap& g, const WindowOutcome& w, OcpGapReport& rep) {
+  const internal::OcpWindowResult& r = *w.result;
+  rep.marker = g.marker;
+  rep.label = in.labels()[static_cast<std::size_t>(g.marker)];
+  rep.first = g.first;
+  rep.last = g.last;
+  rep.window = static_cast<int>(w.index);
+  rep.window_first = w.window->first;
+  rep.window_last = w.window->last;
+  rep.free_nodes = static_cast<int>(w.window->free.size());
+  rep.anchors = r.anchors;
+  rep.springs = r.springs;
+  rep.steps = r.steps;
+  rep.newton_iterations = r.newton_iterations;
+  rep.residual = r.residual;
+  rep.seconds = w.seconds;
+  rep.termination = r.termination;
+  rep.message = r.message;
+}
+
+// Writes the solved fill of gap g, or the best candidate when the window failed or the solved
+// fill disagrees with the distance distributions much more than the best candidate (the guard,
+// after Tits et al.). Returns true when the solved fill was used.
+bool WriteGap(const Recording& in, const MarkerNetwork& net, const Gap& g, const WindowOutcome& w,
+              const GapPrior& prior, const std::vector<GapTrack>& tracks,
+              const OcpFillOptions& options, const std::vector<std::string>& methods,
+              OcpGapReport& rep, Recording& out) {
+  rep.candidate_weights = prior.weights;
+  const double best = prior.disagreement[prior.best];
+  bool use = IsSuccess(w.result->termination);
+  if (use) {
+    const auto& free = w.window->free;
+    const auto j = std::find(free.begin(), free.end(), g.marker) - free.begin();
+    const GapTrack track =
+        w.result->positions.block(g.first - w.window->first, 3 * j, g.length(), 3);
+    rep.disagreement = internal::DistanceDisagreement(in, net, g, track);
+    use = rep.disagreement <= options.guard_ratio * best + 1.0;
+    if (use) {
+      SetTrack(out, g, track);
+    } else {
+      rep.message = fmt::format(
+          "the optimal-control fill disagrees with the distance distributions ({:.3g}) more "
+          "than '{}' ({:.3g})",
+          rep.disagreement, methods[prior.best], best);
+    }
+  }
+  rep.status = use ? "ocp" : "fallback";
+  if (!use) {
+    rep.fallback_method = methods[prior.best];
+    SetTrack(out, g, tracks[prior.best]);
+  }
+  return use;
+}
+
+}  // namespace
+
+OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
+                           const OcpFillOptions& options, Recording* out,
+                           const std::vector<CandidateFill>& candidates) {
+  const Stopwatch total;
+  options.Validate();
+  MOREAU_ASSERT(out != nullptr);
+  CheckCandidates(in, candidates);
+  const std::int64_t padding = PaddingFrames(in, options);
   OcpFillSummary summary;
   summary.settings = options;
   Stopwatch phase;
@@ -303,64 +390,16 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
 #pragma omp parallel for schedule(dynamic)
   for (std::size_t w = 0; w < groups.size(); ++w) {
     const Stopwatch clock;
-    internal::OcpWindow& win = windows[w];
-    win.first = in.frames();
-    for (std::size_t i : groups[w]) {
-      win.first = std::min(win.first, std::max<std::int64_t>(gaps[i].first - padding, 0));
-      win.last = std::max(win.last, std::min(gaps[i].last + padding, in.frames() - 1));
-      if (std::find(win.free.begin(), win.free.end(), gaps[i].marker) == win.free.end()) {
-        win.free.push_back(gaps[i].marker);
-      }
-    }
-    results[w] = internal::SolveOcpWindow(in, base, net, win, options);
+    windows[w] = MakeWindow(gaps, groups[w], padding, in.frames());
+    results[w] = internal::SolveOcpWindow(in, base, net, windows[w], options);
     seconds[w] = clock.Seconds();
   }
   for (std::size_t w = 0; w < groups.size(); ++w) {
-    const internal::OcpWindowResult& r = results[w];
-    const internal::OcpWindow& win = windows[w];
-    const bool ok = IsSuccess(r.termination);
+    const WindowOutcome outcome{w, &windows[w], &results[w], seconds[w]};
     for (std::size_t i : groups[w]) {
-      const Gap& g = gaps[i];
-      OcpGapReport& rep = summary.gaps[i];
-      rep.marker = g.marker;
-      rep.label = in.labels()[static_cast<std::size_t>(g.marker)];
-      rep.first = g.first;
-      rep.last = g.last;
-      rep.window = static_cast<int>(w);
-      rep.window_first = win.first;
-      rep.window_last = win.last;
-      rep.free_nodes = static_cast<int>(win.free.size());
-      rep.anchors = r.anchors;
-      rep.springs = r.springs;
-      rep.steps = r.steps;
-      rep.newton_iterations = r.newton_iterations;
-      rep.residual = r.residual;
-      rep.seconds = seconds[w];
-      rep.termination = r.termination;
-      rep.message = r.message;
-      rep.candidate_weights = priors[i].weights;
-      bool use = ok;
-      if (ok) {
-        const auto j = std::find(win.free.begin(), win.free.end(), g.marker) - win.free.begin();
-        const GapTrack track = r.positions.block(g.first - win.first, 3 * j, g.length(), 3);
-        // Guard (Tits et al.): never keep a fill that disagrees with the partners' distance
-        // distributions much more than the best candidate does.
-        rep.disagreement = internal::DistanceDisagreement(in, net, g, track);
-        const double best = priors[i].disagreement[priors[i].best];
-        if (rep.disagreement > options.guard_ratio * best + 1.0) {
-          use = false;
-          rep.message = fmt::format(
-              "the optimal-control fill disagrees with the distance "
-              "distributions ({:.3g}) more than '{}' ({:.3g})",
-              rep.disagreement, summary.methods[priors[i].best], best);
-        } else {
-          SetTrack(*out, g, track);
-        }
-      }
-      rep.status = use ? "ocp" : "fallback";
-      if (!use) {
-        rep.fallback_method = summary.methods[priors[i].best];
-        SetTrack(*out, g, tracks[i][priors[i].best]);
+      ReportWindow(in, gaps[i], outcome, summary.gaps[i]);
+      if (!WriteGap(in, net, gaps[i], outcome, priors[i], tracks[i], options, summary.methods,
+                    summary.gaps[i], *out)) {
         ++summary.fallbacks;
       }
     }
@@ -369,8 +408,8 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
   if (summary.fallbacks > 0) {
     summary.termination = Termination::kDiverged;
     summary.message = fmt::format(
-        "{} of {} gaps filled by their best candidate after the optimal "
-        "control failed (see gaps[].message)",
+        "{} of {} gaps filled by their best candidate after the optimal control failed or "
+        "disagreed with the distance distributions (see gaps[].message)",
         summary.fallbacks, gaps.size());
   }
   summary.total_seconds = total.Seconds();

@@ -89,7 +89,7 @@ struct WindowModel {
 };
 
 WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, const OcpWindow& w,
-                             const Eigen::Vector3d& origin, double scale) {
+                             const Eigen::Vector3d& origin, double scale, int max_anchor_springs) {
   WindowModel model;
   std::map<int, int> node_of;
   // Time unit: one frame.
@@ -107,10 +107,22 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
     model.free_tracks.push_back(std::move(track));
   }
   for (int marker : w.free) {
-    for (int s : net.springs_of[static_cast<std::size_t>(marker)]) {
+    // Springs to anchors: the `anchor_springs` most rigid ones (0: all); springs between free
+    // nodes are always kept (they join the window's network).
+    std::vector<int> springs = net.springs_of[static_cast<std::size_t>(marker)];
+    std::stable_sort(springs.begin(), springs.end(), [&](int a, int b) {
+      return net.springs[static_cast<std::size_t>(a)].spread <
+             net.springs[static_cast<std::size_t>(b)].spread;
+    });
+    int anchor_springs = 0;
+    for (int s : springs) {
       const int other = net.Partner(s, marker);
       const bool other_free = std::find(w.free.begin(), w.free.end(), other) != w.free.end();
       if (other_free && other < marker) continue;  // added from the other end
+      if (!other_free) {
+        if (max_anchor_springs > 0 && anchor_springs >= max_anchor_springs) continue;
+        ++anchor_springs;
+      }
       if (!node_of.contains(other)) {
         Track t = WindowTrack(base, other, w, origin, scale);
         if (t.rows() == 0) continue;  // never seen in the window: no anchor
@@ -130,6 +142,87 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
   return model;
 }
 
+// The window's tracking problem in solver units. Time unit one frame; a frame is split into
+// `substeps` steps with ω Δt <= 0.5 and Δt <= max_step_frames; γ is relative to κ per frame², so
+// that P/γ, which decides how close the controls come to bang-bang, does not depend on the rate.
+struct WindowProblem {
+  std::unique_ptr<control::TrackingProblem> target;
+  int substeps = 1;
+  int steps = 1;
+  double gamma_scale = 1.0;
+};
+
+WindowProblem MakeWindowProblem(const Recording& in, const Recording& base,
+                                const MarkerNetwork& net, const OcpWindow& w,
+                                const OcpFillOptions& o, const WindowModel& model) {
+  const Eigen::Index frames = w.last - w.first + 1;
+  const int m = static_cast<int>(w.free.size());
+  const control::SpringNetwork network(3, model.nodes, model.springs);
+  const double omega = std::sqrt(net.stiffness / net.mass) / base.rate();
+  WindowProblem p;
+  p.substeps = static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
+  p.steps = static_cast<int>(frames - 1) * p.substeps;
+  p.gamma_scale = omega * omega;
+  const double horizon = static_cast<double>(frames - 1);
+  Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
+  for (int j = 0; j < m; ++j) {
+    const int marker = w.free[static_cast<std::size_t>(j)];
+    ref.middleCols(3 * j, 3) = model.free_tracks[static_cast<std::size_t>(j)]->x;
+    for (Eigen::Index k = 0; k < frames; ++k) {
+      const bool seen = in.observed(w.first + k, marker);
+      const bool prior = base.point(w.first + k, marker).allFinite();
+      weights(k, j) = seen ? o.observed_weight : (prior ? o.prior_weight : 0.0);
+    }
+  }
+  control::ReferenceFunction reference = control::SampledReference(
+      network, horizon, std::move(ref), Eigen::MatrixXd(), std::move(weights), "ocp.reference");
+  p.target = std::make_unique<control::TrackingProblem>(
+      network, horizon, std::move(reference), control::CostWeights{}, o.gamma * p.gamma_scale);
+  return p;
+}
+
+// Warm start at (stiffness scale, γ): the prior trajectory (positions and Hermite velocities) and
+// the dual from one backward sweep (section 7.1).
+Eigen::VectorXd WarmStart(const WindowProblem& p, const WindowModel& model, double stiffness_scale,
+                          double gamma) {
+  const control::ProblemFamily family = [&p](double) { return *p.target; };
+  const control::TrackingProblem start =
+      control::ContinuationProblem(family, 1.0, stiffness_scale, gamma);
+  const control::PontryaginDiscretization disc(start, p.steps);
+  Eigen::MatrixXd z(start.network().state_size(), p.steps + 1);
+  for (int n = 0; n <= p.steps; ++n) {
+    for (std::size_t j = 0; j < model.free_tracks.size(); ++j) {
+      model.free_tracks[j]->At(static_cast<double>(n) / p.substeps, z.col(n).data() + 6 * j,
+                               z.col(n).data() + 6 * j + 3);
+    }
+  }
+  Eigen::VectorXd y;
+  control::FixedPointSweep(disc, z, control::FixedPointOptions{}, y);
+  return y;
+}
+
+// Continuation in γ from gamma_start; on failure, again from a smooth problem (stiffness and γ).
+control::ContinuationSummary SolveWindow(const WindowProblem& p, const WindowModel& model,
+                                         const OcpFillOptions& o, Eigen::VectorXd& y,
+                                         int& newton_iterations) {
+  const control::ProblemFamily family = [&p](double) { return *p.target; };
+  control::ContinuationOptions copt;
+  copt.gamma_start = o.gamma_start * p.gamma_scale;
+  copt.newton = o.newton;
+  Eigen::VectorXd warm = WarmStart(p, model, 1.0, copt.gamma_start);
+  control::ContinuationSummary cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);
+  newton_iterations = cs.newton_iterations;
+  if (!cs.converged) {
+    copt.stiffness_start = o.stiffness_start;
+    copt.gamma_start = o.retry_gamma_start * p.gamma_scale;
+    copt.gamma_decrease = 0.1;
+    warm = WarmStart(p, model, o.stiffness_start, copt.gamma_start);
+    cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);
+    newton_iterations += cs.newton_iterations;
+  }
+  return cs;
+}
+
 }  // namespace
 
 OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
@@ -141,83 +234,28 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   for (int marker : w.free) origin += base.point(w.first, marker) / m;
   try {
-    WindowModel model = BuildWindowModel(base, net, w, origin, scale);
+    const WindowModel model = BuildWindowModel(base, net, w, origin, scale, o.anchor_springs);
     result.anchors = model.anchors;
     result.springs = static_cast<int>(model.springs.size());
-    const control::SpringNetwork network(3, model.nodes, model.springs);
-    // Time unit one frame; ω Δt <= 0.5 and Δt <= max_step_frames; γ relative to κ (per frame²),
-    // so that P/γ, which decides how close the controls come to bang-bang, does not depend on
-    // the rate.
-    const double omega = std::sqrt(net.stiffness / net.mass) / base.rate();
-    const double units_per_frame = 1.0;
-    const int substeps =
-        static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
-    const double horizon = static_cast<double>(frames - 1);
-    const double gamma_scale = omega * omega;
-    const int steps = static_cast<int>(frames - 1) * substeps;
-    result.steps = steps;
-    Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
-    for (int j = 0; j < m; ++j) {
-      const auto& track = *model.free_tracks[static_cast<std::size_t>(j)];
-      ref.middleCols(3 * j, 3) = track.x;
-      for (Eigen::Index k = 0; k < frames; ++k) {
-        const bool seen = in.observed(w.first + k, w.free[static_cast<std::size_t>(j)]);
-        const bool prior = base.point(w.first + k, w.free[static_cast<std::size_t>(j)]).allFinite();
-        weights(k, j) = seen ? o.observed_weight : (prior ? o.prior_weight : 0.0);
-      }
-    }
-    control::ReferenceFunction reference = control::SampledReference(
-        network, horizon, std::move(ref), Eigen::MatrixXd(), std::move(weights), "ocp.reference");
-    const control::TrackingProblem target(network, horizon, std::move(reference),
-                                          control::CostWeights{}, o.gamma * gamma_scale);
-    const control::ProblemFamily family = [&target](double) { return target; };
-    // Warm start: the prior trajectory (positions and Hermite velocities) and its dual.
-    auto guess_for = [&](double stiffness_scale, double gamma_start) {
-      const control::TrackingProblem start =
-          control::ContinuationProblem(family, 1.0, stiffness_scale, gamma_start * gamma_scale);
-      const control::PontryaginDiscretization disc(start, steps);
-      Eigen::MatrixXd z(network.state_size(), steps + 1);
-      for (int n = 0; n <= steps; ++n) {
-        for (int j = 0; j < m; ++j) {
-          model.free_tracks[static_cast<std::size_t>(j)]->At(
-              static_cast<double>(n) * units_per_frame / substeps, z.col(n).data() + 6 * j,
-              z.col(n).data() + 6 * j + 3);
-        }
-      }
-      Eigen::VectorXd y;
-      control::FixedPointSweep(disc, z, control::FixedPointOptions{}, y);
-      return y;
-    };
-    control::ContinuationOptions copt;
-    copt.gamma_start = o.gamma_start * gamma_scale;
-    copt.newton = o.newton;
-    Eigen::VectorXd y, warm = guess_for(1.0, o.gamma_start);
-    control::ContinuationSummary cs = control::SolveWithContinuation(family, steps, copt, y, &warm);
-    result.newton_iterations = cs.newton_iterations;
-    if (!cs.converged) {
-      copt.stiffness_start = o.stiffness_start;
-      copt.gamma_start = o.retry_gamma_start * gamma_scale;
-      copt.gamma_decrease = 0.1;
-      warm = guess_for(o.stiffness_start, o.retry_gamma_start);
-      cs = control::SolveWithContinuation(family, steps, copt, y, &warm);
-      result.newton_iterations += cs.newton_iterations;
-    }
+    const WindowProblem p = MakeWindowProblem(in, base, net, w, o, model);
+    result.steps = p.steps;
+    Eigen::VectorXd y;
+    const control::ContinuationSummary cs = SolveWindow(p, model, o, y, result.newton_iterations);
     result.residual = cs.last_newton.final_residual;
     if (!cs.converged) {
-      result.termination = Termination::kDiverged;
-      if (cs.last_newton.termination == control::NewtonTermination::kMaxIterations) {
-        result.termination = Termination::kMaxIterations;
-      }
+      result.termination = cs.last_newton.termination == control::NewtonTermination::kMaxIterations
+                               ? Termination::kMaxIterations
+                               : Termination::kDiverged;
       result.message = cs.message;
       return result;
     }
-    const control::PontryaginDiscretization disc(target, steps);
+    const control::PontryaginDiscretization disc(*p.target, p.steps);
     Eigen::MatrixXd z, rho;
     disc.Unpack(y, z, rho);
     result.positions.resize(frames, 3 * m);
     for (Eigen::Index k = 0; k < frames; ++k) {
       for (int j = 0; j < m; ++j) {
-        const Eigen::Vector3d x = z.col(k * substeps).segment<3>(6 * j);
+        const Eigen::Vector3d x = z.col(k * p.substeps).segment<3>(6 * j);
         result.positions.block<1, 3>(k, 3 * j) = (origin + scale * x).transpose();
       }
     }

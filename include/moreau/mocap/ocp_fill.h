@@ -38,6 +38,7 @@ struct OcpFillOptions {
   MarkerNetworkOptions network;  // how the network is built from the recording
   double padding_seconds = 0.1;  // observed frames tracked on each side of a gap (>= 0)
   int min_padding_frames = 3;    // at least this many padding frames (>= 1)
+  int anchor_springs = 0;  // per free node, springs to anchors: the most rigid ones (0: all)
   double observed_weight = 1.0;  // μ_x w on observed samples (per frame, lengths in ℓ; > 0)
   double prior_weight = 0.05;    // w on the prior inside a gap (>= 0; 0: no prior)
   double gamma = 0.04;        // target γ, relative: γ_solver = gamma · κ (κ per frame²) (> 0)
