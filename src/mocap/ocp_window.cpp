@@ -142,14 +142,14 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
   return model;
 }
 
-// The window's tracking problem in solver units. Time unit one frame; a frame is split into
-// `substeps` steps with ω Δt <= 0.5 and Δt <= max_step_frames; γ is relative to κ per frame², so
-// that P/γ, which decides how close the controls come to bang-bang, does not depend on the rate.
+// The window's tracking problem in solver units: lengths in ℓ, time in frames (a frame split into
+// `substeps` steps with ω Δt <= 0.5 and Δt <= max_step_frames), weights and γ per frame. Only
+// the ratio γ / weight matters (scaling both scales the cost), and in seconds both are per-sample
+// quantities times the rate, so the same γ serves every rate (docs/mocap_ocp.md).
 struct WindowProblem {
   std::unique_ptr<control::TrackingProblem> target;
   int substeps = 1;
   int steps = 1;
-  double gamma_scale = 1.0;
 };
 
 WindowProblem MakeWindowProblem(const Recording& in, const Recording& base,
@@ -162,7 +162,6 @@ WindowProblem MakeWindowProblem(const Recording& in, const Recording& base,
   WindowProblem p;
   p.substeps = static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
   p.steps = static_cast<int>(frames - 1) * p.substeps;
-  p.gamma_scale = omega * omega;
   const double horizon = static_cast<double>(frames - 1);
   Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
   for (int j = 0; j < m; ++j) {
@@ -176,8 +175,8 @@ WindowProblem MakeWindowProblem(const Recording& in, const Recording& base,
   }
   control::ReferenceFunction reference = control::SampledReference(
       network, horizon, std::move(ref), Eigen::MatrixXd(), std::move(weights), "ocp.reference");
-  p.target = std::make_unique<control::TrackingProblem>(
-      network, horizon, std::move(reference), control::CostWeights{}, o.gamma * p.gamma_scale);
+  p.target = std::make_unique<control::TrackingProblem>(network, horizon, std::move(reference),
+                                                        control::CostWeights{}, o.gamma);
   return p;
 }
 
@@ -207,14 +206,14 @@ control::ContinuationSummary SolveWindow(const WindowProblem& p, const WindowMod
                                          int& newton_iterations) {
   const control::ProblemFamily family = [&p](double) { return *p.target; };
   control::ContinuationOptions copt;
-  copt.gamma_start = o.gamma_start * p.gamma_scale;
+  copt.gamma_start = o.gamma_start;
   copt.newton = o.newton;
   Eigen::VectorXd warm = WarmStart(p, model, 1.0, copt.gamma_start);
   control::ContinuationSummary cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);
   newton_iterations = cs.newton_iterations;
   if (!cs.converged) {
     copt.stiffness_start = o.stiffness_start;
-    copt.gamma_start = o.retry_gamma_start * p.gamma_scale;
+    copt.gamma_start = o.retry_gamma_start;
     copt.gamma_decrease = 0.1;
     warm = WarmStart(p, model, o.stiffness_start, copt.gamma_start);
     cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);

@@ -13,8 +13,8 @@
 //     distributions, Tits et al. 2018) with weight `prior_weight`;
 //   * the window spans the group's gaps plus `padding_seconds` on each side, so the cost grows
 //     with the gaps, not with the recording.
-// Units inside the solver: length in network.length_scale, time in frames, γ relative to the
-// spring stiffness per frame² (docs/mocap_ocp.md).
+// Units inside the solver: length in network.length_scale, time in frames, weights and γ per
+// frame (docs/mocap_ocp.md).
 // A window that fails to converge is retried with stiffness continuation from a smooth γ; if that
 // fails too, or a solved gap disagrees with the partners' distance distributions much more than
 // the best candidate (guard_ratio), the gap is filled by the best candidate (smallest
@@ -38,11 +38,12 @@ struct OcpFillOptions {
   MarkerNetworkOptions network;  // how the network is built from the recording
   double padding_seconds = 0.1;  // observed frames tracked on each side of a gap (>= 0)
   int min_padding_frames = 3;    // at least this many padding frames (>= 1)
-  int anchor_springs = 0;  // per free node, springs to anchors: the most rigid ones (0: all)
+  int anchor_springs = 0;        // per free node, springs to anchors: the most rigid ones (0: all)
   double observed_weight = 1.0;  // μ_x w on observed samples (per frame, lengths in ℓ; > 0)
   double prior_weight = 0.05;    // w on the prior inside a gap (>= 0; 0: no prior)
-  double gamma = 0.04;        // target γ, relative: γ_solver = gamma · κ (κ per frame²) (> 0)
-  double gamma_start = 0.04;  // first solve at this relative γ, then continuation (>= gamma)
+  double gamma =
+      0.01;  // target γ of the regularised Hamiltonian (per frame, like the weights; > 0)
+  double gamma_start = 0.01;       // first solve at this γ, then continuation (>= gamma)
   double max_step_frames = 1.0;    // time step Δt <= this many frames and ω Δt <= 0.5 (> 0)
   double stiffness_start = 0.25;   // retry: continuation in κ, ξ from this scale (0, 1]
   double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
