@@ -8,18 +8,27 @@
 #include "moreau/common/error.h"
 
 namespace moreau::control {
+namespace {
+
+// One free mass at x(0) = start, at rest, on a spring–damper to a wall at 0 (d = 1).
+template <typename Example>
+SpringNetwork WallAndMass(const Example& ex, double start) {
+  NetworkNode wall;
+  wall.fixed = true;
+  NetworkNode mass;
+  mass.mass = ex.mass;
+  mass.position[0] = start;
+  NetworkSpring spring{0, 1, ex.stiffness, ex.damping, ex.rest_min, ex.rest_max};
+  return SpringNetwork(1, {wall, mass}, {spring});
+}
+
+}  // namespace
 
 TrackingProblem MakeOscillatorProblem(const OscillatorExample& ex, double p) {
   if (!(ex.move_time > 0.0)) {
     throw InputError(fmt::format("oscillator.move_time: must be positive, got {}", ex.move_time));
   }
-  NetworkNode wall;
-  wall.fixed = true;
-  NetworkNode mass;
-  mass.mass = ex.mass;
-  mass.position[0] = ex.start;
-  NetworkSpring spring{0, 1, ex.stiffness, ex.damping, ex.rest_min, ex.rest_max};
-  SpringNetwork network(1, {wall, mass}, {spring});
+  SpringNetwork network = WallAndMass(ex, ex.start);
   const double delta = p * (ex.target - ex.start);
   const double tm = ex.move_time;
   const double x0 = ex.start;
@@ -108,6 +117,25 @@ TrackingProblem MakeArmProblem(const ArmExample& ex, double p) {
   ReferenceFunction reference = [ex, p](double t, double* x, double* v, double* w) {
     ArmReference(ex, p, t, x, v);
     for (int j = 0; j < 4; ++j) w[j] = 1.0;
+  };
+  CostWeights weights;
+  weights.position = ex.position_weight;
+  weights.velocity = ex.velocity_weight;
+  return TrackingProblem(std::move(network), ex.horizon, std::move(reference), weights, ex.gamma);
+}
+
+TrackingProblem MakeSaturatingProblem(const SaturatingExample& ex, double p) {
+  if (!(ex.period > 0.0)) {
+    throw InputError(fmt::format("saturating.period: must be positive, got {}", ex.period));
+  }
+  SpringNetwork network = WallAndMass(ex, ex.centre);
+  const double amplitude = p * ex.amplitude;
+  const double omega = 2.0 * std::numbers::pi / ex.period;
+  const double centre = ex.centre;
+  ReferenceFunction reference = [=](double t, double* x, double* v, double* w) {
+    x[0] = centre + amplitude * std::sin(omega * t);
+    v[0] = amplitude * omega * std::cos(omega * t);
+    w[0] = 1.0;
   };
   CostWeights weights;
   weights.position = ex.position_weight;

@@ -198,3 +198,66 @@ TEST(ControlArmSlow, ConvergesWithContinuationAndRefines) {
 
 }  // namespace
 }  // namespace moreau::control
+
+namespace moreau::control {
+namespace {
+
+// A reference that cannot be followed within the bounds: as γ decreases the effective rest
+// lengths saturate at L− or L+ except near switching points, the switching structure settles
+// and the discrete value converges.
+TEST(ControlSaturating, ControlsBecomeBangBangAsGammaDecreases) {
+  const SaturatingExample ex;
+  const int steps = 400;
+  const std::vector<double> gammas = {1e-1, 1e-2, 1e-3, 1e-4, 1e-5};
+  ContinuationOptions options;
+  options.gamma_start = 1.0;  // continuation in γ from a smooth problem
+  options.gamma_decrease = 0.1;
+  options.newton.residual_tolerance = 1e-12;
+  std::vector<double> values, saturated;
+  std::vector<int> switches;
+  Eigen::VectorXd y;
+  for (double gamma : gammas) {
+    SaturatingExample e = ex;
+    e.gamma = gamma;
+    const ProblemFamily family = [&e](double p) { return MakeSaturatingProblem(e, p); };
+    const ContinuationSummary cs = SolveWithContinuation(family, steps, options, y);
+    ASSERT_TRUE(cs.converged) << "gamma " << gamma << ": " << cs.message;
+    const PontryaginDiscretization disc(family(1.0), steps);
+    PontryaginWorkspace ws;
+    values.push_back(DiscreteValue(disc, y, ws));
+    const Eigen::MatrixXd controls = EffectiveControls(disc, y);
+    const double range = ex.rest_max - ex.rest_min, mid = 0.5 * (ex.rest_max + ex.rest_min);
+    int at_bound = 0, changes = 0;
+    for (int n = 0; n < steps; ++n) {
+      const double l = controls(0, n);
+      ASSERT_GE(l, ex.rest_min - 1e-12);
+      ASSERT_LE(l, ex.rest_max + 1e-12);
+      if (std::min(l - ex.rest_min, ex.rest_max - l) < 1e-3 * range) ++at_bound;
+      if (n > 0 && (controls(0, n - 1) - mid) * (l - mid) < 0.0) ++changes;
+    }
+    saturated.push_back(static_cast<double>(at_bound) / steps);
+    switches.push_back(changes);
+    options.gamma_start = gamma;  // the next γ starts from this solution's γ
+  }
+  // Saturation grows as γ → 0 and covers almost every step at the smallest γ.
+  for (std::size_t k = 1; k < gammas.size(); ++k) {
+    EXPECT_GE(saturated[k], saturated[k - 1]) << "gamma " << gammas[k];
+  }
+  EXPECT_GT(saturated.back(), 0.95);
+  // The switching structure settles: the same number of switches at the two smallest γ.
+  EXPECT_EQ(switches[gammas.size() - 1], switches[gammas.size() - 2]);
+  EXPECT_GE(switches.back(), 3);  // a genuinely bang-bang control: it switches repeatedly
+  // The value converges: successive differences shrink, and within T δ(γ) of the smallest γ's.
+  const double delta_per_gamma = 0.5 * std::log(2.0) * (ex.rest_max - ex.rest_min);
+  for (std::size_t k = 0; k + 1 < gammas.size(); ++k) {
+    EXPECT_LE(std::abs(values[k] - values.back()),
+              ex.horizon * delta_per_gamma * (gammas[k] + gammas.back()))
+        << "gamma " << gammas[k];
+    if (k + 2 < gammas.size()) {
+      EXPECT_LT(std::abs(values[k + 2] - values[k + 1]), std::abs(values[k + 1] - values[k]));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace moreau::control

@@ -65,4 +65,27 @@ TrackingProblem MakeArmProblem(const ArmExample& example, double path_fraction);
 void ArmReference(const ArmExample& example, double path_fraction, double t, double* positions,
                   double* velocities);
 
+// An example whose reference cannot be followed within the bounds (docs/control_bang_bang.md):
+// one free mass on a spring–damper to a wall at x = 0, d = 1, with a reference oscillating
+// faster than the natural frequency √(κ/m) and wider than the rest-length range, so the optimal
+// rest length saturates at L− or L+ except near switching points (bang-bang as γ → 0).
+// Reference: x_r(t) = centre + amplitude sin(2π t / period), v_r its derivative; x(0) = centre,
+// at rest. The 1D and arm examples above are tracked by interior controls; this one is not.
+struct SaturatingExample {
+  double mass = 1.0;             // m
+  double stiffness = 4.0;        // κ (natural frequency 2 rad/s)
+  double damping = 0.5;          // ξ
+  double rest_min = 0.8;         // L−
+  double rest_max = 1.2;         // L+
+  double centre = 1.0;           // centre of the reference and x(0)
+  double amplitude = 0.3;        // reference amplitude (> (L+ − L−) / 2: unreachable)
+  double period = 1.0;           // reference period (2π rad/s, above the natural frequency)
+  double horizon = 2.0;          // T
+  double gamma = 1e-3;           // γ
+  double position_weight = 1.0;  // μ_x
+  double velocity_weight = 0.0;  // μ_v
+};
+// path_fraction scales the reference amplitude (continuation).
+TrackingProblem MakeSaturatingProblem(const SaturatingExample& example, double path_fraction);
+
 }  // namespace moreau::control

@@ -36,7 +36,7 @@ class Recording {
 
   int markers() const { return static_cast<int>(labels_.size()); }
   std::int64_t frames() const { return frames_; }
-  double rate() const { return rate_; }  // frames per second, > 0
+  double rate() const { return rate_; }                // frames per second, > 0
   const std::string& units() const { return units_; }  // "mm", "cm" or "m"
   const std::vector<std::string>& labels() const { return labels_; }
   std::vector<std::string>& descriptions() { return descriptions_; }

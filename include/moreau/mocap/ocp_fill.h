@@ -1,0 +1,119 @@
+// Gap filling by optimal control of a mass–spring–damper network (issue 9; the thesis'
+// regularised Hamiltonian, Symplectic Pontryagin scheme, Newton and continuation, in
+// include/moreau/control/). docs/mocap_ocp.md explains the method and every default.
+//
+// Per group of gaps (gaps whose padded windows overlap in time and whose markers are the same
+// or joined by a spring are solved together) one window is solved:
+//   * free nodes: the group's hidden markers; anchors: their network partners, fixed nodes moving
+//     along their observed (or candidate-filled) trajectories (C¹ cubic Hermite in time);
+//   * springs: the network's springs of the free nodes, rest-length bounds from the observed
+//     distance range (network_from_recording.h), the rest lengths are the controls;
+//   * tracking: observed samples with weight `observed_weight`; inside a gap the prior (the
+//     candidate fills averaged with weights by their agreement with the partners' distance
+//     distributions, Tits et al. 2018) with weight `prior_weight`;
+//   * the window spans the group's gaps plus `padding_seconds` on each side, so the cost grows
+//     with the gaps, not with the recording.
+// Units inside the solver: length in network.length_scale, time in frames, weights and γ per
+// frame (docs/mocap_ocp.md).
+// A window that fails to converge is retried with stiffness continuation from a smooth γ; if that
+// fails too, or a solved gap disagrees with the partners' distance distributions much more than
+// the best candidate (guard_ratio), the gap is filled by the best candidate (smallest
+// disagreement) and reported with status "fallback".
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "moreau/common/termination.h"
+#include "moreau/control/newton.h"
+#include "moreau/mocap/network_from_recording.h"
+#include "moreau/mocap/recording.h"
+
+namespace moreau::mocap {
+
+struct OcpFillOptions {
+  MarkerNetworkOptions network;  // how the network is built from the recording
+  double padding_seconds = 0.1;  // observed frames tracked on each side of a gap (>= 0)
+  int min_padding_frames = 3;    // at least this many padding frames (>= 1)
+  int anchor_springs = 0;        // per free node, springs to anchors: the most rigid ones (0: all)
+  double observed_weight = 1.0;  // μ_x w on observed samples (per frame, lengths in ℓ; > 0)
+  double prior_weight = 0.05;    // w on the prior inside a gap (>= 0; 0: no prior)
+  double gamma =
+      0.01;  // target γ of the regularised Hamiltonian (per frame, like the weights; > 0)
+  double gamma_start = 0.01;       // first solve at this γ, then continuation (>= gamma)
+  double max_step_frames = 1.0;    // time step Δt <= this many frames and ω Δt <= 0.5 (> 0)
+  double stiffness_start = 0.25;   // retry: continuation in κ, ξ from this scale (0, 1]
+  double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
+  double guard_ratio = 1.5;        // keep the solved fill only if its distance disagreement E is
+                                   // <= guard_ratio E_best + 1 (E_best: best candidate's) (>= 1)
+  control::NewtonOptions newton;   // every Newton solve (tolerance in solver units)
+
+  // Throws InputError("ocp.<field>: ...") for a value out of range.
+  void Validate() const;
+  nlohmann::json ToJson() const;
+};
+
+// A fill that the optimal control uses as prior, warm start and fallback: a recording with the
+// same markers and frames in which (at least) the gaps to fill hold finite positions.
+struct CandidateFill {
+  std::string method;  // e.g. "linear", "rigid"
+  const Recording* recording = nullptr;
+};
+
+// What happened to one gap.
+struct OcpGapReport {
+  int marker = 0;
+  std::string label;
+  std::int64_t first = 0;  // gap frames (0-based, inclusive)
+  std::int64_t last = 0;
+  std::int64_t window_first = 0;  // frames of the solved window
+  std::int64_t window_last = 0;
+  int window = 0;             // index of the window (gaps solved together share it)
+  int free_nodes = 0;         // hidden markers solved together
+  int anchors = 0;            // moving fixed nodes
+  int springs = 0;            // springs in the window's network
+  int steps = 0;              // N of the Symplectic Pontryagin scheme
+  int newton_iterations = 0;  // all Newton solves of the window
+  double residual = 0.0;      // ‖F‖_∞ of the final iterate (solver units)
+  double disagreement = 0.0;  // mean squared z-score of the solved fill's partner distances
+  double seconds = 0.0;       // wall-clock time of the window
+  Termination termination = Termination::kConverged;
+  std::string status;           // "ocp" or "fallback"
+  std::string fallback_method;  // candidate used when status is "fallback"
+  std::string message;
+  std::vector<double> candidate_weights;  // prior weight of each candidate (sum 1)
+  nlohmann::json ToJson() const;
+};
+
+struct OcpFillSummary {
+  Termination termination = Termination::kConverged;  // kConverged unless a window fell back
+  std::string message;
+  std::vector<OcpGapReport> gaps;  // one per input gap, in input order
+  int windows = 0;
+  int fallbacks = 0;
+  double network_seconds = 0.0;  // building the network
+  double prior_seconds = 0.0;    // candidate fills and priors
+  double solve_seconds = 0.0;    // all windows
+  double total_seconds = 0.0;
+  MarkerNetwork network;             // the network used
+  std::vector<std::string> methods;  // candidate methods, in candidate order
+  OcpFillOptions settings;
+  bool ok() const { return IsSuccess(termination); }
+  // SummaryJson + counters, "network" (MarkerNetwork::ToJson), "gaps" and "settings".
+  nlohmann::json ToJson(const Recording& recording) const;
+};
+
+// Fills `gaps` of `in` into `out` (a copy of `in` whose gap samples are set; other samples are
+// untouched). `candidates` are the prior/fallback fills; when empty, two internal ones are used
+// (linear interpolation and a rigid-body fill from the marker's springs, Kabsch to the frames
+// bounding the gap, blended across it). Throws InputError for invalid options, a gap outside the
+// recording or over an observed sample, a padding longer than the recording, a gap of a marker
+// without springs, or a candidate of another shape or without finite samples in a gap.
+OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
+                           const OcpFillOptions& options, Recording* out,
+                           const std::vector<CandidateFill>& candidates = {});
+
+}  // namespace moreau::mocap

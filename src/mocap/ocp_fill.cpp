@@ -1,0 +1,419 @@
+#include "moreau/mocap/ocp_fill.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "mocap/ocp_prior.h"
+#include "mocap/ocp_window.h"
+#include "moreau/common/error.h"
+#include "moreau/common/stopwatch.h"
+#include "moreau/common/summary_json.h"
+
+namespace moreau::mocap {
+namespace {
+
+using internal::GapTrack;
+
+void CheckGaps(const Recording& in, const std::vector<Gap>& gaps, const MarkerNetwork& net) {
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    const Gap& g = gaps[i];
+    if (g.marker < 0 || g.marker >= in.markers()) {
+      throw InputError(fmt::format("gaps[{}].marker: {} is not a marker index in [0, {})", i,
+                                   g.marker, in.markers()));
+    }
+    if (g.first < 0 || g.last < g.first || g.last >= in.frames()) {
+      throw InputError(
+          fmt::format("gaps[{}]: frames {}..{} are not inside the recording's {} frames", i,
+                      g.first, g.last, in.frames()));
+    }
+    for (std::int64_t f = g.first; f <= g.last; ++f) {
+      if (in.observed(f, g.marker)) {
+        throw InputError(
+            fmt::format("gaps[{}]: marker '{}' is observed at frame {}, inside the gap", i,
+                        in.labels()[static_cast<std::size_t>(g.marker)], f));
+      }
+    }
+    if (net.springs_of[static_cast<std::size_t>(g.marker)].empty()) {
+      throw InputError(
+          fmt::format("gaps[{}]: marker '{}' has no partners: no marker is seen with it in "
+                      "network.min_common_frames frames, so the network cannot carry it",
+                      i, in.labels()[static_cast<std::size_t>(g.marker)]));
+    }
+  }
+}
+
+// Per gap: the candidates' tracks over the gap.
+std::vector<std::vector<GapTrack>> CandidateTracks(const Recording& in,
+                                                   const std::vector<Gap>& gaps,
+                                                   const MarkerNetwork& net,
+                                                   const std::vector<CandidateFill>& candidates) {
+  std::vector<std::vector<GapTrack>> tracks(gaps.size());
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    const Gap& g = gaps[i];
+    if (candidates.empty()) {
+      tracks[i] = {internal::LinearGapFill(in, g), internal::RigidGapFill(in, net, g)};
+      continue;
+    }
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      GapTrack t(g.length(), 3);
+      for (std::int64_t f = g.first; f <= g.last; ++f) {
+        const auto p = candidates[c].recording->point(f, g.marker);
+        if (!p.allFinite()) {
+          throw InputError(fmt::format(
+              "candidates[{}] ('{}'): no finite position for marker "
+              "'{}' at frame {}, inside gaps[{}]",
+              c, candidates[c].method, in.labels()[static_cast<std::size_t>(g.marker)], f, i));
+        }
+        t.row(f - g.first) = p.transpose();
+      }
+      tracks[i].push_back(std::move(t));
+    }
+  }
+  return tracks;
+}
+
+// Groups of gaps solved together: padded windows overlapping in time and the same marker or a
+// spring between the markers.
+std::vector<std::vector<std::size_t>> GroupGaps(const std::vector<Gap>& gaps,
+                                                const MarkerNetwork& net, std::int64_t padding) {
+  std::vector<std::size_t> parent(gaps.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&](std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  auto joined = [&](int a, int b) {
+    if (a == b) return true;
+    for (int s : net.springs_of[static_cast<std::size_t>(a)]) {
+      if (net.Partner(s, a) == b) return true;
+    }
+    return false;
+  };
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    for (std::size_t j = i + 1; j < gaps.size(); ++j) {
+      const bool overlap = gaps[i].first - padding <= gaps[j].last + padding &&
+                           gaps[j].first - padding <= gaps[i].last + padding;
+      if (overlap && joined(gaps[i].marker, gaps[j].marker)) parent[root(i)] = root(j);
+    }
+  }
+  std::vector<std::vector<std::size_t>> groups;
+  std::vector<long> group_of(gaps.size(), -1);
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    const std::size_t r = root(i);
+    if (group_of[r] < 0) {
+      group_of[r] = static_cast<long>(groups.size());
+      groups.emplace_back();
+    }
+    groups[static_cast<std::size_t>(group_of[r])].push_back(i);
+  }
+  return groups;
+}
+
+}  // namespace
+
+void OcpFillOptions::Validate() const {
+  network.Validate();
+  auto fail = [](const char* field, double value, const char* reason) {
+    throw InputError(fmt::format("ocp.{}: {}, got {}", field, reason, value));
+  };
+  if (!(padding_seconds >= 0.0) || !std::isfinite(padding_seconds)) {
+    fail("padding_seconds", padding_seconds, "must be >= 0 and finite");
+  }
+  if (min_padding_frames < 1) fail("min_padding_frames", min_padding_frames, "must be >= 1");
+  if (anchor_springs < 0) fail("anchor_springs", anchor_springs, "must be >= 0 (0: all)");
+  if (!(observed_weight > 0.0) || !std::isfinite(observed_weight)) {
+    fail("observed_weight", observed_weight, "must be > 0 and finite");
+  }
+  if (!(prior_weight >= 0.0) || !std::isfinite(prior_weight)) {
+    fail("prior_weight", prior_weight, "must be >= 0 and finite (a weight cannot be negative)");
+  }
+  if (!(gamma > 0.0) || !std::isfinite(gamma)) fail("gamma", gamma, "must be > 0");
+  if (!(gamma_start >= gamma) || !std::isfinite(gamma_start)) {
+    fail("gamma_start", gamma_start, "must be >= ocp.gamma and finite");
+  }
+  if (!(retry_gamma_start >= gamma_start) || !std::isfinite(retry_gamma_start)) {
+    fail("retry_gamma_start", retry_gamma_start, "must be >= ocp.gamma_start and finite");
+  }
+  if (!(guard_ratio >= 1.0) || !std::isfinite(guard_ratio)) {
+    fail("guard_ratio", guard_ratio, "must be >= 1 and finite");
+  }
+  if (!(max_step_frames > 0.0) || !std::isfinite(max_step_frames)) {
+    fail("max_step_frames", max_step_frames, "must be > 0");
+  }
+  if (!(stiffness_start > 0.0 && stiffness_start <= 1.0)) {
+    fail("stiffness_start", stiffness_start, "must be in (0, 1]");
+  }
+  newton.Validate();
+}
+
+nlohmann::json OcpFillOptions::ToJson() const {
+  return {{"network", network.ToJson()},
+          {"padding_seconds", padding_seconds},
+          {"min_padding_frames", min_padding_frames},
+          {"anchor_springs", anchor_springs},
+          {"observed_weight", observed_weight},
+          {"prior_weight", prior_weight},
+          {"gamma", gamma},
+          {"gamma_start", gamma_start},
+          {"max_step_frames", max_step_frames},
+          {"stiffness_start", stiffness_start},
+          {"retry_gamma_start", retry_gamma_start},
+          {"guard_ratio", guard_ratio},
+          {"newton",
+           {{"max_iterations", newton.max_iterations},
+            {"residual_tolerance", newton.residual_tolerance}}}};
+}
+
+nlohmann::json OcpGapReport::ToJson() const {
+  return {{"marker", label},
+          {"first", first},
+          {"last", last},
+          {"window", window},
+          {"window_first", window_first},
+          {"window_last", window_last},
+          {"free_nodes", free_nodes},
+          {"anchors", anchors},
+          {"springs", springs},
+          {"steps", steps},
+          {"newton_iterations", newton_iterations},
+          {"residual", residual},
+          {"disagreement", disagreement},
+          {"seconds", seconds},
+          {"termination", std::string(ToString(termination))},
+          {"status", status},
+          {"fallback_method", fallback_method},
+          {"message", message},
+          {"candidate_weights", candidate_weights}};
+}
+
+nlohmann::json OcpFillSummary::ToJson(const Recording& recording) const {
+  nlohmann::json j = SummaryJson(termination, message, total_seconds);
+  j["windows"] = windows;
+  j["fallbacks"] = fallbacks;
+  j["network_seconds"] = network_seconds;
+  j["prior_seconds"] = prior_seconds;
+  j["solve_seconds"] = solve_seconds;
+  j["candidates"] = methods;
+  j["network"] = network.ToJson(recording);
+  nlohmann::json list = nlohmann::json::array();
+  for (const OcpGapReport& g : gaps) list.push_back(g.ToJson());
+  j["gaps"] = list;
+  j["settings"] = settings.ToJson();
+  return j;
+}
+
+namespace {
+
+// The prior of one gap: candidates averaged with weights 1 / (E_c + ε), E_c the candidate's
+// distance disagreement (Tits et al. 2018); also the best single candidate (smallest E_c).
+struct GapPrior {
+  GapTrack track;
+  std::vector<double> weights;
+  std::vector<double> disagreement;  // E_c per candidate
+  std::size_t best = 0;
+};
+
+GapPrior MakePrior(const Recording& in, const MarkerNetwork& net, const Gap& gap,
+                   const std::vector<GapTrack>& tracks) {
+  GapPrior prior;
+  std::vector<double> error(tracks.size());
+  for (std::size_t c = 0; c < tracks.size(); ++c) {
+    error[c] = internal::DistanceDisagreement(in, net, gap, tracks[c]);
+  }
+  prior.disagreement = error;
+  prior.best =
+      static_cast<std::size_t>(std::min_element(error.begin(), error.end()) - error.begin());
+  double total = 0.0;
+  for (double e : error) {
+    prior.weights.push_back(1.0 / (e + 1e-3));
+    total += prior.weights.back();
+  }
+  prior.track = GapTrack::Zero(gap.length(), 3);
+  for (std::size_t c = 0; c < tracks.size(); ++c) {
+    prior.weights[c] /= total;
+    prior.track += prior.weights[c] * tracks[c];
+  }
+  return prior;
+}
+
+void SetTrack(Recording& rec, const Gap& gap, const GapTrack& track) {
+  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
+    rec.SetPoint(f, gap.marker, track.row(f - gap.first).transpose());
+  }
+}
+
+void CheckCandidates(const Recording& in, const std::vector<CandidateFill>& candidates) {
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const Recording* r = candidates[c].recording;
+    if (r == nullptr || r->markers() != in.markers() || r->frames() != in.frames()) {
+      throw InputError(
+          fmt::format("candidates[{}] ('{}'): must be a recording of {} markers and "
+                      "{} frames",
+                      c, candidates[c].method, in.markers(), in.frames()));
+    }
+  }
+}
+
+}  // namespace
+
+namespace {
+
+std::int64_t PaddingFrames(const Recording& in, const OcpFillOptions& options) {
+  const auto padding = std::max<std::int64_t>(options.min_padding_frames,
+                                              std::llround(options.padding_seconds * in.rate()));
+  if (padding >= in.frames()) {
+    throw InputError(
+        fmt::format("ocp.padding_seconds: the window padding of {} frames is not "
+                    "shorter than the recording ({} frames)",
+                    padding, in.frames()));
+  }
+  return padding;
+}
+
+internal::OcpWindow MakeWindow(const std::vector<Gap>& gaps, const std::vector<std::size_t>& group,
+                               std::int64_t padding, std::int64_t frames) {
+  internal::OcpWindow win;
+  win.first = frames;
+  for (std::size_t i : group) {
+    win.first = std::min(win.first, std::max<std::int64_t>(gaps[i].first - padding, 0));
+    win.last = std::max(win.last, std::min(gaps[i].last + padding, frames - 1));
+    if (std::find(win.free.begin(), win.free.end(), gaps[i].marker) == win.free.end()) {
+      win.free.push_back(gaps[i].marker);
+    }
+  }
+  return win;
+}
+
+// Everything a gap's report and its fill need from its window.
+struct WindowOutcome {
+  std::size_t index = 0;
+  const internal::OcpWindow* window = nullptr;
+  const internal::OcpWindowResult* result = nullptr;
+  double seconds = 0.0;
+};
+
+void ReportWindow(const Recording& in, const Gap& g, const WindowOutcome& w, OcpGapReport& rep) {
+  const internal::OcpWindowResult& r = *w.result;
+  rep.marker = g.marker;
+  rep.label = in.labels()[static_cast<std::size_t>(g.marker)];
+  rep.first = g.first;
+  rep.last = g.last;
+  rep.window = static_cast<int>(w.index);
+  rep.window_first = w.window->first;
+  rep.window_last = w.window->last;
+  rep.free_nodes = static_cast<int>(w.window->free.size());
+  rep.anchors = r.anchors;
+  rep.springs = r.springs;
+  rep.steps = r.steps;
+  rep.newton_iterations = r.newton_iterations;
+  rep.residual = r.residual;
+  rep.seconds = w.seconds;
+  rep.termination = r.termination;
+  rep.message = r.message;
+}
+
+// Writes the solved fill of gap g, or the best candidate when the window failed or the solved
+// fill disagrees with the distance distributions much more than the best candidate (the guard,
+// after Tits et al.). Returns true when the solved fill was used.
+bool WriteGap(const Recording& in, const MarkerNetwork& net, const Gap& g, const WindowOutcome& w,
+              const GapPrior& prior, const std::vector<GapTrack>& tracks,
+              const OcpFillOptions& options, const std::vector<std::string>& methods,
+              OcpGapReport& rep, Recording& out) {
+  rep.candidate_weights = prior.weights;
+  const double best = prior.disagreement[prior.best];
+  bool use = IsSuccess(w.result->termination);
+  if (use) {
+    const auto& free = w.window->free;
+    const auto j = std::find(free.begin(), free.end(), g.marker) - free.begin();
+    const GapTrack track =
+        w.result->positions.block(g.first - w.window->first, 3 * j, g.length(), 3);
+    rep.disagreement = internal::DistanceDisagreement(in, net, g, track);
+    use = rep.disagreement <= options.guard_ratio * best + 1.0;
+    if (use) {
+      SetTrack(out, g, track);
+    } else {
+      rep.message = fmt::format(
+          "the optimal-control fill disagrees with the distance distributions ({:.3g}) more "
+          "than '{}' ({:.3g})",
+          rep.disagreement, methods[prior.best], best);
+    }
+  }
+  rep.status = use ? "ocp" : "fallback";
+  if (!use) {
+    rep.fallback_method = methods[prior.best];
+    SetTrack(out, g, tracks[prior.best]);
+  }
+  return use;
+}
+
+}  // namespace
+
+OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
+                           const OcpFillOptions& options, Recording* out,
+                           const std::vector<CandidateFill>& candidates) {
+  const Stopwatch total;
+  options.Validate();
+  MOREAU_ASSERT(out != nullptr);
+  CheckCandidates(in, candidates);
+  const std::int64_t padding = PaddingFrames(in, options);
+  OcpFillSummary summary;
+  summary.settings = options;
+  Stopwatch phase;
+  summary.network = BuildMarkerNetwork(in, options.network);
+  const MarkerNetwork& net = summary.network;
+  summary.network_seconds = phase.Seconds();
+  CheckGaps(in, gaps, net);
+  for (const auto& c : candidates) summary.methods.push_back(c.method);
+  if (candidates.empty()) summary.methods = {"linear", "rigid"};
+
+  phase.Restart();
+  const auto tracks = CandidateTracks(in, gaps, net, candidates);
+  std::vector<GapPrior> priors;
+  Recording base = in;
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    priors.push_back(MakePrior(in, net, gaps[i], tracks[i]));
+    SetTrack(base, gaps[i], priors.back().track);
+  }
+  summary.prior_seconds = phase.Seconds();
+
+  phase.Restart();
+  const auto groups = GroupGaps(gaps, net, padding);
+  summary.windows = static_cast<int>(groups.size());
+  summary.gaps.resize(gaps.size());
+  *out = in;
+  std::vector<internal::OcpWindowResult> results(groups.size());
+  std::vector<internal::OcpWindow> windows(groups.size());
+  std::vector<double> seconds(groups.size());
+#pragma omp parallel for schedule(dynamic)
+  for (std::size_t w = 0; w < groups.size(); ++w) {
+    const Stopwatch clock;
+    windows[w] = MakeWindow(gaps, groups[w], padding, in.frames());
+    results[w] = internal::SolveOcpWindow(in, base, net, windows[w], options);
+    seconds[w] = clock.Seconds();
+  }
+  for (std::size_t w = 0; w < groups.size(); ++w) {
+    const WindowOutcome outcome{w, &windows[w], &results[w], seconds[w]};
+    for (std::size_t i : groups[w]) {
+      ReportWindow(in, gaps[i], outcome, summary.gaps[i]);
+      if (!WriteGap(in, net, gaps[i], outcome, priors[i], tracks[i], options, summary.methods,
+                    summary.gaps[i], *out)) {
+        ++summary.fallbacks;
+      }
+    }
+  }
+  summary.solve_seconds = phase.Seconds();
+  if (summary.fallbacks > 0) {
+    summary.termination = Termination::kDiverged;
+    summary.message = fmt::format(
+        "{} of {} gaps filled by their best candidate after the optimal control failed or "
+        "disagreed with the distance distributions (see gaps[].message)",
+        summary.fallbacks, gaps.size());
+  }
+  summary.total_seconds = total.Seconds();
+  return summary;
+}
+
+}  // namespace moreau::mocap

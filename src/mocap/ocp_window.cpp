@@ -1,0 +1,271 @@
+#include "mocap/ocp_window.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "moreau/common/error.h"
+#include "moreau/control/continuation.h"
+
+namespace moreau::mocap::internal {
+namespace {
+
+using Track = Eigen::Matrix<double, Eigen::Dynamic, 3>;  // frames × 3, solver units
+
+// C¹ cubic Hermite interpolation of a track sampled at every frame, tangents by central
+// differences (one-sided at the ends). Time t is in solver units, `frames_per_unit` frames each.
+struct HermiteTrack {
+  Track x, m;
+  double frames_per_unit = 1.0;
+  HermiteTrack(Track positions, double fpu)
+      : x(std::move(positions)), m(x.rows(), 3), frames_per_unit(fpu) {
+    const Eigen::Index f = x.rows();
+    for (Eigen::Index k = 0; k < f; ++k) {
+      const Eigen::Index lo = std::max<Eigen::Index>(k - 1, 0);
+      const Eigen::Index hi = std::min<Eigen::Index>(k + 1, f - 1);
+      m.row(k) = (x.row(hi) - x.row(lo)) / static_cast<double>(std::max<Eigen::Index>(hi - lo, 1));
+    }
+  }
+  void At(double t, double* position, double* velocity) const {
+    const Eigen::Index f = x.rows();
+    if (f == 1) {
+      for (int i = 0; i < 3; ++i) position[i] = x(0, i), velocity[i] = 0.0;
+      return;
+    }
+    t = std::clamp(t * frames_per_unit, 0.0, static_cast<double>(f - 1));
+    const Eigen::Index k = std::min<Eigen::Index>(static_cast<Eigen::Index>(t), f - 2);
+    const double s = t - static_cast<double>(k), s2 = s * s, s3 = s2 * s;
+    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2,
+                 h11 = s3 - s2;
+    const double d00 = 6 * s2 - 6 * s, d10 = 3 * s2 - 4 * s + 1, d01 = -d00, d11 = 3 * s2 - 2 * s;
+    for (int i = 0; i < 3; ++i) {
+      position[i] = h00 * x(k, i) + h10 * m(k, i) + h01 * x(k + 1, i) + h11 * m(k + 1, i);
+      velocity[i] =
+          frames_per_unit * (d00 * x(k, i) + d10 * m(k, i) + d01 * x(k + 1, i) + d11 * m(k + 1, i));
+    }
+  }
+};
+
+// The marker's track over the window in solver units; samples missing in `base` (gaps not asked
+// for) are interpolated linearly between the window's finite samples, or held at the ends.
+Track WindowTrack(const Recording& base, int marker, const OcpWindow& w,
+                  const Eigen::Vector3d& origin, double scale) {
+  const Eigen::Index f = w.last - w.first + 1;
+  Track t(f, 3);
+  std::vector<Eigen::Index> finite;
+  for (Eigen::Index k = 0; k < f; ++k) {
+    const auto p = base.point(w.first + k, marker);
+    if (p.allFinite()) {
+      t.row(k) = ((p - origin) / scale).transpose();
+      finite.push_back(k);
+    }
+  }
+  if (finite.empty()) return Track();
+  std::size_t next = 0;
+  for (Eigen::Index k = 0; k < f; ++k) {
+    while (next < finite.size() && finite[next] < k) ++next;
+    if (next < finite.size() && finite[next] == k) continue;
+    if (next == 0) {
+      t.row(k) = t.row(finite.front());
+    } else if (next == finite.size()) {
+      t.row(k) = t.row(finite.back());
+    } else {
+      const Eigen::Index a = finite[next - 1], b = finite[next];
+      const double tau = static_cast<double>(k - a) / static_cast<double>(b - a);
+      t.row(k) = (1.0 - tau) * t.row(a) + tau * t.row(b);
+    }
+  }
+  return t;
+}
+
+struct WindowModel {
+  std::vector<control::NetworkNode> nodes;
+  std::vector<control::NetworkSpring> springs;
+  std::vector<std::shared_ptr<const HermiteTrack>> free_tracks;
+  int anchors = 0;
+};
+
+WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, const OcpWindow& w,
+                             const Eigen::Vector3d& origin, double scale, int max_anchor_springs) {
+  WindowModel model;
+  std::map<int, int> node_of;
+  // Time unit: one frame.
+  const double fpu = 1.0;
+  const double kappa = net.stiffness / (base.rate() * base.rate());
+  const double xi = net.damping / base.rate();
+  for (int marker : w.free) {
+    auto track =
+        std::make_shared<const HermiteTrack>(WindowTrack(base, marker, w, origin, scale), fpu);
+    control::NetworkNode node;
+    node.mass = 1.0;
+    track->At(0.0, node.position.data(), node.velocity.data());
+    node_of[marker] = static_cast<int>(model.nodes.size());
+    model.nodes.push_back(node);
+    model.free_tracks.push_back(std::move(track));
+  }
+  for (int marker : w.free) {
+    // Springs to anchors: the `anchor_springs` most rigid ones (0: all); springs between free
+    // nodes are always kept (they join the window's network).
+    std::vector<int> springs = net.springs_of[static_cast<std::size_t>(marker)];
+    std::stable_sort(springs.begin(), springs.end(), [&](int a, int b) {
+      return net.springs[static_cast<std::size_t>(a)].spread <
+             net.springs[static_cast<std::size_t>(b)].spread;
+    });
+    int anchor_springs = 0;
+    for (int s : springs) {
+      const int other = net.Partner(s, marker);
+      const bool other_free = std::find(w.free.begin(), w.free.end(), other) != w.free.end();
+      if (other_free && other < marker) continue;  // added from the other end
+      if (!other_free) {
+        if (max_anchor_springs > 0 && anchor_springs >= max_anchor_springs) continue;
+        ++anchor_springs;
+      }
+      if (!node_of.contains(other)) {
+        Track t = WindowTrack(base, other, w, origin, scale);
+        if (t.rows() == 0) continue;  // never seen in the window: no anchor
+        auto track = std::make_shared<const HermiteTrack>(std::move(t), fpu);
+        control::NetworkNode node;
+        node.fixed = true;
+        node.motion = [track](double time, double* x, double* v) { track->At(time, x, v); };
+        node_of[other] = static_cast<int>(model.nodes.size());
+        model.nodes.push_back(std::move(node));
+        ++model.anchors;
+      }
+      const MarkerSpring& sp = net.springs[static_cast<std::size_t>(s)];
+      model.springs.push_back(control::NetworkSpring{node_of[marker], node_of[other], kappa, xi,
+                                                     sp.rest_min / scale, sp.rest_max / scale});
+    }
+  }
+  return model;
+}
+
+// The window's tracking problem in solver units: lengths in ℓ, time in frames (a frame split into
+// `substeps` steps with ω Δt <= 0.5 and Δt <= max_step_frames), weights and γ per frame. Only
+// the ratio γ / weight matters (scaling both scales the cost), and in seconds both are per-sample
+// quantities times the rate, so the same γ serves every rate (docs/mocap_ocp.md).
+struct WindowProblem {
+  std::unique_ptr<control::TrackingProblem> target;
+  int substeps = 1;
+  int steps = 1;
+};
+
+WindowProblem MakeWindowProblem(const Recording& in, const Recording& base,
+                                const MarkerNetwork& net, const OcpWindow& w,
+                                const OcpFillOptions& o, const WindowModel& model) {
+  const Eigen::Index frames = w.last - w.first + 1;
+  const int m = static_cast<int>(w.free.size());
+  const control::SpringNetwork network(3, model.nodes, model.springs);
+  const double omega = std::sqrt(net.stiffness / net.mass) / base.rate();
+  WindowProblem p;
+  p.substeps = static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
+  p.steps = static_cast<int>(frames - 1) * p.substeps;
+  const double horizon = static_cast<double>(frames - 1);
+  Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
+  for (int j = 0; j < m; ++j) {
+    const int marker = w.free[static_cast<std::size_t>(j)];
+    ref.middleCols(3 * j, 3) = model.free_tracks[static_cast<std::size_t>(j)]->x;
+    for (Eigen::Index k = 0; k < frames; ++k) {
+      const bool seen = in.observed(w.first + k, marker);
+      const bool prior = base.point(w.first + k, marker).allFinite();
+      weights(k, j) = seen ? o.observed_weight : (prior ? o.prior_weight : 0.0);
+    }
+  }
+  control::ReferenceFunction reference = control::SampledReference(
+      network, horizon, std::move(ref), Eigen::MatrixXd(), std::move(weights), "ocp.reference");
+  p.target = std::make_unique<control::TrackingProblem>(network, horizon, std::move(reference),
+                                                        control::CostWeights{}, o.gamma);
+  return p;
+}
+
+// Warm start at (stiffness scale, γ): the prior trajectory (positions and Hermite velocities) and
+// the dual from one backward sweep (section 7.1).
+Eigen::VectorXd WarmStart(const WindowProblem& p, const WindowModel& model, double stiffness_scale,
+                          double gamma) {
+  const control::ProblemFamily family = [&p](double) { return *p.target; };
+  const control::TrackingProblem start =
+      control::ContinuationProblem(family, 1.0, stiffness_scale, gamma);
+  const control::PontryaginDiscretization disc(start, p.steps);
+  Eigen::MatrixXd z(start.network().state_size(), p.steps + 1);
+  for (int n = 0; n <= p.steps; ++n) {
+    for (std::size_t j = 0; j < model.free_tracks.size(); ++j) {
+      model.free_tracks[j]->At(static_cast<double>(n) / p.substeps, z.col(n).data() + 6 * j,
+                               z.col(n).data() + 6 * j + 3);
+    }
+  }
+  Eigen::VectorXd y;
+  control::FixedPointSweep(disc, z, control::FixedPointOptions{}, y);
+  return y;
+}
+
+// Continuation in γ from gamma_start; on failure, again from a smooth problem (stiffness and γ).
+control::ContinuationSummary SolveWindow(const WindowProblem& p, const WindowModel& model,
+                                         const OcpFillOptions& o, Eigen::VectorXd& y,
+                                         int& newton_iterations) {
+  const control::ProblemFamily family = [&p](double) { return *p.target; };
+  control::ContinuationOptions copt;
+  copt.gamma_start = o.gamma_start;
+  copt.newton = o.newton;
+  Eigen::VectorXd warm = WarmStart(p, model, 1.0, copt.gamma_start);
+  control::ContinuationSummary cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);
+  newton_iterations = cs.newton_iterations;
+  if (!cs.converged) {
+    copt.stiffness_start = o.stiffness_start;
+    copt.gamma_start = o.retry_gamma_start;
+    copt.gamma_decrease = 0.1;
+    warm = WarmStart(p, model, o.stiffness_start, copt.gamma_start);
+    cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);
+    newton_iterations += cs.newton_iterations;
+  }
+  return cs;
+}
+
+}  // namespace
+
+OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
+                               const OcpWindow& w, const OcpFillOptions& o) {
+  OcpWindowResult result;
+  const Eigen::Index frames = w.last - w.first + 1;
+  const int m = static_cast<int>(w.free.size());
+  const double scale = net.length_scale;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  for (int marker : w.free) origin += base.point(w.first, marker) / m;
+  try {
+    const WindowModel model = BuildWindowModel(base, net, w, origin, scale, o.anchor_springs);
+    result.anchors = model.anchors;
+    result.springs = static_cast<int>(model.springs.size());
+    const WindowProblem p = MakeWindowProblem(in, base, net, w, o, model);
+    result.steps = p.steps;
+    Eigen::VectorXd y;
+    const control::ContinuationSummary cs = SolveWindow(p, model, o, y, result.newton_iterations);
+    result.residual = cs.last_newton.final_residual;
+    if (!cs.converged) {
+      result.termination = cs.last_newton.termination == control::NewtonTermination::kMaxIterations
+                               ? Termination::kMaxIterations
+                               : Termination::kDiverged;
+      result.message = cs.message;
+      return result;
+    }
+    const control::PontryaginDiscretization disc(*p.target, p.steps);
+    Eigen::MatrixXd z, rho;
+    disc.Unpack(y, z, rho);
+    result.positions.resize(frames, 3 * m);
+    for (Eigen::Index k = 0; k < frames; ++k) {
+      for (int j = 0; j < m; ++j) {
+        const Eigen::Vector3d x = z.col(k * p.substeps).segment<3>(6 * j);
+        result.positions.block<1, 3>(k, 3 * j) = (origin + scale * x).transpose();
+      }
+    }
+    result.termination =
+        result.positions.allFinite() ? Termination::kConverged : Termination::kDiverged;
+  } catch (const InputError& e) {
+    // A degenerate window (e.g. an anchor on top of a free marker): reported, filled by fallback.
+    result.termination = Termination::kDiverged;
+    result.message = fmt::format("window model rejected: {}", e.what());
+  }
+  return result;
+}
+
+}  // namespace moreau::mocap::internal

@@ -1,0 +1,167 @@
+// Gap filling by optimal control of the spring network: rigid-body truth, a reachable reference,
+// whole segments hidden, windows around gaps, fallback, bad settings.
+#include "moreau/mocap/ocp_fill.h"
+
+#include <gtest/gtest.h>
+
+#include "mocap/ocp_test_util.h"
+#include "moreau/common/error.h"
+
+namespace moreau::mocap {
+namespace {
+
+double MaxError(const Recording& out, const Recording& truth, const Gap& g) {
+  double e = 0.0;
+  for (std::int64_t f = g.first; f <= g.last; ++f) {
+    e = std::max(e, (out.point(f, g.marker) - truth.point(f, g.marker)).norm());
+  }
+  return e;
+}
+
+TEST(MocapOcpFill, RigidBodyHiddenMarkerIsRecovered) {
+  const Recording truth = testing::RigidBodies(1, 6, 160, 100.0);
+  Recording in = truth;
+  const Gap gap = testing::Hide(in, 2, 50, 99);  // 0.5 s
+  Recording out;
+  const OcpFillSummary s = FillGapsOcp(in, {gap}, OcpFillOptions{}, &out);
+  ASSERT_TRUE(s.ok()) << s.message << " " << s.gaps[0].message;
+  ASSERT_EQ(s.gaps.size(), 1u);
+  const OcpGapReport& r = s.gaps[0];
+  EXPECT_EQ(r.status, "ocp");
+  EXPECT_EQ(r.label, "B0M2");
+  EXPECT_EQ(r.free_nodes, 1);
+  EXPECT_GE(r.anchors, 3);
+  EXPECT_GT(r.newton_iterations, 0);
+  EXPECT_LE(r.residual, OcpFillOptions{}.newton.residual_tolerance);
+  EXPECT_LT(MaxError(out, truth, gap), 1e-3);  // metres
+  // Only the gap was written.
+  for (std::int64_t f = 0; f < in.frames(); ++f) {
+    for (int m = 0; m < in.markers(); ++m) {
+      if (in.observed(f, m)) {
+        EXPECT_EQ(out.point(f, m), in.point(f, m));
+      }
+    }
+  }
+  const nlohmann::json j = s.ToJson(in);
+  EXPECT_EQ(j["gaps"][0]["status"], "ocp");
+  EXPECT_TRUE(j.contains("settings"));
+  EXPECT_EQ(j["network"]["springs"].size(), s.network.springs.size());
+}
+
+TEST(MocapOcpFill, ReachableReferenceIsReproduced) {
+  // The candidate is the truth itself: the reference is reachable by the network (distances at
+  // the middle of their bounds), tracked with full weight; with a small γ (continuation from
+  // the default) the optimal trajectory reproduces it.
+  const Recording truth = testing::RigidBodies(1, 5, 120, 100.0);
+  Recording in = truth;
+  const Gap gap = testing::Hide(in, 0, 40, 79);
+  OcpFillOptions o;
+  o.prior_weight = 1.0;
+  o.gamma = 1e-4;
+  Recording out;
+  const OcpFillSummary s = FillGapsOcp(in, {gap}, o, &out, {CandidateFill{"truth", &truth}});
+  ASSERT_TRUE(s.ok()) << s.gaps[0].message;
+  EXPECT_EQ(s.methods, std::vector<std::string>{"truth"});
+  EXPECT_DOUBLE_EQ(s.gaps[0].candidate_weights[0], 1.0);
+  EXPECT_LT(MaxError(out, truth, gap), 1e-4);
+}
+
+TEST(MocapOcpFill, MarkersHiddenTogetherAreSolvedInOneWindow) {
+  const Recording truth = testing::RigidBodies(2, 6, 160, 100.0);
+  Recording in = truth;
+  // Two markers of body 0 hidden together, overlapping in time; a gap far away in body 1.
+  const std::vector<Gap> gaps = {testing::Hide(in, 0, 60, 99), testing::Hide(in, 1, 55, 95),
+                                 testing::Hide(in, 8, 20, 30)};
+  Recording out;
+  const OcpFillSummary s = FillGapsOcp(in, gaps, OcpFillOptions{}, &out);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_EQ(s.windows, 2);
+  EXPECT_EQ(s.gaps[0].window, s.gaps[1].window);
+  EXPECT_NE(s.gaps[0].window, s.gaps[2].window);
+  EXPECT_EQ(s.gaps[0].free_nodes, 2);
+  EXPECT_EQ(s.gaps[2].free_nodes, 1);
+  // The window spans the gaps and the padding only (10 frames at 100 Hz, 0.1 s).
+  EXPECT_EQ(s.gaps[2].window_first, 10);
+  EXPECT_EQ(s.gaps[2].window_last, 40);
+  EXPECT_EQ(s.gaps[0].window_first, 45);
+  EXPECT_EQ(s.gaps[0].window_last, 109);
+  for (const Gap& g : gaps) EXPECT_LT(MaxError(out, truth, g), 1e-3) << "marker " << g.marker;
+}
+
+TEST(MocapOcpFillSlow, WholeSegmentHiddenIsFilled) {
+  // Every marker of body 0 hidden at once: no anchor is left, the network carries the segment
+  // from its padding; the fill is complete and keeps the body's distances.
+  const Recording truth = testing::RigidBodies(1, 4, 80, 100.0);
+  Recording in = truth;
+  std::vector<Gap> gaps;
+  for (int m = 0; m < 4; ++m) gaps.push_back(testing::Hide(in, m, 30, 45));
+  Recording out;
+  const OcpFillSummary s = FillGapsOcp(in, gaps, OcpFillOptions{}, &out);
+  EXPECT_EQ(s.windows, 1);
+  EXPECT_EQ(s.gaps[0].free_nodes, 4);
+  EXPECT_EQ(s.gaps[0].anchors, 0);
+  for (const Gap& g : gaps) {
+    for (std::int64_t f = g.first; f <= g.last; ++f) {
+      ASSERT_TRUE(out.point(f, g.marker).allFinite());
+    }
+  }
+  for (const MarkerSpring& sp : s.network.springs) {
+    for (std::int64_t f = 30; f <= 45; ++f) {
+      const double d = (out.point(f, sp.a) - out.point(f, sp.b)).norm();
+      EXPECT_NEAR(d, sp.mean, 0.05 * sp.mean) << "frame " << f;
+    }
+  }
+}
+
+TEST(MocapOcpFill, FailedWindowFallsBackToTheBestCandidate) {
+  const Recording truth = testing::RigidBodies(1, 6, 100, 100.0);
+  Recording in = truth;
+  const Gap gap = testing::Hide(in, 4, 30, 60);
+  OcpFillOptions o;
+  o.newton.max_iterations = 1;
+  o.newton.residual_tolerance = 1e-300;  // cannot be met: every solve fails
+  Recording out;
+  const OcpFillSummary s = FillGapsOcp(in, {gap}, o, &out);
+  EXPECT_FALSE(s.ok());
+  EXPECT_EQ(s.fallbacks, 1);
+  EXPECT_EQ(s.gaps[0].status, "fallback");
+  EXPECT_EQ(s.gaps[0].fallback_method, "rigid");  // the rigid fill agrees with the distances
+  EXPECT_FALSE(s.gaps[0].message.empty());
+  EXPECT_LT(MaxError(out, truth, gap), 1e-9);  // the rigid fill is exact on a rigid body
+}
+
+std::string FillError(const Recording& in, const std::vector<Gap>& gaps, const OcpFillOptions& o) {
+  Recording out;
+  try {
+    FillGapsOcp(in, gaps, o, &out);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(MocapOcpFill, BadSettingsAreOneInputError) {
+  const Recording truth = testing::RigidBodies(1, 5, 40, 100.0);
+  Recording in = truth;
+  const Gap gap = testing::Hide(in, 1, 10, 20);
+  OcpFillOptions o;
+  o.prior_weight = -1.0;
+  EXPECT_NE(FillError(in, {gap}, o).find("ocp.prior_weight"), std::string::npos);
+  o = {};
+  o.padding_seconds = 1.0;  // 100 frames of padding, 40 frames of recording
+  EXPECT_NE(FillError(in, {gap}, o).find("ocp.padding_seconds"), std::string::npos);
+  o = {};
+  o.gamma = 0.0;
+  EXPECT_NE(FillError(in, {gap}, o).find("ocp.gamma"), std::string::npos);
+  // A marker never seen has no partners.
+  Recording lonely = truth;
+  const Gap all = testing::Hide(lonely, 3, 0, 39);
+  EXPECT_NE(FillError(lonely, {all}, {}).find("no partners"), std::string::npos);
+  // A gap over observed samples, and outside the recording.
+  EXPECT_NE(FillError(in, {Gap{2, 5, 8}}, {}).find("observed"), std::string::npos);
+  EXPECT_NE(FillError(in, {Gap{1, 10, 60}}, {}).find("gaps[0]"), std::string::npos);
+  EXPECT_NE(FillError(in, {Gap{9, 10, 20}}, {}).find("gaps[0].marker"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace moreau::mocap
