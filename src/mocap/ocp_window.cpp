@@ -211,7 +211,7 @@ control::ContinuationSummary SolveWindow(const WindowProblem& p, const WindowMod
   Eigen::VectorXd warm = WarmStart(p, model, 1.0, copt.gamma_start);
   control::ContinuationSummary cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);
   newton_iterations = cs.newton_iterations;
-  if (!cs.converged) {
+  if (!cs.ok()) {
     copt.stiffness_start = o.stiffness_start;
     copt.gamma_start = o.retry_gamma_start;
     copt.gamma_decrease = 0.1;
@@ -241,10 +241,8 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
     Eigen::VectorXd y;
     const control::ContinuationSummary cs = SolveWindow(p, model, o, y, result.newton_iterations);
     result.residual = cs.last_newton.final_residual;
-    if (!cs.converged) {
-      result.termination = cs.last_newton.termination == control::NewtonTermination::kMaxIterations
-                               ? Termination::kMaxIterations
-                               : Termination::kDiverged;
+    if (!cs.ok()) {
+      result.termination = cs.termination;
       result.message = cs.message;
       return result;
     }

@@ -221,7 +221,7 @@ TEST(ControlSaturating, ControlsBecomeBangBangAsGammaDecreases) {
     e.gamma = gamma;
     const ProblemFamily family = [&e](double p) { return MakeSaturatingProblem(e, p); };
     const ContinuationSummary cs = SolveWithContinuation(family, steps, options, y);
-    ASSERT_TRUE(cs.converged) << "gamma " << gamma << ": " << cs.message;
+    ASSERT_TRUE(cs.ok()) << "gamma " << gamma << ": " << cs.message;
     const PontryaginDiscretization disc(family(1.0), steps);
     PontryaginWorkspace ws;
     values.push_back(DiscreteValue(disc, y, ws));
