@@ -57,6 +57,10 @@ FieldTable<EvaluateGapsSettings> EvaluateGapsFields() {
           "evaluation.gap_seconds", "array of numbers",
           [](Scenario& sc, S& s, const std::string& k) {
             s.evaluation.gap_seconds = sc.GetDoubleArray(k, s.evaluation.gap_seconds);
+            if (s.evaluation.gap_seconds.empty()) sc.Fail(k, "must list at least one duration");
+            for (double d : s.evaluation.gap_seconds) {
+              if (!(d > 0.0)) sc.Fail(k, fmt::format("each duration must be > 0 (got {})", d));
+            }
           },
           [](const S& s) { return nlohmann::json(s.evaluation.gap_seconds); },
           "gap durations, each > 0 (length = duration × rate, rounded)")
