@@ -2,9 +2,9 @@
 """Each filled gap drawn over the observed samples around it (moreau fill-gaps).
 
 usage: plot_gaps.py FILLED_CSV REPORT_JSON OUTPUT_PNG
-FILLED_CSV has columns frame,time,marker,x,y,z (empty x,y,z where still missing); REPORT_JSON has
-"gaps": [{label, first, last, method, status}, ...] with 0-based frames (label: the marker's
-label, as in the CSV; "marker" is its index). One panel per gap (up to 12: filled gaps first, the
+FILLED_CSV has columns frame,time,marker,x,y,z (empty x,y,z where still missing; frame is the
+file's frame number); REPORT_JSON has "units" and "gaps": [{label, first, last, method, status},
+...] with 0-based frames (label: the marker's label, as in the CSV; "marker" is its index). One panel per gap (up to 12: filled gaps first, the
 longest first): x, y and z of the gapped marker against time, observed samples as dots,
 the filled stretch as a line, the gap shaded. Gaps that were not filled are drawn with their
 status in the title.
@@ -23,14 +23,18 @@ MAX_PANELS = 12
 
 
 def read_filled(path):
-    """marker -> list of (frame, time, (x, y, z) or None)."""
-    series = {}
+    """marker -> list of (0-based frame, time, (x, y, z) or None). The CSV's frame column holds the
+    file's frame numbers, which start at the first frame's number (often 1)."""
     with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            p = None
-            if row["x"] != "":
-                p = (float(row["x"]), float(row["y"]), float(row["z"]))
-            series.setdefault(row["marker"], []).append((int(row["frame"]), float(row["time"]), p))
+        rows = list(csv.DictReader(f))
+    first = min((int(row["frame"]) for row in rows), default=0)
+    series = {}
+    for row in rows:
+        p = None
+        if row["x"] != "":
+            p = (float(row["x"]), float(row["y"]), float(row["z"]))
+        series.setdefault(row["marker"], []).append((int(row["frame"]) - first,
+                                                     float(row["time"]), p))
     return series
 
 

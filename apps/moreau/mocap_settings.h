@@ -18,9 +18,10 @@
 
 namespace moreau::cli {
 
-// The method fill-gaps uses when none is named (fill.method). The optimal-control fill, once it
-// exists, becomes the default here.
-inline constexpr mocap::FillMethod kDefaultFillMethod = mocap::FillMethod::kSpline;
+// The method fill-gaps uses when none is named (fill.method): pca, the best of the established
+// methods on both ground-truth recordings (docs/mocap.md) and the only one that fills gaps at the
+// ends of a recording. The optimal-control fill, once it exists, becomes the default here.
+inline constexpr mocap::FillMethod kDefaultFillMethod = mocap::FillMethod::kPca;
 
 // read.zero_is_missing, read.allow_truncated, read.units_if_unstated (ReadOptions).
 FieldTable<mocap::ReadOptions> ReadFields();
