@@ -57,10 +57,12 @@ FieldTable<mocap::PcaFillOptions> PcaFields() {
 
 }  // namespace
 
-FieldTable<mocap::FillOptions> FillMethodFields() {
+FieldTable<mocap::FillOptions> FillOptionFields() {
   using O = mocap::FillOptions;
   FieldTable<O> t;
-  t.Mount("interpolation", &O::interpolation, InterpolationFields())
+  t.Number("fill.max_gap_seconds", &O::max_gap_seconds, Range::NonNegative(),
+           "leave longer gaps missing (too_long); 0: no limit")
+      .Mount("interpolation", &O::interpolation, InterpolationFields())
       .Mount("rigid", &O::rigid, RigidFields())
       .Mount("pca", &O::pca, PcaFields());
   return t;

@@ -26,9 +26,10 @@ inline constexpr mocap::FillMethod kDefaultFillMethod = mocap::FillMethod::kPca;
 // read.zero_is_missing, read.allow_truncated, read.units_if_unstated (ReadOptions).
 FieldTable<mocap::ReadOptions> ReadFields();
 
-// Each method's option block under the name of its FillOptions member: interpolation.*, rigid.*,
-// pca.*. A method with options of its own adds one Mount line here.
-FieldTable<mocap::FillOptions> FillMethodFields();
+// Every FillOptions field but the method: fill.max_gap_seconds, then each method's option block
+// under the name of its member: interpolation.*, rigid.*, pca.*. A method with options of its
+// own adds one Mount line here.
+FieldTable<mocap::FillOptions> FillOptionFields();
 
 // "linear, spline, pchip, rigid, pca".
 std::string FillMethodNames();

@@ -73,12 +73,8 @@ FieldTable<EvaluateGapsSettings> EvaluateGapsFields() {
       .Integer(
           "evaluation.threads", [](auto& s) -> auto& { return s.evaluation.threads; },
           Range::NonNegative(), "OpenMP threads; 0: the default (results do not depend on it)")
-      .Number(
-          "fill.max_gap_seconds",
-          [](auto& s) -> auto& { return s.evaluation.fill.max_gap_seconds; }, Range::NonNegative(),
-          "leave longer gaps missing (too_long); 0: no limit")
       .Mount(
-          "", [](auto& s) -> auto& { return s.evaluation.fill; }, FillMethodFields())
+          "", [](auto& s) -> auto& { return s.evaluation.fill; }, FillOptionFields())
       .Mount("", &S::read, ReadFields())
       .Check("evaluation", [](const S& s) { s.evaluation.Validate(); });
   return t;

@@ -15,10 +15,7 @@ FieldTable<FillGapsSettings> FillGapsFields() {
   t.Choice(
        "fill.method", [](auto& s) -> auto& { return s.fill.method; }, mocap::ParseFillMethod,
        [](mocap::FillMethod m) { return mocap::ToString(m); }, FillMethodNames(), "the fill method")
-      .Number(
-          "fill.max_gap_seconds", [](auto& s) -> auto& { return s.fill.max_gap_seconds; },
-          Range::NonNegative(), "leave longer gaps missing (too_long); 0: no limit")
-      .Mount("", &S::fill, FillMethodFields())
+      .Mount("", &S::fill, FillOptionFields())
       .Mount("", &S::read, ReadFields())
       .Check("fill", [](const S& s) { s.fill.Validate(); });
   return t;
