@@ -86,13 +86,17 @@ def test_fill_gaps_deletes_listed_samples_and_fills_them(tmp_path):
 
 
 def test_fill_gaps_fills_a_recording_with_gaps_and_echoes_settings(tmp_path):
+    # Settings from a scenario file, then --set, then --method (the last word wins).
+    scenario = tmp_path / "fill.toml"
+    scenario.write_text('[fill]\nmethod = "pca"\nmax_gap_seconds = 2.0\n[rigid]\ndonors = 5\n')
     out = tmp_path / "out"
-    r = run_cli("fill-gaps", DATA / "Eb015pr.c3d", "--method", "rigid", "--set", "rigid.donors=4",
-                "--set", "fill.max_gap_seconds=0.5", "--out", out)
+    r = run_cli("fill-gaps", DATA / "Eb015pr.c3d", "--scenario", scenario, "--method", "rigid",
+                "--set", "rigid.donors=4", "--set", "fill.max_gap_seconds=0.5", "--out", out)
     assert r.returncode == 0, r.stderr
     report = json.loads((out / "report.json").read_text())
-    assert report["settings"]["rigid"]["donors"] == 4
-    assert report["settings"]["fill"]["max_gap_seconds"] == 0.5
+    settings = report["settings"]
+    assert settings["fill"] == {"method": "rigid", "max_gap_seconds": 0.5}
+    assert settings["rigid"]["donors"] == 4 and settings["pca"]["explained_fraction"] == 0.99
     assert report["gaps_filled"] + report["gaps_unfilled"] == len(report["gaps"]) == 12
     for g in report["gaps"]:
         if g["last"] - g["first"] + 1 > 0.5 * report["rate"]:
@@ -104,16 +108,6 @@ def test_fill_gaps_fills_a_recording_with_gaps_and_echoes_settings(tmp_path):
             assert all(p is not None and all(map(math.isfinite, p)) for p in values)
         else:
             assert all(p is None for p in values)
-
-
-def test_fill_gaps_reads_a_scenario_file(tmp_path):
-    scenario = tmp_path / "fill.toml"
-    scenario.write_text('[fill]\nmethod = "pca"\n[pca]\nexplained_fraction = 0.95\n')
-    out = tmp_path / "out"
-    r = run_cli("fill-gaps", DATA / "Eb015pr.c3d", "--scenario", scenario, "--out", out)
-    assert r.returncode == 0, r.stderr
-    settings = json.loads((out / "report.json").read_text())["settings"]
-    assert settings["fill"]["method"] == "pca" and settings["pca"]["explained_fraction"] == 0.95
 
 
 def test_evaluate_gaps_writes_rows_statistics_and_figure(tmp_path):
