@@ -19,6 +19,8 @@ void AddRunCommand(CLI::App& app);
 void AddStudyCommand(CLI::App& app);
 void AddControlCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
+void AddFillGapsCommand(CLI::App& app);
+void AddEvaluateGapsCommand(CLI::App& app);
 
 // The arguments of every scenario command: SCENARIO.toml [--set key=value ...] [--out DIR].
 struct ScenarioArgs {

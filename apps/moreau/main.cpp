@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   moreau::cli::AddStudyCommand(app);
   moreau::cli::AddControlCommand(app);
   moreau::cli::AddInspectCommand(app);
+  moreau::cli::AddFillGapsCommand(app);
+  moreau::cli::AddEvaluateGapsCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {

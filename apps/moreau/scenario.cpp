@@ -70,6 +70,18 @@ Scenario Scenario::Load(const std::string& path, const std::vector<std::string>&
     throw InputError(fmt::format("{}: line {}, column {}: {}", path, where.line, where.column,
                                  e.description()));
   }
+  s.ApplyOverrides(overrides);
+  return s;
+}
+
+Scenario Scenario::FromCommandLine(const std::vector<std::string>& overrides) {
+  Scenario s;
+  s.path_ = "command line";
+  s.ApplyOverrides(overrides);
+  return s;
+}
+
+void Scenario::ApplyOverrides(const std::vector<std::string>& overrides) {
   for (const std::string& item : overrides) {
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos || eq == 0) {
@@ -77,7 +89,7 @@ Scenario Scenario::Load(const std::string& path, const std::vector<std::string>&
     }
     const std::string key = item.substr(0, eq);
     const std::vector<std::string> parts = SplitKey(key);
-    toml::table* table = &s.table_;
+    toml::table* table = &table_;
     for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
       toml::node* child = table->get(parts[i]);
       if (child == nullptr) {
@@ -92,7 +104,6 @@ Scenario Scenario::Load(const std::string& path, const std::vector<std::string>&
     toml::table parsed = ParseOverrideValue(item.substr(eq + 1));
     table->insert_or_assign(parts.back(), std::move(*parsed.get("v")));
   }
-  return s;
 }
 
 const toml::node* Scenario::Find(std::string_view key) const {

@@ -22,6 +22,9 @@ class Scenario {
   // Reads PATH and applies OVERRIDES ("key=value", the value parsed as a TOML value, or taken as
   // a string when it is not one). Throws InputError when the file cannot be read or parsed.
   static Scenario Load(const std::string& path, const std::vector<std::string>& overrides);
+  // The overrides alone, for commands whose scenario file is optional; messages name
+  // "command line" where they would name the file.
+  static Scenario FromCommandLine(const std::vector<std::string>& overrides);
 
   const std::string& path() const { return path_; }
   bool Has(std::string_view key) const;
@@ -54,6 +57,7 @@ class Scenario {
  private:
   const toml::node* Find(std::string_view key) const;
   void MarkUsed(std::string_view key);
+  void ApplyOverrides(const std::vector<std::string>& overrides);
 
   std::string path_;
   toml::table table_;

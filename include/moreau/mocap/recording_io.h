@@ -1,6 +1,6 @@
 // Reading and writing motion-capture recordings: C3D (all three processor formats, integer and
 // float storage), TRC (OpenSim's tab-separated marker format) and CSV (one row per frame and
-// marker). docs/mocap_io.md describes the formats and the C3D quirks handled.
+// marker). docs/mocap.md describes the formats and the C3D quirks handled.
 //
 // Missing samples. A C3D point is missing when its residual word is negative, when its three
 // coordinates are exactly zero (ReadOptions::zero_is_missing) or when a coordinate is not finite.

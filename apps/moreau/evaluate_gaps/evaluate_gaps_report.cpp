@@ -1,0 +1,100 @@
+#include "evaluate_gaps/evaluate_gaps_report.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iterator>
+
+#include <fmt/format.h>
+
+#include "output.h"
+
+namespace moreau::cli {
+namespace {
+
+// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+std::string NumberOrEmpty(double x) { return std::isfinite(x) ? fmt::format("{:.9g}", x) : ""; }
+
+}  // namespace
+
+std::string EvaluationCsv(const mocap::EvaluationSummary& summary,
+                          const mocap::Recording& recording) {
+  fmt::memory_buffer csv;
+  auto out = std::back_inserter(csv);
+  fmt::format_to(out,
+                 "method,gap_frames,trial,marker,first_frame,mean_error,max_error,gap_seconds,"
+                 "status\n");
+  for (const mocap::EvaluationRow& r : summary.rows) {
+    fmt::format_to(out, "{},{},{},{},{},{},{},{},{}\n", mocap::ToString(r.method), r.gap_frames,
+                   r.trial, CsvField(recording.labels()[static_cast<std::size_t>(r.marker)]),
+                   r.first_frame, NumberOrEmpty(r.mean_error), NumberOrEmpty(r.max_error),
+                   r.gap_seconds, mocap::ToString(r.status));
+  }
+  return fmt::to_string(csv);
+}
+
+nlohmann::json EvaluationSummaryJson(const EvaluateGapsSettings& settings,
+                                     const mocap::EvaluationSummary& summary,
+                                     const mocap::Recording& recording, const std::string& input) {
+  nlohmann::json j = summary.ToJson();
+  j.erase("rows");
+  j["input"] = input;
+  j["markers"] = recording.markers();
+  j["frames"] = recording.frames();
+  j["rate"] = recording.rate();
+  j["settings"] = EchoEvaluateGapsSettings(settings);
+  return j;
+}
+
+std::string EvaluationTable(const mocap::EvaluationSummary& summary) {
+  const mocap::EvaluationOptions& o = summary.settings;
+  std::string table = fmt::format("{:<8}", "method");
+  for (const mocap::EvaluationStatistics& s : summary.statistics) {
+    if (s.method != o.methods.front()) continue;
+    table += fmt::format(" {:>20}", fmt::format("{} s ({} fr)", s.gap_seconds, s.gap_frames));
+  }
+  table += fmt::format("\n{:<8}", "");
+  for (std::size_t g = 0; g < o.gap_seconds.size(); ++g) {
+    table += fmt::format(" {:>20}", fmt::format("mean / p90 ({})", summary.units));
+  }
+  for (mocap::FillMethod method : o.methods) {
+    table += fmt::format("\n{:<8}", mocap::ToString(method));
+    for (const mocap::EvaluationStatistics& s : summary.statistics) {
+      if (s.method != method) continue;
+      std::string cell = fmt::format("{:.3g} / {:.3g}", s.mean, s.percentile_90);
+      if (s.failed > 0) cell += fmt::format(" ({} failed)", s.failed);
+      table += fmt::format(" {:>20}", cell);
+    }
+  }
+  return table + "\n";
+}
+
+int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
+                       const mocap::EvaluationSummary& summary, const mocap::Recording& recording,
+                       const std::string& input, const std::string& out_dir) {
+  OutputDir out(out_dir);
+  out.WriteText("evaluation.csv", EvaluationCsv(summary, recording));
+  out.WriteText("summary.json",
+                EvaluationSummaryJson(settings, summary, recording, input).dump(2) + "\n");
+  const std::string title =
+      fmt::format("{}: {} markers, {} Hz, {} trials per gap length, error in {}",
+                  std::filesystem::path(input).filename().string(), recording.markers(),
+                  recording.rate(), settings.evaluation.trials, summary.units);
+  RunPlotScript("plot_gap_errors.py", {out.StagedPath("evaluation.csv").string(),
+                                       out.Stage("errors.png").string(), title});
+  out.Commit();
+  fmt::print("{}: {} trials × {} gap lengths × {} methods in {:.3g} s\n", input,
+             settings.evaluation.trials, settings.evaluation.gap_seconds.size(),
+             settings.evaluation.methods.size(), summary.total_seconds);
+  fmt::print("{}", EvaluationTable(summary));
+  fmt::print("wrote {}/evaluation.csv, summary.json, errors.png\n", out.dir().string());
+  return 0;
+}
+
+}  // namespace moreau::cli

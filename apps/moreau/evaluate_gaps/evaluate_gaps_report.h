@@ -1,0 +1,36 @@
+// What `moreau evaluate-gaps` writes: evaluation.csv (one row per method and trial),
+// summary.json (per method and gap length: mean, median and 90th percentile of the per-gap mean
+// error; the settings) and errors.png; and the table it prints (method × gap length).
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "evaluate_gaps/evaluate_gaps_scenario.h"
+#include "moreau/mocap/evaluate.h"
+#include "moreau/mocap/recording.h"
+
+namespace moreau::cli {
+
+// Header method,gap_frames,trial,marker,first_frame,mean_error,max_error,gap_seconds,status;
+// marker is the label, errors in the recording's units (empty when the gap was not filled).
+std::string EvaluationCsv(const mocap::EvaluationSummary& summary,
+                          const mocap::Recording& recording);
+
+// The summary's JSON without the per-trial rows (they are in evaluation.csv), with the input
+// file, the recording's size and rate, and the settings keyed as in a scenario file.
+nlohmann::json EvaluationSummaryJson(const EvaluateGapsSettings& settings,
+                                     const mocap::EvaluationSummary& summary,
+                                     const mocap::Recording& recording, const std::string& input);
+
+// "method × gap length: mean / p90" in the recording's units.
+std::string EvaluationTable(const mocap::EvaluationSummary& summary);
+
+// Writes DIR (staged, committed only once everything is written), prints the table and returns
+// the exit code (0).
+int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
+                       const mocap::EvaluationSummary& summary, const mocap::Recording& recording,
+                       const std::string& input, const std::string& out_dir);
+
+}  // namespace moreau::cli

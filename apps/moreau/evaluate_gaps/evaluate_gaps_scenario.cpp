@@ -1,0 +1,94 @@
+#include "evaluate_gaps/evaluate_gaps_scenario.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "mocap_settings.h"
+
+namespace moreau::cli {
+namespace {
+
+using S = EvaluateGapsSettings;
+
+// evaluation.methods: an array of names or one comma-separated string ("linear,pca").
+void ReadMethods(Scenario& sc, S& s, const std::string& key) {
+  const toml::node* node = sc.GetNode(key);
+  if (node == nullptr) return;
+  std::vector<std::string> names;
+  if (const auto text = node->value_exact<std::string>()) {
+    for (std::size_t start = 0; start <= text->size();) {
+      const std::size_t comma = std::min(text->find(',', start), text->size());
+      names.push_back(text->substr(start, comma - start));
+      start = comma + 1;
+    }
+  } else if (const toml::array* array = node->as_array()) {
+    for (const toml::node& item : *array) {
+      const auto name = item.value_exact<std::string>();
+      if (!name) sc.Fail(key, "expected method names (strings)");
+      names.push_back(*name);
+    }
+  } else {
+    sc.Fail(key, "expected an array of method names or a comma-separated string");
+  }
+  std::vector<mocap::FillMethod>& methods = s.evaluation.methods;
+  methods.clear();
+  for (const std::string& name : names) {
+    WithKey(sc, key, [&] { methods.push_back(mocap::ParseFillMethod(name)); });
+    if (std::count(methods.begin(), methods.end(), methods.back()) > 1) {
+      sc.Fail(key, fmt::format("method '{}' is named twice", name));
+    }
+  }
+}
+
+nlohmann::json EchoMethods(const S& s) {
+  nlohmann::json names = nlohmann::json::array();
+  for (mocap::FillMethod m : s.evaluation.methods) names.push_back(mocap::ToString(m));
+  return names;
+}
+
+}  // namespace
+
+FieldTable<EvaluateGapsSettings> EvaluateGapsFields() {
+  FieldTable<S> t;
+  t.Custom("evaluation.methods", "method names", ReadMethods, EchoMethods,
+           "methods compared: " + FillMethodNames())
+      .Custom(
+          "evaluation.gap_seconds", "array of numbers",
+          [](Scenario& sc, S& s, const std::string& k) {
+            s.evaluation.gap_seconds = sc.GetDoubleArray(k, s.evaluation.gap_seconds);
+            if (s.evaluation.gap_seconds.empty()) sc.Fail(k, "must list at least one duration");
+            for (double d : s.evaluation.gap_seconds) {
+              if (!(d > 0.0)) sc.Fail(k, fmt::format("each duration must be > 0 (got {})", d));
+            }
+          },
+          [](const S& s) { return nlohmann::json(s.evaluation.gap_seconds); },
+          "gap durations, each > 0 (length = duration × rate, rounded)")
+      .Integer(
+          "evaluation.trials", [](auto& s) -> auto& { return s.evaluation.trials; },
+          Range::AtLeast(1), "trials per gap length (one marker, one position each)")
+      .Integer(
+          "evaluation.seed", [](auto& s) -> auto& { return s.evaluation.seed; },
+          Range::NonNegative(), "SplitMix64 seed of the draws")
+      .Integer(
+          "evaluation.threads", [](auto& s) -> auto& { return s.evaluation.threads; },
+          Range::NonNegative(), "OpenMP threads; 0: the default (results do not depend on it)")
+      .Mount(
+          "", [](auto& s) -> auto& { return s.evaluation.fill; }, FillOptionFields())
+      .Mount("", &S::read, ReadFields())
+      .Check("evaluation", [](const S& s) { s.evaluation.Validate(); });
+  return t;
+}
+
+EvaluateGapsSettings ReadEvaluateGapsSettings(Scenario& scenario) {
+  EvaluateGapsSettings settings;
+  EvaluateGapsFields().Read(scenario, settings);
+  scenario.CheckAllKeysUsed();
+  return settings;
+}
+
+nlohmann::json EchoEvaluateGapsSettings(const EvaluateGapsSettings& settings) {
+  return EvaluateGapsFields().Echo(settings);
+}
+
+}  // namespace moreau::cli

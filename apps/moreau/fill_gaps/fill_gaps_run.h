@@ -1,0 +1,34 @@
+// The run of `moreau fill-gaps`: delete the samples GAPS.csv lists, fill every gap, and measure
+// the error where the truth is known (the deleted samples).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "fill_gaps/fill_gaps_scenario.h"
+#include "moreau/mocap/fill.h"
+#include "moreau/mocap/recording.h"
+
+namespace moreau::cli {
+
+// The error of a filled gap whose every sample was deleted from an observed one (recording
+// units): the Euclidean distance between filled and deleted positions over the gap's frames.
+struct DeletedGapError {
+  double mean_error = 0.0;
+  double max_error = 0.0;
+};
+
+struct FillGapsResult {
+  mocap::Recording filled;           // every frame and marker; unfilled samples stay missing
+  std::int64_t samples_deleted = 0;  // observed samples deleted (GAPS.csv)
+  mocap::FillSummary summary;        // one report per gap of the recording after deletion
+  std::vector<std::optional<DeletedGapError>> errors;  // per summary.gaps entry
+};
+
+// Deletes `deletions` from `recording`, then fills every gap (FindGaps) with settings.fill.
+FillGapsResult RunFillGaps(const mocap::Recording& recording,
+                           const std::vector<mocap::Gap>& deletions,
+                           const FillGapsSettings& settings);
+
+}  // namespace moreau::cli

@@ -1,0 +1,122 @@
+#include "fill_gaps/fill_gaps_scenario.h"
+
+#include <charconv>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+
+namespace moreau::cli {
+
+FieldTable<FillGapsSettings> FillGapsFields() {
+  using S = FillGapsSettings;
+  FieldTable<S> t;
+  t.Choice(
+       "fill.method", [](auto& s) -> auto& { return s.fill.method; }, mocap::ParseFillMethod,
+       [](mocap::FillMethod m) { return mocap::ToString(m); }, FillMethodNames(), "the fill method")
+      .Mount("", &S::fill, FillOptionFields())
+      .Mount("", &S::read, ReadFields())
+      .Check("fill", [](const S& s) { s.fill.Validate(); });
+  return t;
+}
+
+FillGapsSettings ReadFillGapsSettings(Scenario& scenario) {
+  FillGapsSettings settings;
+  FillGapsFields().Read(scenario, settings);
+  scenario.CheckAllKeysUsed();
+  return settings;
+}
+
+nlohmann::json EchoFillGapsSettings(const FillGapsSettings& settings) {
+  return FillGapsFields().Echo(settings);
+}
+
+namespace {
+
+std::string_view Trim(std::string_view s) {
+  const auto first = s.find_first_not_of(" \t\r");
+  if (first == std::string_view::npos) return {};
+  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
+}
+
+std::vector<std::string_view> SplitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    fields.push_back(
+        Trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
+    if (comma == std::string_view::npos) return fields;
+    start = comma + 1;
+  }
+}
+
+// A non-negative integer, or -1 when `text` is not one.
+std::int64_t ParseIndex(std::string_view text) {
+  std::int64_t value = -1;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  return ec == std::errc() && end == text.data() + text.size() && value >= 0 ? value : -1;
+}
+
+// "WHERE: FIELD: WHY" (WHERE = "FILE: line N").
+[[noreturn]] void FailAt(const std::string& where, std::string_view field, const std::string& why) {
+  throw InputError(field.empty() ? fmt::format("{}: {}", where, why)
+                                 : fmt::format("{}: {}: {}", where, field, why));
+}
+
+mocap::Gap ParseGapLine(const std::vector<std::string_view>& fields,
+                        const mocap::Recording& recording, const std::string& where) {
+  if (fields.size() != 3) {
+    FailAt(where, "",
+           fmt::format("expected marker,first_frame,last_frame (got {} fields)", fields.size()));
+  }
+  mocap::Gap gap;
+  gap.marker = recording.FindMarker(fields[0]);
+  if (gap.marker < 0) {
+    const std::int64_t index = ParseIndex(fields[0]);
+    if (index < 0 || index >= recording.markers()) {
+      FailAt(where, "marker",
+             fmt::format("'{}' is neither a label of the recording nor a marker index "
+                         "in 0 … {}",
+                         fields[0], recording.markers() - 1));
+    }
+    gap.marker = static_cast<int>(index);
+  }
+  const std::int64_t last_frame = recording.frames() - 1;
+  const char* names[] = {"first_frame", "last_frame"};
+  std::int64_t frames[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    frames[k] = ParseIndex(fields[1 + static_cast<std::size_t>(k)]);
+    if (frames[k] < 0 || frames[k] > last_frame) {
+      FailAt(where, names[k],
+             fmt::format("'{}' is not a frame of the recording (0 … {})",
+                         fields[1 + static_cast<std::size_t>(k)], last_frame));
+    }
+  }
+  if (frames[0] > frames[1]) {
+    FailAt(where, "last_frame", fmt::format("{} is before first_frame {}", frames[1], frames[0]));
+  }
+  gap.first = frames[0];
+  gap.last = frames[1];
+  return gap;
+}
+
+}  // namespace
+
+std::vector<mocap::Gap> ReadGapList(const std::string& path, const mocap::Recording& recording) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot read the file", path));
+  std::vector<mocap::Gap> gaps;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::string_view text = Trim(line);
+    if (text.empty() || text.front() == '#') continue;
+    const std::vector<std::string_view> fields = SplitFields(text);
+    if (gaps.empty() && fields[0] == "marker") continue;  // the header
+    gaps.push_back(ParseGapLine(fields, recording, fmt::format("{}: line {}", path, number)));
+  }
+  return gaps;
+}
+
+}  // namespace moreau::cli

@@ -1,0 +1,61 @@
+// What the motion-capture commands (inspect, fill-gaps, evaluate-gaps) share: their arguments,
+// how a recording is read (read.*), every fill method's option block (interpolation.*, rigid.*,
+// pca.*) and the default method.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "field_table.h"
+#include "moreau/mocap/fill.h"
+#include "moreau/mocap/recording.h"
+#include "moreau/mocap/recording_io.h"
+#include "scenario.h"
+
+namespace moreau::cli {
+
+// The method fill-gaps uses when none is named (fill.method): pca, the best of the established
+// methods on both ground-truth recordings (docs/mocap.md) and the only one that fills gaps at the
+// ends of a recording. The optimal-control fill, once it exists, becomes the default here.
+inline constexpr mocap::FillMethod kDefaultFillMethod = mocap::FillMethod::kPca;
+
+// read.zero_is_missing, read.allow_truncated, read.units_if_unstated (ReadOptions).
+FieldTable<mocap::ReadOptions> ReadFields();
+
+// Every FillOptions field but the method: fill.max_gap_seconds, then each method's option block
+// under the name of its member: interpolation.*, rigid.*, pca.*. A method with options of its
+// own adds one Mount line here.
+FieldTable<mocap::FillOptions> FillOptionFields();
+
+// "linear, spline, pchip, rigid, pca".
+std::string FillMethodNames();
+
+// The arguments of fill-gaps and evaluate-gaps: IN [--scenario FILE] [--set key=value …]
+// [--out DIR]. Dedicated flags (--method, --trials, …) become overrides after the --set ones.
+struct RecordingArgs {
+  std::string recording;
+  std::string scenario;  // optional TOML file with the same keys as --set
+  std::vector<std::string> overrides;
+  std::string out;
+
+  // --out, or out/<recording file stem><suffix>.
+  std::string OutDir(std::string_view suffix) const;
+  // The scenario file (or the command line alone) with the overrides and `flag_overrides`.
+  Scenario LoadSettings(const std::vector<std::string>& flag_overrides) const;
+};
+
+// Adds subcommand NAME with the recording arguments bound to *args; `run` returns the exit code.
+CLI::App* AddRecordingCommand(CLI::App& app, const std::string& name,
+                              const std::string& description, RecordingArgs* args,
+                              const std::string& default_out, std::function<int()> run);
+
+// Reads a recording (format by extension); the reader's warnings go to stderr, one line each.
+mocap::Recording ReadRecordingReportingWarnings(const std::string& path,
+                                                const mocap::ReadOptions& options,
+                                                std::vector<std::string>* warnings = nullptr);
+
+}  // namespace moreau::cli

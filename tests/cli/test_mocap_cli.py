@@ -1,0 +1,212 @@
+"""`moreau fill-gaps` and `moreau evaluate-gaps`: the files they write, and exit code 2 with one
+line and nothing written on bad input."""
+import csv
+import json
+import math
+
+import pytest
+
+from conftest import ROOT, run_cli
+
+DATA = (ROOT.parent / "shared" / "data" / "mocap").resolve()
+
+EVALUATION_COLUMNS = ["method", "gap_frames", "trial", "marker", "first_frame", "mean_error",
+                      "max_error"]
+
+
+def read_csv_points(path):
+    """(0-based frame, marker) -> (x, y, z) or None, from a file of rows frame,time,marker,x,y,z."""
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    first = min(int(r["frame"]) for r in rows)
+    points = {}
+    for r in rows:
+        key = (int(r["frame"]) - first, r["marker"])
+        assert key not in points
+        points[key] = None if r["x"] == "" else (float(r["x"]), float(r["y"]), float(r["z"]))
+    return points
+
+
+def assert_rejected(args, out, *words):
+    r = run_cli(*args, "--out", out)
+    assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    for w in words:
+        assert str(w) in lines[0], (w, lines[0])
+    assert not out.exists() or not any(out.iterdir()), list(out.iterdir())
+
+
+def test_fill_gaps_deletes_listed_samples_and_fills_them(tmp_path):
+    # Qualisys.c3d is complete: the only gaps are those GAPS.csv makes. Marker by label and by
+    # index; linear fill is the straight line between the samples bounding the gap.
+    inventory = json.loads(run_cli("inspect", DATA / "Qualisys.c3d", "--json").stdout)
+    label = inventory["labels"][3]
+    gaps = tmp_path / "gaps.csv"
+    gaps.write_text(f"marker,first_frame,last_frame\n{label},100,119\n7,0,4\n# comment\n10,200,200\n")
+    out = tmp_path / "out"
+    r = run_cli("fill-gaps", DATA / "Qualisys.c3d", "--gaps", gaps, "--method", "linear",
+                "--out", out)
+    assert r.returncode == 0, r.stderr
+    assert "3 gaps" in r.stdout and "filled 2" in r.stdout and "skipped_edge 1" in r.stdout
+
+    report = json.loads((out / "report.json").read_text())
+    assert report["units"] == "mm" and report["samples_deleted"] == 20 + 5 + 1
+    assert report["settings"]["fill"]["method"] == "linear"
+    by_first = {g["first"]: g for g in report["gaps"]}
+    assert set(by_first) == {0, 100, 200}
+    assert (by_first[100]["label"], by_first[100]["last"]) == (label, 119)
+    assert by_first[100]["status"] == "filled" and by_first[200]["status"] == "filled"
+    assert by_first[0]["status"] == "skipped_edge" and by_first[0]["marker"] == 7
+    for g in report["gaps"]:
+        assert g["method"] == "linear" and g["seconds"] >= 0
+    assert by_first[100]["mean_error"] > 0 and by_first[100]["max_error"] >= \
+        by_first[100]["mean_error"]
+    assert by_first[0]["mean_error"] is None
+
+    points = read_csv_points(out / "filled.csv")
+    labels = inventory["labels"]
+    assert len(points) == inventory["frames"] * len(labels)
+    assert all((f, m) in points for f in range(inventory["frames"]) for m in labels)
+    before, after = points[(99, label)], points[(120, label)]
+    for f in range(100, 120):
+        s = (f - 99) / 21
+        for c in range(3):
+            expected = before[c] + s * (after[c] - before[c])
+            assert math.isclose(points[(f, label)][c], expected, rel_tol=1e-12, abs_tol=1e-9)
+    missing = {k for k, p in points.items() if p is None}
+    assert missing == {(f, labels[7]) for f in range(5)}
+
+    # filled.c3d holds the same recording: the unfilled gap is its only gap.
+    c3d = json.loads(run_cli("inspect", out / "filled.c3d", "--json").stdout)
+    assert (c3d["frames"], c3d["markers"], c3d["units"]) == (inventory["frames"], len(labels), "mm")
+    assert [(g["marker"], g["first_frame"], g["last_frame"]) for g in c3d["gaps"]] == \
+        [(labels[7], 0, 4)]
+    assert (out / "gaps.png").stat().st_size > 0
+
+
+def test_fill_gaps_fills_a_recording_with_gaps_and_echoes_settings(tmp_path):
+    # Settings from a scenario file, then --set, then --method (the last word wins).
+    scenario = tmp_path / "fill.toml"
+    scenario.write_text('[fill]\nmethod = "pca"\nmax_gap_seconds = 2.0\n[rigid]\ndonors = 5\n')
+    out = tmp_path / "out"
+    r = run_cli("fill-gaps", DATA / "Eb015pr.c3d", "--scenario", scenario, "--method", "rigid",
+                "--set", "rigid.donors=4", "--set", "fill.max_gap_seconds=0.5", "--out", out)
+    assert r.returncode == 0, r.stderr
+    report = json.loads((out / "report.json").read_text())
+    settings = report["settings"]
+    assert settings["fill"] == {"method": "rigid", "max_gap_seconds": 0.5}
+    assert settings["rigid"]["donors"] == 4 and settings["pca"]["explained_fraction"] == 0.99
+    assert report["gaps_filled"] + report["gaps_unfilled"] == len(report["gaps"]) == 12
+    for g in report["gaps"]:
+        if g["last"] - g["first"] + 1 > 0.5 * report["rate"]:
+            assert g["status"] == "too_long"
+    points = read_csv_points(out / "filled.csv")
+    for g in report["gaps"]:
+        values = [points[(f, g["label"])] for f in range(g["first"], g["last"] + 1)]
+        if g["status"] == "filled":
+            assert all(p is not None and all(map(math.isfinite, p)) for p in values)
+        else:
+            assert all(p is None for p in values)
+
+
+def test_evaluate_gaps_writes_rows_statistics_and_figure(tmp_path):
+    out = tmp_path / "out"
+    r = run_cli("evaluate-gaps", DATA / "Qualisys.c3d", "--gap-seconds", "0.1,0.25", "--trials", 3,
+                "--seed", 7, "--methods", "linear,rigid", "--out", out)
+    assert r.returncode == 0, r.stderr
+    assert "linear" in r.stdout and "rigid" in r.stdout and "mean / p90" in r.stdout
+    with open(out / "evaluation.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0].keys())[:len(EVALUATION_COLUMNS)] == EVALUATION_COLUMNS
+    assert len(rows) == 2 * 3 * 2
+    assert {(r["method"], int(r["gap_frames"])) for r in rows} == \
+        {(m, n) for m in ("linear", "rigid") for n in (20, 50)}
+    for row in rows:  # one marker and one position per trial, shared by the methods
+        twin = [x for x in rows if x["trial"] == row["trial"] and x["gap_frames"] == row["gap_frames"]]
+        assert {(x["marker"], x["first_frame"]) for x in twin} == {(row["marker"], row["first_frame"])}
+        assert float(row["max_error"]) >= float(row["mean_error"]) >= 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["settings"]["evaluation"]["seed"] == 7 and summary["units"] == "mm"
+    assert len(summary["statistics"]) == 4
+    for s in summary["statistics"]:
+        errors = sorted(float(r["mean_error"]) for r in rows
+                        if r["method"] == s["method"] and int(r["gap_frames"]) == s["gap_frames"])
+        assert math.isclose(s["mean_error"], sum(errors) / 3, rel_tol=1e-6)
+        assert math.isclose(s["median_error"], errors[1], rel_tol=1e-6)
+        assert math.isclose(s["p90_error"], errors[1] + 0.8 * (errors[2] - errors[1]), rel_tol=1e-6)
+    assert (out / "errors.png").stat().st_size > 0
+
+
+def test_evaluate_gaps_same_seed_same_rows(tmp_path):
+    def rows(seed, name):
+        out = tmp_path / name
+        r = run_cli("evaluate-gaps", DATA / "upper_body_25hz.c3d", "--gap-seconds", "0.2,0.4",
+                    "--trials", 3, "--seed", seed, "--methods", "spline,pca", "--out", out)
+        assert r.returncode == 0, r.stderr
+        return (out / "evaluation.csv").read_text()
+    first = rows(3, "a")
+    assert rows(3, "b") == first
+    assert rows(4, "c") != first
+
+
+@pytest.mark.parametrize("case", ["missing", "unreadable", "method", "set_key", "out"])
+def test_fill_gaps_bad_input_exits_2_and_writes_nothing(tmp_path, case):
+    recording = DATA / "Eb015pr.c3d"
+    args = ["fill-gaps", recording]
+    out = tmp_path / "out"
+    words = []
+    if case == "missing":
+        args[1] = tmp_path / "absent.c3d"
+        words = [args[1]]
+    elif case == "unreadable":
+        args[1] = tmp_path / "noise.c3d"
+        args[1].write_bytes(b"\x00\x01 not a c3d file" * 40)
+        words = [args[1]]
+    elif case == "method":
+        args += ["--method", "cubic"]
+        words = ["fill.method", "cubic"]
+    elif case == "set_key":
+        args += ["--set", "rigid.donor=4"]
+        words = ["rigid.donor", "unknown key"]
+    else:
+        blocker = tmp_path / "file"
+        blocker.write_text("a file, not a folder")
+        out = blocker / "out"
+        words = [out]
+    assert_rejected(args, out, *words)
+
+
+@pytest.mark.parametrize("line,words", [
+    ("NOT_A_MARKER,10,20", ["line 2", "marker", "NOT_A_MARKER"]),
+    ("26,10,20", ["line 2", "marker", "26"]),
+    ("0,440,450", ["line 2", "last_frame", "450"]),
+    ("0,-1,3", ["line 2", "first_frame"]),
+    ("0,30,20", ["line 2", "last_frame", "before"]),
+    ("0,30", ["line 2", "expected marker,first_frame,last_frame"]),
+])
+def test_fill_gaps_bad_gaps_file_exits_2_and_writes_nothing(tmp_path, line, words):
+    gaps = tmp_path / "gaps.csv"
+    gaps.write_text("marker,first_frame,last_frame\n" + line + "\n")
+    assert_rejected(["fill-gaps", DATA / "Eb015pr.c3d", "--gaps", gaps], tmp_path / "out", gaps,
+                    *words)
+
+
+def test_fill_gaps_missing_gaps_file_exits_2(tmp_path):
+    gaps = tmp_path / "absent.csv"
+    assert_rejected(["fill-gaps", DATA / "Eb015pr.c3d", "--gaps", gaps], tmp_path / "out", gaps)
+
+
+@pytest.mark.parametrize("extra,words", [
+    (["--methods", "linear,cubic"], ["evaluation.methods", "cubic"]),
+    (["--trials", "0"], ["evaluation.trials", "≥ 1"]),
+    (["--gap-seconds", "0.1,-0.2"], ["gap_seconds", "-0.2"]),
+    (["--gap-seconds", "2"], ["gap_seconds", "does not fit"]),  # the recording lasts 1.7 s
+])
+def test_evaluate_gaps_bad_settings_exit_2_and_write_nothing(tmp_path, extra, words):
+    assert_rejected(["evaluate-gaps", DATA / "Qualisys.c3d", *extra], tmp_path / "out", *words)
+
+
+def test_evaluate_gaps_needs_a_complete_recording(tmp_path):
+    assert_rejected(["evaluate-gaps", DATA / "Vicon.c3d", "--trials", 2], tmp_path / "out",
+                    "complete")
