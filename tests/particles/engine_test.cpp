@@ -40,8 +40,8 @@ std::vector<double> RunEngine(const DisksSetup& s, EngineOptions o, double T,
   Engine e(s.model, s.forces, o, s.x0);
   EngineObserver observer;
   if (after) {
-    observer = [&](std::int64_t step, double, std::span<const double>) {
-      if (step > 0) after(e);
+    observer = [&](const Engine& engine) {
+      if (engine.step() > 0) after(engine);
     };
   }
   const EngineSummary summary = e.Run(T, observer);

@@ -27,6 +27,7 @@
 
 namespace moreau::particles::internal {
 struct UnitWall;
+class LexicographicPairList;
 }  // namespace moreau::particles::internal
 
 namespace moreau::pbd {
@@ -94,7 +95,7 @@ class ParticleConstraints final : public Constraints {
   std::vector<double> contact_;   // r_i + r_j per visited pair
   std::vector<double> contact2_;  // contact_² (rounded), the sweep's no-overlap test
   std::vector<double> separated2_;  // the double above contact_²: r2 ≥ it ⇒ fl(√r2) ≥ contact_
-  std::vector<int> row_;            // build buffer: one particle's partners
+  std::unique_ptr<particles::internal::LexicographicPairList> search_;  // kVerletList only
   Vector reference_;                // positions at the last build
   bool built_ = false;
   NeighbourListStats stats_;
