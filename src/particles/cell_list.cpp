@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "moreau/common/error.h"
+#include "particles/parallel.h"
 
 namespace moreau::particles::internal {
 
@@ -54,6 +55,27 @@ void CellGrid::Fit(int dimension, const double* lo_in, const double* hi_in, cons
   }
 }
 
+namespace {
+
+// The smallest and largest coordinate on axis a of the n points x (k coordinates each).
+void AxisRange(const double* x, int n, int k, int a, int threads, double* lo, double* hi) {
+  std::vector<double> mn(static_cast<std::size_t>(threads),
+                         std::numeric_limits<double>::infinity());
+  std::vector<double> mx(static_cast<std::size_t>(threads),
+                         -std::numeric_limits<double>::infinity());
+  ParallelFor(threads, 0, threads, [&](std::int64_t t) {
+    const auto ut = static_cast<std::size_t>(t);
+    for (std::int64_t s = t * n / threads; s < (t + 1) * n / threads; ++s) {
+      mn[ut] = std::min(mn[ut], x[k * s + a]);
+      mx[ut] = std::max(mx[ut], x[k * s + a]);
+    }
+  });
+  *lo = *std::min_element(mn.begin(), mn.end());
+  *hi = *std::max_element(mx.begin(), mx.end());
+}
+
+}  // namespace
+
 bool CellList::KeepsGeometry(const double* lo, const double* hi, double reach) const {
   if (!have_geometry_ || reach_ != reach) return false;
   for (int a = 0; a < grid_.k; ++a) {
@@ -78,18 +100,7 @@ bool CellList::Fit(const double* x, int n, const PeriodicBox& box, double reach,
       hi[a] = box.lo[a] + box.len[a];
       continue;
     }
-    double mn = std::numeric_limits<double>::infinity();
-    double mx = -mn;
-#pragma omp parallel for num_threads(threads) reduction(min                 \
-                                                        : mn) reduction(max \
-                                                                        : mx) schedule(static)
-    for (int s = 0; s < n; ++s) {
-      const double v = x[k * s + a];
-      mn = std::min(mn, v);
-      mx = std::max(mx, v);
-    }
-    lo[a] = mn;
-    hi[a] = mx;
+    AxisRange(x, n, k, a, threads, &lo[a], &hi[a]);
   }
   if (KeepsGeometry(lo, hi, reach)) return false;
   have_geometry_ = true;
@@ -216,15 +227,13 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
   key_.resize(static_cast<std::size_t>(n));
   perm_.resize(static_cast<std::size_t>(n));
   const int k = grid_.k;
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int s = 0; s < n; ++s) {
+  ParallelFor(threads, 0, n, [&](std::int64_t s) {
     key_[static_cast<std::size_t>(s)] = static_cast<int>(rank(grid_.CellOf(x + k * s)));
-  }
+  });
   const int T = threads;
   count_scratch_.resize(static_cast<std::size_t>(T) * ucells);
   std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
-#pragma omp parallel num_threads(T)
-  {
+  InTeam(T, [&] {
     const int t = omp_get_thread_num();
     std::int64_t* cnt = count_scratch_.data() + static_cast<std::size_t>(t) * ucells;
     std::fill(cnt, cnt + cells, 0);
@@ -259,10 +268,9 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
 #pragma omp barrier
     for (int s = sb; s < se; ++s)
       perm_[static_cast<std::size_t>(cnt[key_[static_cast<std::size_t>(s)]]++)] = s;
-  }
+  });
   cell_start_[ucells] = n;
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (std::int64_t c = 0; c < cells; ++c) {
+  ParallelFor(threads, 0, cells, [&](std::int64_t c) {
     const std::int64_t b = cell_start_[static_cast<std::size_t>(c)];
     const std::int64_t e = cell_start_[static_cast<std::size_t>(c) + 1];
     for (std::int64_t i = b + 1; i < e; ++i) {  // insertion sort by id (cells hold few slots)
@@ -274,7 +282,7 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
       }
       perm_[static_cast<std::size_t>(j)] = v;
     }
-  }
+  });
 }
 
 }  // namespace moreau::particles::internal

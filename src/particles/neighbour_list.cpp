@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "particles/parallel.h"
 
 namespace moreau::particles::internal {
 
@@ -118,8 +119,7 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
     chunk_nbr_.resize(static_cast<std::size_t>(chunks));
     chunk_image_.resize(static_cast<std::size_t>(chunks));
   }
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (int q = 0; q < chunks; ++q) {
+  ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
     const int begin = static_cast<int>(static_cast<std::int64_t>(q) * n / chunks);
     const int end = static_cast<int>(static_cast<std::int64_t>(q + 1) * n / chunks);
     std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
@@ -136,7 +136,7 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
       row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(buf.size() - first);
       if (sort_rows) SortRow<P>(buf, img, first);
     }
-  }
+  });
   Concatenate(P, chunks, threads);
 }
 
@@ -154,9 +154,8 @@ void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
   }
   nbr_.resize(static_cast<std::size_t>(total));
   if (periodic) image_.resize(static_cast<std::size_t>(total));
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int q = 0; q < chunks; ++q) {
-    const int begin = static_cast<int>(static_cast<std::int64_t>(q) * n / chunks);
+  ParallelFor(threads, 0, chunks, [&](std::int64_t q) {
+    const int begin = static_cast<int>(q * n / chunks);
     const auto at = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(begin)]);
     const std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
     std::copy(buf.begin(), buf.end(), nbr_.begin() + static_cast<std::ptrdiff_t>(at));
@@ -164,7 +163,7 @@ void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
       const std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
       std::copy(img.begin(), img.end(), image_.begin() + static_cast<std::ptrdiff_t>(at));
     }
-  }
+  });
 }
 
 void NeighbourList::Build(const double* x, const double* radius, const CellList& cells,
@@ -172,8 +171,7 @@ void NeighbourList::Build(const double* x, const double* radius, const CellList&
                           int threads) {
   double* ref = reference_.data();
   const auto total = static_cast<std::int64_t>(reference_.size());
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (std::int64_t i = 0; i < total; ++i) ref[i] = x[i];
+  ParallelFor(threads, 0, total, [&](std::int64_t i) { ref[i] = x[i]; });
   if (box_.k == 1 && box_.any) {
     BuildRows<1, true>(x, radius, cells, members, sort_rows, brute_force, threads);
   } else if (box_.k == 1) {
