@@ -66,7 +66,7 @@ int Run(const RunArgs& args) {
 
   double error = 0.0;
   ProgressBar progress("run", steps);
-  auto constraints = problem.make_constraints();
+  auto constraints = problem.constraints->MakeWorkspace();
   pbd::Vector final_state;
   const pbd::SimulationSummary summary = pbd::Simulate(
       *problem.drift, *constraints, options, problem.x0, problem.T,

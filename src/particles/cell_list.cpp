@@ -64,11 +64,14 @@ void AxisRange(const double* x, int n, int k, int a, int threads, double* lo, do
   std::vector<double> mx(static_cast<std::size_t>(threads),
                          -std::numeric_limits<double>::infinity());
   ParallelFor(threads, 0, threads, [&](std::int64_t t) {
-    const auto ut = static_cast<std::size_t>(t);
+    double low = mn[static_cast<std::size_t>(t)];
+    double high = mx[static_cast<std::size_t>(t)];
     for (std::int64_t s = t * n / threads; s < (t + 1) * n / threads; ++s) {
-      mn[ut] = std::min(mn[ut], x[k * s + a]);
-      mx[ut] = std::max(mx[ut], x[k * s + a]);
+      low = std::min(low, x[k * s + a]);
+      high = std::max(high, x[k * s + a]);
     }
+    mn[static_cast<std::size_t>(t)] = low;
+    mx[static_cast<std::size_t>(t)] = high;
   });
   *lo = *std::min_element(mn.begin(), mn.end());
   *hi = *std::max_element(mx.begin(), mx.end());

@@ -113,9 +113,11 @@ void Prediction::Attraction(const double* x, const double* radius, const Neighbo
 
 namespace {
 
-// The self-propulsion velocity v0 e of a particle at xw (wrapped), added to v.
+// The self-propulsion velocity v0 e of a particle at xw (wrapped), added to v. Inlined: a call in
+// the prediction loop would keep its running maximum in memory.
 template <int K>
-void AddPropulsion(const DriftParameters& d, const double* xw, double* v) {
+[[gnu::always_inline]] inline void AddPropulsion(const DriftParameters& d, const double* xw,
+                                                 double* v) {
   double beyond = 0.0;
   if (d.exit) {
     for (int a = 0; a < K; ++a) beyond += (xw[a] - d.target[a]) * d.exit_direction[a];
@@ -146,46 +148,63 @@ void AddPropulsion(const DriftParameters& d, const double* xw, double* v) {
 
 }  // namespace
 
-template <int K, bool P>
+template <int K, bool P, bool Noise>
 void Prediction::PredictImpl(const double* x, double* y, const int* id, const double* mobility,
                              std::int64_t step, int threads, double* max_move,
                              std::int64_t* bad_id) const {
+  // Plain local scalars, not members or a struct: they stay in registers or the loop's operands
+  // (a member or a struct copy could alias y or crowd out the running maximum).
   const DriftParameters& d = parameters_;
-  const double h = h_;
+  const bool trap = d.trap, any_constant = d.any_constant, propulsion = d.propulsion;
+  const double gamma = d.gamma, sigma = d.sigma, h = h_;
+  double center[3], f0[3];
+  for (int a = 0; a < 3; ++a) {
+    center[a] = d.center[a];
+    f0[a] = d.f0[a];
+  }
+  bool wrap_axis[3] = {false, false, false};
+  double lo[3] = {0, 0, 0}, len[3] = {0, 0, 0};
+  for (int a = 0; a < 3; ++a) {
+    wrap_axis[a] = box_.periodic[a] && (trap || propulsion);
+    lo[a] = box_.lo[a];
+    len[a] = box_.len[a];
+  }
+  const std::uint64_t seed = seed_;
+  const bool uniform_mobility = uniform_mobility_;
+  const int n = n_;
   const double* fa = force_.data();
   const bool attract = !force_.empty();
-  const bool wrap = d.trap || d.propulsion;
   double worst = 0.0;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(max                    \
                                                                          : worst) reduction(min \
                                                                                             : bad)
-  for (int s = 0; s < n_; ++s) {
+  for (int s = 0; s < n; ++s) {
     double xw[K];
     for (int a = 0; a < K; ++a) {
       xw[a] = x[K * s + a];
       if constexpr (P) {
-        if (box_.periodic[a] && wrap) xw[a] = Wrap(xw[a], box_.lo[a], box_.len[a]);
+        if (wrap_axis[a]) xw[a] = Wrap(xw[a], lo[a], len[a]);
       }
     }
     double F[K];
-    for (int a = 0; a < K; ++a) F[a] = d.trap ? -d.gamma * (xw[a] - d.center[a]) : 0.0;
-    if (d.any_constant) {
-      for (int a = 0; a < K; ++a) F[a] += d.f0[a];
+    for (int a = 0; a < K; ++a) F[a] = trap ? -gamma * (xw[a] - center[a]) : 0.0;
+    if (any_constant) {
+      for (int a = 0; a < K; ++a) F[a] += f0[a];
     }
     if (attract) {
       for (int a = 0; a < K; ++a) F[a] += fa[K * s + a];
     }
-    const double mu = uniform_mobility_ ? 1.0 : mobility[s];
+    const double mu = uniform_mobility ? 1.0 : mobility[s];
     double v[K];
     for (int a = 0; a < K; ++a) v[a] = mu * F[a];
-    if (d.propulsion) AddPropulsion<K>(d, xw, v);
+    if (propulsion) AddPropulsion<K>(d, xw, v);
     double yy[K];
     for (int a = 0; a < K; ++a) yy[a] = x[K * s + a] + h * v[a];
-    if (d.sigma > 0.0) {
+    if constexpr (Noise) {
       double xi[3];
-      GaussianNoise(seed_, id[s], step, K, xi);
-      for (int a = 0; a < K; ++a) yy[a] += d.sigma * xi[a];
+      GaussianNoise(seed, id[s], step, K, xi);
+      for (int a = 0; a < K; ++a) yy[a] += sigma * xi[a];
     }
     double d2 = 0.0;
     bool finite = true;
@@ -208,8 +227,13 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const do
 void Prediction::Predict(const double* x, double* y, const int* id, const double* mobility,
                          std::int64_t step, int threads, double* max_move,
                          std::int64_t* bad_id) const {
+  // Without noise the loop makes no call, so its running maximum stays in a register.
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
-    PredictImpl<k, p>(x, y, id, mobility, step, threads, max_move, bad_id);
+    if (parameters_.sigma > 0.0) {
+      PredictImpl<k, p, true>(x, y, id, mobility, step, threads, max_move, bad_id);
+    } else {
+      PredictImpl<k, p, false>(x, y, id, mobility, step, threads, max_move, bad_id);
+    }
   });
 }
 

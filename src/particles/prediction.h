@@ -57,7 +57,7 @@ class Prediction {
   void AttractionImpl(const double* x, const double* radius, const NeighbourList& list,
                       const Colouring& colouring, const CellList& cells, bool lexicographic,
                       int threads);
-  template <int K, bool P>
+  template <int K, bool P, bool Noise>
   void PredictImpl(const double* x, double* y, const int* id, const double* mobility,
                    std::int64_t step, int threads, double* max_move, std::int64_t* bad_id) const;
 

@@ -88,10 +88,8 @@ TEST(ParticleEngine, ColouredOrderConvergesToThePngsReference) {
   c.T = 1.0;
   const DisksSetup s = FromDisksCase(c);
   pbd::StudyProblem problem;
-  const particles::ParticleModel fmodel = c.MakeModel();
-  problem.make_constraints = [fmodel] {
-    return std::unique_ptr<pbd::Constraints>(std::make_unique<pbd::ParticleConstraints>(fmodel));
-  };
+  problem.constraints = std::make_shared<pbd::ParticleSystemModel>(
+      std::make_shared<const particles::ParticleModel>(c.MakeModel()));
   problem.drift = c.MakeDrift();
   problem.x0 = c.InitialState();
   problem.T = c.T;

@@ -1,6 +1,6 @@
 // Particle systems with volume exclusion as a constraint set for the paper's steppers: a thin
 // adapter over the particle core (moreau::particles: the model, its pair and wall projections and
-// its cell grid).
+// its neighbour search).
 //
 // The state is x = (X_0, …, X_{N−1}) ∈ R^{kN}, X_i ∈ R^k, k = model.dimension ∈ {1, 2, 3}. The sets
 // are, in sweep order: every pair S_ij = {‖X_i − X_j‖ ≥ r_i + r_j} for i < j in lexicographic
@@ -12,8 +12,8 @@
 // object is the per-run workspace (the neighbour list), so make one per simulation.
 //
 // With PairSearch::kVerletList only pairs closer than r_i + r_j + skin when the list was built
-// are visited (found with the particle core's cell grid); the list is rebuilt when a particle has
-// moved more than skin/4 since. Pairs left out are farther apart than contact, their projections
+// are visited (found by the particle core's neighbour search, in lexicographic order); the list
+// is rebuilt when a particle has moved more than skin/4 since. Pairs left out are farther apart than contact, their projections
 // are the identity, so the sweep gives the same bits as the all-pairs sweep (kAllPairs, kept for
 // cross-checks), and the constraint evaluations still count all m sets.
 #pragma once
