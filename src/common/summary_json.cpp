@@ -1,5 +1,6 @@
 #include "moreau/common/summary_json.h"
 
+#include <cmath>
 #include <string>
 
 namespace moreau {
@@ -10,6 +11,10 @@ nlohmann::json SummaryJson(Termination termination, std::string_view message,
           {"ok", IsSuccess(termination)},
           {"message", std::string(message)},
           {"total_seconds", total_seconds}};
+}
+
+nlohmann::json FiniteOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
 }  // namespace moreau

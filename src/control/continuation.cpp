@@ -3,12 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stopwatch.h"
+#include "moreau/common/summary_json.h"
 
 namespace moreau::control {
 
@@ -62,12 +63,51 @@ void ContinuationOptions::Validate() const {
   newton.Validate();
 }
 
+nlohmann::json ContinuationOptions::ToJson() const {
+  return {{"path_start", path_start},
+          {"path_increase", path_increase},
+          {"stiffness_start", stiffness_start},
+          {"stiffness_increase", stiffness_increase},
+          {"gamma_start", gamma_start},
+          {"gamma_decrease", gamma_decrease},
+          {"min_increase", min_increase},
+          {"max_solves", max_solves},
+          {"fixed_point", fixed_point.ToJson()},
+          {"newton", newton.ToJson()}};
+}
+
+nlohmann::json ContinuationRecord::ToJson() const {
+  return {{"stage", stage},
+          {"path_fraction", path_fraction},
+          {"stiffness_scale", stiffness_scale},
+          {"gamma", gamma},
+          {"accepted", accepted},
+          {"newton_iterations", newton_iterations},
+          {"residual_norm", FiniteOrNull(residual)},
+          {"termination", std::string(moreau::ToString(termination))}};
+}
+
 std::string ContinuationSummary::BriefReport() const {
   return fmt::format(
       "continuation: {} after {} Newton solves ({} iterations, {:.2f} s); "
       "reached p = {:.4g}, s = {:.4g}, gamma = {:.3g}{}{}",
-      converged ? "converged" : "failed", newton_solves, newton_iterations, time_total,
+      moreau::ToString(termination), newton_solves, newton_iterations, total_seconds,
       path_fraction, stiffness_scale, gamma, message.empty() ? "" : ": ", message);
+}
+
+nlohmann::json ContinuationSummary::ToJson() const {
+  nlohmann::json j = SummaryJson(termination, message, total_seconds);
+  j["newton_solves"] = newton_solves;
+  j["newton_iterations"] = newton_iterations;
+  j["reached"] = {
+      {"path_fraction", path_fraction}, {"stiffness_scale", stiffness_scale}, {"gamma", gamma}};
+  nlohmann::json records = nlohmann::json::array();
+  for (const ContinuationRecord& r : path) records.push_back(r.ToJson());
+  j["continuation_path"] = std::move(records);
+  j["last_newton"] = last_newton.ToJson();
+  j["last_newton"].erase("settings");  // the same as settings.newton
+  j["settings"] = options.ToJson();
+  return j;
 }
 
 TrackingProblem ContinuationProblem(const ProblemFamily& family, double path_fraction,
@@ -99,108 +139,143 @@ Eigen::MatrixXd ReferenceGuess(const PontryaginDiscretization& disc) {
   return z;
 }
 
+namespace {
+
+// One continuation: the Newton solves at (p, s, γ), recorded in the summary.
+class ContinuationRun {
+ public:
+  ContinuationRun(const ProblemFamily& family, int steps, const ContinuationOptions& options,
+                  Eigen::VectorXd& y)
+      : family_(family), steps_(steps), options_(options), y_(y) {
+    summary_.options = options;
+    y_.resize(0);
+  }
+
+  // One Newton solve at (p, s, γ) from `guess` (the fixed-point sweep on the reference when it
+  // has the wrong size); on success y = the solution.
+  bool Attempt(const char* stage, double p, double s, double gamma, Eigen::VectorXd guess) {
+    const TrackingProblem problem = ContinuationProblem(family_, p, s, gamma);
+    const PontryaginDiscretization disc(problem, steps_);
+    if (guess.size() != disc.unknowns()) {
+      FixedPointSweep(disc, ReferenceGuess(disc), options_.fixed_point, guess);
+    }
+    NewtonSummary ns = SolveNewton(disc, options_.newton, guess);
+    ++summary_.newton_solves;
+    summary_.newton_iterations += ns.iterations;
+    ContinuationRecord record;
+    record.stage = stage;
+    record.path_fraction = p;
+    record.stiffness_scale = s;
+    record.gamma = gamma;
+    record.accepted = ns.ok();
+    record.newton_iterations = ns.iterations;
+    record.residual = ns.final_residual;
+    record.termination = ns.termination;
+    summary_.path.push_back(record);
+    const bool ok = ns.ok();
+    summary_.last_newton = std::move(ns);
+    if (ok || y_.size() == 0) y_ = guess;  // keep the best iterate if nothing was accepted yet
+    if (ok) {
+      summary_.path_fraction = p;
+      summary_.stiffness_scale = s;
+      summary_.gamma = gamma;
+    }
+    return ok;
+  }
+
+  bool BudgetLeft() const { return summary_.newton_solves < options_.max_solves; }
+  const Eigen::VectorXd& y() const { return y_; }
+  const NewtonSummary& last_newton() const { return summary_.last_newton; }
+
+  // Success, or the failed solve's termination (kMaxIterations when the last solve succeeded:
+  // the budget ran out).
+  ContinuationSummary Finish(bool converged, std::string message) {
+    if (converged) {
+      summary_.termination = Termination::kConverged;
+    } else {
+      const Termination last = summary_.last_newton.termination;
+      summary_.termination = IsSuccess(last) ? Termination::kMaxIterations : last;
+    }
+    summary_.message = std::move(message);
+    summary_.total_seconds = stopwatch_.Seconds();
+    return summary_;
+  }
+
+ private:
+  const ProblemFamily& family_;
+  int steps_;
+  const ContinuationOptions& options_;
+  Eigen::VectorXd& y_;
+  ContinuationSummary summary_;
+  Stopwatch stopwatch_;
+};
+
+// Raises `value` towards 1 by factors (1 + c), halving c on failure. Returns the reason it gave
+// up, or an empty string once value = 1.
+template <typename TryValue>
+std::string IncreaseToOne(ContinuationRun& run, const char* stage, const char* what,
+                          double& value, double coefficient, double min_increase,
+                          TryValue try_value) {
+  while (value < 1.0) {
+    if (!run.BudgetLeft()) {
+      return fmt::format("Newton solve budget exhausted in the {} stage", stage);
+    }
+    const double trial = std::min(value * (1.0 + coefficient), 1.0);
+    if (try_value(trial)) {
+      value = trial;
+    } else {
+      coefficient *= 0.5;
+      if (coefficient < min_increase) {
+        return fmt::format("{} continuation stalled at {}{}", stage, what, value);
+      }
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps,
                                           const ContinuationOptions& options, Eigen::VectorXd& y,
                                           const Eigen::VectorXd* warm) {
   options.Validate();
-  const auto start = std::chrono::steady_clock::now();
-  ContinuationSummary summary;
-  const TrackingProblem target = family(1.0);
-  const double gamma_target = target.gamma();
+  ContinuationRun run(family, steps, options, y);
+  const double gamma_target = family(1.0).gamma();
   double p = options.path_start;
   double s = options.stiffness_start;
   double gamma = std::max(options.gamma_start, gamma_target);
 
-  // One Newton solve at (p, s, γ) from `guess`; on success y = solution.
-  auto attempt = [&](const char* stage, double pp, double ss, double gg,
-                     Eigen::VectorXd guess) -> bool {
-    const TrackingProblem problem = ContinuationProblem(family, pp, ss, gg);
-    const PontryaginDiscretization disc(problem, steps);
-    if (guess.size() != disc.unknowns()) {
-      FixedPointSweep(disc, ReferenceGuess(disc), options.fixed_point, guess);
-    }
-    NewtonSummary ns = SolveNewton(disc, options.newton, guess);
-    ++summary.newton_solves;
-    summary.newton_iterations += ns.iterations;
-    ContinuationRecord rec;
-    rec.stage = stage;
-    rec.path_fraction = pp;
-    rec.stiffness_scale = ss;
-    rec.gamma = gg;
-    rec.accepted = ns.converged();
-    rec.newton_iterations = ns.iterations;
-    rec.residual = ns.final_residual;
-    rec.termination = ToString(ns.termination);
-    summary.path.push_back(rec);
-    const bool ok = ns.converged();
-    summary.last_newton = std::move(ns);
-    if (ok || y.size() == 0) y = guess;  // keep the best iterate if nothing was accepted yet
-    if (ok) {
-      summary.path_fraction = pp;
-      summary.stiffness_scale = ss;
-      summary.gamma = gg;
-    }
-    return ok;
-  };
-  auto finish = [&](bool converged, std::string message) {
-    summary.converged = converged;
-    summary.message = std::move(message);
-    summary.time_total =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return summary;
-  };
-
-  y.resize(0);
   Eigen::VectorXd first = (warm != nullptr) ? *warm : Eigen::VectorXd();
-  if (!attempt("initial", p, s, gamma, first)) {
-    return finish(false, fmt::format("the initial problem (p = {}, s = {}, gamma = {}) did not "
-                                     "converge: {}",
-                                     p, s, gamma, summary.last_newton.message));
+  if (!run.Attempt("initial", p, s, gamma, first)) {
+    return run.Finish(false, fmt::format("the initial problem (p = {}, s = {}, gamma = {}) did "
+                                         "not converge: {}",
+                                         p, s, gamma, run.last_newton().message));
   }
-  auto budget_left = [&]() { return summary.newton_solves < options.max_solves; };
-
-  double cp = options.path_increase;
-  while (p < 1.0) {
-    if (!budget_left()) return finish(false, "Newton solve budget exhausted in the path stage");
-    const double trial = std::min(p * (1.0 + cp), 1.0);
-    if (attempt("path", trial, s, gamma, y)) {
-      p = trial;
-    } else {
-      cp *= 0.5;
-      if (cp < options.min_increase) {
-        return finish(false, fmt::format("path continuation stalled at p = {}", p));
-      }
-    }
-  }
-  double cs = options.stiffness_increase;
-  while (s < 1.0) {
-    if (!budget_left())
-      return finish(false, "Newton solve budget exhausted in the stiffness stage");
-    const double trial = std::min(s * (1.0 + cs), 1.0);
-    if (attempt("stiffness", p, trial, gamma, y)) {
-      s = trial;
-    } else {
-      cs *= 0.5;
-      if (cs < options.min_increase) {
-        return finish(false, fmt::format("stiffness continuation stalled at scale {}", s));
-      }
-    }
-  }
+  std::string failure =
+      IncreaseToOne(run, "path", "p = ", p, options.path_increase, options.min_increase,
+                    [&](double trial) { return run.Attempt("path", trial, s, gamma, run.y()); });
+  if (!failure.empty()) return run.Finish(false, failure);
+  failure = IncreaseToOne(
+      run, "stiffness", "scale ", s, options.stiffness_increase, options.min_increase,
+      [&](double trial) { return run.Attempt("stiffness", p, trial, gamma, run.y()); });
+  if (!failure.empty()) return run.Finish(false, failure);
   double cd = options.gamma_decrease;
   while (gamma > gamma_target) {
-    if (!budget_left()) return finish(false, "Newton solve budget exhausted in the gamma stage");
+    if (!run.BudgetLeft()) {
+      return run.Finish(false, "Newton solve budget exhausted in the gamma stage");
+    }
     double trial = gamma * cd;
     if (trial <= gamma_target * (1.0 + 1e-12)) trial = gamma_target;
-    if (attempt("gamma", p, s, trial, y)) {
+    if (run.Attempt("gamma", p, s, trial, run.y())) {
       gamma = trial;
     } else {
       cd = std::sqrt(cd);
       if (1.0 - cd < options.min_increase) {
-        return finish(false, fmt::format("gamma continuation stalled at gamma = {}", gamma));
+        return run.Finish(false, fmt::format("gamma continuation stalled at gamma = {}", gamma));
       }
     }
   }
-  return finish(true, "");
+  return run.Finish(true, "");
 }
 
 Eigen::VectorXd InterpolateSolution(const PontryaginDiscretization& from, const Eigen::VectorXd& y,
@@ -218,122 +293,6 @@ Eigen::VectorXd InterpolateSolution(const PontryaginDiscretization& from, const 
     rt.col(k) = (1.0 - th) * rho.col(i) + th * rho.col(i + 1);
   }
   return to.Pack(zt, rt);
-}
-
-double MaxPositionDifference(const TrackingProblem& problem, const Eigen::MatrixXd& za,
-                             const Eigen::MatrixXd& zb, int samples) {
-  const SpringNetwork& net = problem.network();
-  const int d = net.dimension();
-  const int na = static_cast<int>(za.cols()) - 1;
-  const int nb = static_cast<int>(zb.cols()) - 1;
-  auto at = [](const Eigen::MatrixXd& z, int n, double tau, Eigen::VectorXd& out) {
-    const double s = tau * n;
-    const int i = std::min(static_cast<int>(std::floor(s + 1e-9)), n - 1);
-    double th = s - i;
-    if (std::abs(th) < 1e-9) th = 0.0;
-    if (std::abs(th - 1.0) < 1e-9) th = 1.0;
-    out = (1.0 - th) * z.col(i) + th * z.col(i + 1);
-  };
-  Eigen::VectorXd a, b;
-  double diff = 0.0;
-  for (int k = 0; k <= samples; ++k) {
-    const double tau = static_cast<double>(k) / samples;
-    at(za, na, tau, a);
-    at(zb, nb, tau, b);
-    for (int j = 0; j < net.num_free(); ++j) {
-      for (int i = 0; i < d; ++i) {
-        diff = std::max(diff, std::abs(a[2 * d * j + i] - b[2 * d * j + i]));
-      }
-    }
-  }
-  return diff;
-}
-
-double TrackingRms(const PontryaginDiscretization& disc, const Eigen::MatrixXd& z) {
-  const SpringNetwork& net = disc.problem().network();
-  const int d = net.dimension();
-  double sum = 0.0;
-  long count = 0;
-  for (int n = 0; n <= disc.steps(); ++n) {
-    const Instant& in = disc.instant(n);
-    for (int j = 0; j < net.num_free(); ++j) {
-      if (!(in.ref_weight[j] > 0.0)) continue;
-      for (int i = 0; i < d; ++i) {
-        const double e = z(2 * d * j + i, n) - in.ref_position[d * j + i];
-        sum += e * e;
-      }
-      ++count;
-    }
-  }
-  return count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
-}
-
-void StudyOptions::Validate() const {
-  if (steps.empty()) throw InputError("study.steps: needs at least one number of steps");
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    if (steps[i] < 1) {
-      throw InputError(fmt::format("study.steps: every N must be >= 1, got {}", steps[i]));
-    }
-    if (i > 0 && steps[i] <= steps[i - 1]) {
-      throw InputError("study.steps: the numbers of steps must increase");
-    }
-  }
-  if (compare_samples < 0) throw InputError("study.compare_samples: must be >= 0");
-  continuation.Validate();
-}
-
-std::vector<StudyLevel> RunStudy(const ProblemFamily& family, const StudyOptions& options) {
-  options.Validate();
-  const TrackingProblem target = family(1.0);
-  std::vector<StudyLevel> levels;
-  Eigen::VectorXd y_prev;
-  std::unique_ptr<PontryaginDiscretization> disc_prev;
-  for (int steps : options.steps) {
-    const auto start = std::chrono::steady_clock::now();
-    auto disc = std::make_unique<PontryaginDiscretization>(target, steps);
-    StudyLevel level;
-    level.steps = steps;
-    Eigen::VectorXd y;
-    bool done = false;
-    if (options.warm_start && disc_prev != nullptr) {
-      y = InterpolateSolution(*disc_prev, y_prev, *disc);
-      const NewtonSummary ns = SolveNewton(*disc, options.continuation.newton, y);
-      level.newton_iterations = ns.iterations;
-      level.newton_total = ns.iterations;
-      done = ns.converged();
-      level.message = done ? "" : ns.message;
-    }
-    if (!done) {
-      const ContinuationSummary cs = SolveWithContinuation(family, steps, options.continuation, y);
-      level.newton_iterations = cs.last_newton.iterations;
-      level.newton_total += cs.newton_iterations;
-      done = cs.converged;
-      level.message = cs.message;
-    }
-    PontryaginWorkspace ws;
-    Eigen::VectorXd residual;
-    level.converged = done;
-    level.residual = EvaluateResidual(*disc, y, ws, residual);
-    level.value = DiscreteValue(*disc, y, ws);
-    Eigen::MatrixXd rho;
-    disc->Unpack(y, level.z, rho);
-    level.controls = EffectiveControls(*disc, y);
-    level.tracking_rms = TrackingRms(*disc, level.z);
-    level.wall_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    level.diff_previous = levels.empty() ? std::numeric_limits<double>::quiet_NaN()
-                                         : MaxPositionDifference(target, level.z, levels.back().z,
-                                                                 levels.back().steps);
-    if (options.on_level) options.on_level(level);
-    levels.push_back(std::move(level));
-    y_prev = y;
-    disc_prev = std::move(disc);
-  }
-  const int samples = options.compare_samples > 0 ? options.compare_samples : options.steps.front();
-  for (auto& level : levels) {
-    level.diff_finest = MaxPositionDifference(target, level.z, levels.back().z, samples);
-  }
-  return levels;
 }
 
 }  // namespace moreau::control

@@ -16,11 +16,11 @@ const char* ToString(LinearSolverType type) {
   return "unknown";
 }
 
-LinearSolverType ParseLinearSolverType(const std::string& text, const std::string& key) {
+LinearSolverType ParseLinearSolverType(const std::string& text) {
   if (text == "riccati") return LinearSolverType::kRiccati;
   if (text == "sparse_lu") return LinearSolverType::kSparseLU;
   throw InputError(
-      fmt::format("{}: unknown linear solver '{}' (expected riccati or sparse_lu)", key, text));
+      fmt::format("unknown linear solver '{}' (expected riccati or sparse_lu)", text));
 }
 
 bool RiccatiSolver::Factorize(const PontryaginDiscretization& disc,

@@ -2,20 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <memory>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stopwatch.h"
+#include "moreau/common/summary_json.h"
 
 namespace moreau::control {
-namespace {
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
-}  // namespace
 
 void FixedPointOptions::Validate() const {
   if (sweeps < 0) throw InputError(fmt::format("fixed_point.sweeps: must be >= 0, got {}", sweeps));
@@ -27,10 +21,23 @@ void FixedPointOptions::Validate() const {
   }
 }
 
+nlohmann::json FixedPointOptions::ToJson() const {
+  return {{"sweeps", sweeps}, {"damping", damping}, {"tolerance", tolerance}};
+}
+
+nlohmann::json FixedPointSummary::ToJson() const {
+  nlohmann::json j = SummaryJson(termination, message, total_seconds);
+  j["sweeps"] = sweeps;
+  j["change"] = change;
+  j["settings"] = options.ToJson();
+  return j;
+}
+
 FixedPointSummary FixedPointSweep(const PontryaginDiscretization& disc,
                                   const Eigen::MatrixXd& z_guess, const FixedPointOptions& options,
                                   Eigen::VectorXd& y) {
   options.Validate();
+  const Stopwatch stopwatch;
   const int N = disc.steps();
   const int nz = disc.state_size();
   MOREAU_ASSERT(z_guess.rows() == nz && z_guess.cols() == N + 1);
@@ -53,6 +60,7 @@ FixedPointSummary FixedPointSweep(const PontryaginDiscretization& disc,
     }
   };
   FixedPointSummary summary;
+  summary.options = options;
   Eigen::MatrixXd zt(nz, N + 1);
   for (int s = 0; s < options.sweeps; ++s) {
     backward();
@@ -65,18 +73,26 @@ FixedPointSummary FixedPointSweep(const PontryaginDiscretization& disc,
       zt.col(n + 1) = zn + disc.dt() * eval.drho;
     }
     if (!zt.allFinite()) {
-      summary.finite = false;
+      summary.termination = Termination::kDiverged;
+      summary.message = fmt::format("non-finite state in forward sweep {}", s + 1);
       break;
     }
     const double change = (zt - z).lpNorm<Eigen::Infinity>();
     summary.change.push_back(change);
     z += options.damping * (zt - z);
     ++summary.sweeps;
-    if (change < options.tolerance) break;
+    if (change < options.tolerance) {
+      summary.termination = Termination::kConverged;
+      break;
+    }
   }
   backward();
-  if (!rho.allFinite()) summary.finite = false;
+  if (summary.ok() && !rho.allFinite()) {
+    summary.termination = Termination::kDiverged;
+    summary.message = "non-finite dual in the final backward sweep";
+  }
   y = disc.Pack(z, rho);
+  summary.total_seconds = stopwatch.Seconds();
   return summary;
 }
 
@@ -99,26 +115,34 @@ void NewtonOptions::Validate() const {
   }
 }
 
-const char* ToString(NewtonTermination termination) {
-  switch (termination) {
-    case NewtonTermination::kConverged:
-      return "converged";
-    case NewtonTermination::kMaxIterations:
-      return "max_iterations";
-    case NewtonTermination::kLineSearchFailed:
-      return "line_search_failed";
-    case NewtonTermination::kSingularJacobian:
-      return "singular_jacobian";
-    case NewtonTermination::kDiverged:
-      return "diverged";
-  }
-  return "unknown";
+nlohmann::json NewtonOptions::ToJson() const {
+  return {{"max_iterations", max_iterations},
+          {"residual_tolerance", residual_tolerance},
+          {"linear_solver", control::ToString(linear_solver)},
+          {"armijo", armijo},
+          {"min_step", min_step},
+          {"divergence_threshold", divergence_threshold}};
+}
+
+nlohmann::json NewtonSummary::ToJson() const {
+  nlohmann::json j = SummaryJson(termination, message, total_seconds);
+  j["iterations"] = iterations;
+  j["residual_norms"] = residual_norms;
+  j["step_lengths"] = step_lengths;
+  j["initial_residual"] = FiniteOrNull(initial_residual);
+  j["final_residual"] = FiniteOrNull(final_residual);
+  j["residual_jacobian_seconds"] = residual_jacobian_seconds;
+  j["factorize_seconds"] = factorize_seconds;
+  j["solve_seconds"] = solve_seconds;
+  j["line_search_seconds"] = line_search_seconds;
+  j["settings"] = options.ToJson();
+  return j;
 }
 
 std::string NewtonSummary::BriefReport() const {
   return fmt::format("Newton: {} after {} iterations, |F| {:.3e} -> {:.3e} ({:.3f} s){}{}",
                      ToString(termination), iterations, initial_residual, final_residual,
-                     time_total, message.empty() ? "" : ": ", message);
+                     total_seconds, message.empty() ? "" : ": ", message);
 }
 
 std::string NewtonSummary::FullReport() const {
@@ -130,15 +154,17 @@ std::string NewtonSummary::FullReport() const {
   r += fmt::format(
       "  time [s]: residual+Jacobian {:.4f}, factorize {:.4f}, solve {:.4f}, line search {:.4f}, "
       "total {:.4f}\n",
-      time_residual_jacobian, time_factorize, time_solve, time_line_search, time_total);
+      residual_jacobian_seconds, factorize_seconds, solve_seconds, line_search_seconds,
+      total_seconds);
   return r;
 }
 
 NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
                           Eigen::VectorXd& y) {
   options.Validate();
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch total;
   NewtonSummary summary;
+  summary.options = options;
   std::unique_ptr<NewtonLinearSolver> solver;
   if (options.linear_solver == LinearSolverType::kRiccati) {
     solver = std::make_unique<RiccatiSolver>();
@@ -147,47 +173,47 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
   }
   PontryaginWorkspace ws;
   Eigen::VectorXd residual, trial_residual, step, trial;
-  auto t0 = std::chrono::steady_clock::now();
+  Stopwatch phase;
   double norm = EvaluateResidualAndJacobian(disc, y, ws, residual);
-  summary.time_residual_jacobian += Seconds(t0);
+  summary.residual_jacobian_seconds += phase.Seconds();
   summary.initial_residual = norm;
   summary.residual_norms.push_back(norm);
-  auto finish = [&](NewtonTermination termination, std::string message) {
+  auto finish = [&](Termination termination, std::string message) {
     summary.termination = termination;
     summary.message = std::move(message);
     summary.final_residual = summary.residual_norms.back();
-    summary.time_total = Seconds(start);
+    summary.total_seconds = total.Seconds();
     return summary;
   };
   if (!std::isfinite(norm) || norm > options.divergence_threshold) {
-    return finish(NewtonTermination::kDiverged,
+    return finish(Termination::kDiverged,
                   fmt::format("the initial guess has residual {:.3e}", norm));
   }
   for (int it = 0;; ++it) {
     if (norm <= options.residual_tolerance) {
-      return finish(NewtonTermination::kConverged, "");
+      return finish(Termination::kConverged, "");
     }
     if (it >= options.max_iterations) {
-      return finish(NewtonTermination::kMaxIterations,
+      return finish(Termination::kMaxIterations,
                     fmt::format("residual {:.3e} > tolerance {:.1e} after {} iterations", norm,
                                 options.residual_tolerance, it));
     }
-    t0 = std::chrono::steady_clock::now();
+    phase.Restart();
     const bool ok = solver->Factorize(disc, ws.jacobian);
-    summary.time_factorize += Seconds(t0);
+    summary.factorize_seconds += phase.Seconds();
     if (!ok) {
-      return finish(NewtonTermination::kSingularJacobian,
+      return finish(Termination::kSingularJacobian,
                     fmt::format("singular Jacobian at iteration {}", it + 1));
     }
-    t0 = std::chrono::steady_clock::now();
+    phase.Restart();
     solver->Solve(-residual, step);
-    summary.time_solve += Seconds(t0);
+    summary.solve_seconds += phase.Seconds();
     if (!step.allFinite()) {
-      return finish(NewtonTermination::kSingularJacobian,
+      return finish(Termination::kSingularJacobian,
                     fmt::format("non-finite Newton step at iteration {}", it + 1));
     }
     // Backtracking line search on ½‖F‖₂².
-    t0 = std::chrono::steady_clock::now();
+    phase.Restart();
     const double merit = 0.5 * residual.squaredNorm();
     double alpha = 1.0;
     bool accepted = false;
@@ -202,9 +228,9 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
       }
       alpha *= 0.5;
     }
-    summary.time_line_search += Seconds(t0);
+    summary.line_search_seconds += phase.Seconds();
     if (!accepted) {
-      return finish(NewtonTermination::kLineSearchFailed,
+      return finish(Termination::kLineSearchFailed,
                     fmt::format("no decrease of |F| along the Newton direction at iteration {} "
                                 "(residual {:.3e})",
                                 it + 1, norm));
@@ -212,12 +238,12 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
     y.swap(trial);
     ++summary.iterations;
     summary.step_lengths.push_back(alpha);
-    t0 = std::chrono::steady_clock::now();
+    phase.Restart();
     norm = EvaluateResidualAndJacobian(disc, y, ws, residual);
-    summary.time_residual_jacobian += Seconds(t0);
+    summary.residual_jacobian_seconds += phase.Seconds();
     summary.residual_norms.push_back(norm);
     if (!std::isfinite(norm) || norm > options.divergence_threshold) {
-      return finish(NewtonTermination::kDiverged,
+      return finish(Termination::kDiverged,
                     fmt::format("residual {:.3e} at iteration {}", norm, it + 1));
     }
   }

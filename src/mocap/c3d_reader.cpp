@@ -154,7 +154,7 @@ std::string ReadUnits(const std::filesystem::path& path, const c3d::ParameterSec
   const auto strings = p.Strings("POINT", "UNITS");
   if (strings.empty() || strings[0].empty()) return "mm";
   const std::string units = internal::ToLower(strings[0]);
-  if (internal::IsLengthUnit(units)) return units;
+  if (IsLengthUnit(units)) return units;
   warnings.push_back(fmt::format("{}: POINT:UNITS: '{}' is not mm, cm or m; read as mm",
                                  path.string(), strings[0]));
   return "mm";

@@ -124,8 +124,6 @@ std::string ToLower(std::string_view text) {
   return out;
 }
 
-bool IsLengthUnit(std::string_view units) { return units == "mm" || units == "cm" || units == "m"; }
-
 std::string FormatNumber(double value) { return fmt::format("{}", value); }
 
 }  // namespace moreau::mocap::internal

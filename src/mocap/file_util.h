@@ -39,8 +39,6 @@ bool ParseNumber(std::string_view text, double& value);
 // `text` in lower case (ASCII).
 std::string ToLower(std::string_view text);
 
-// True for the length units a Recording holds: "mm", "cm", "m".
-bool IsLengthUnit(std::string_view units);
 
 // Shortest decimal text that reads back to the same double.
 std::string FormatNumber(double value);

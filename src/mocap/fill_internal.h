@@ -12,9 +12,6 @@ namespace moreau::mocap::internal {
 // skipped_edge when the gap touches the first or last frame (no observed sample on one side).
 std::optional<GapFill> EdgeStatus(const Recording& in, const Gap& gap);
 
-// Metres per unit of "mm", "cm" or "m".
-double MetresPerUnit(std::string_view units);
-
 // True when `marker` is observed at every frame first … last.
 bool ObservedThroughout(const Recording& in, int marker, std::int64_t first, std::int64_t last);
 

@@ -24,13 +24,6 @@ std::optional<GapFill> EdgeStatus(const Recording& in, const Gap& gap) {
   return std::nullopt;
 }
 
-double MetresPerUnit(std::string_view units) {
-  if (units == "mm") return 1e-3;
-  if (units == "cm") return 1e-2;
-  if (units == "m") return 1.0;
-  throw InputError(fmt::format("units must be mm, cm or m (got '{}')", units));
-}
-
 bool ObservedThroughout(const Recording& in, int marker, std::int64_t first, std::int64_t last) {
   for (std::int64_t f = first; f <= last; ++f) {
     if (!in.observed(f, marker)) return false;

@@ -127,7 +127,7 @@ GapFill FillGapPca(const Recording& in, const Gap& gap, const FillOptions& optio
   for (Eigen::Index j = 0; j < sd.size(); ++j) {
     if (!(sd[j] > 1e-12 * sd_max)) sd[j] = 1.0;
   }
-  const double sigma = o.weight_scale_m / internal::MetresPerUnit(in.units());
+  const double sigma = o.weight_scale_m / MetresPerUnit(in.units());
   Eigen::RowVectorXd scale(sd.size());
   for (std::size_t j = 0; j < used.markers.size(); ++j) {
     const double w =

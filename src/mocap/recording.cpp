@@ -9,17 +9,14 @@
 
 namespace moreau::mocap {
 
-namespace {
-
-// Metres per unit.
-double UnitLength(std::string_view units) {
+double MetresPerUnit(std::string_view units) {
   if (units == "mm") return 1e-3;
   if (units == "cm") return 1e-2;
   if (units == "m") return 1.0;
   throw InputError(fmt::format("units must be mm, cm or m (got '{}')", units));
 }
 
-}  // namespace
+bool IsLengthUnit(std::string_view units) { return units == "mm" || units == "cm" || units == "m"; }
 
 Recording::Recording(std::vector<std::string> labels, std::int64_t frames, double rate,
                      std::string units)
@@ -28,7 +25,7 @@ Recording::Recording(std::vector<std::string> labels, std::int64_t frames, doubl
   if (!(rate > 0.0) || !std::isfinite(rate)) {
     throw InputError(fmt::format("rate must be > 0 (got {})", rate));
   }
-  (void)UnitLength(units_);
+  (void)MetresPerUnit(units_);
   descriptions_.assign(labels_.size(), "");
   const auto samples = static_cast<std::size_t>(frames) * labels_.size();
   positions_.assign(3 * samples, std::numeric_limits<double>::quiet_NaN());
@@ -60,7 +57,7 @@ int Recording::FindMarker(std::string_view label) const {
 }
 
 void Recording::ConvertUnits(std::string_view units) {
-  const double factor = UnitLength(units_) / UnitLength(units);
+  const double factor = MetresPerUnit(units_) / MetresPerUnit(units);
   if (factor != 1.0) {
     for (double& v : positions_) v *= factor;  // NaN stays NaN
   }

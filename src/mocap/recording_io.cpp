@@ -23,11 +23,11 @@ std::string Extension(const std::filesystem::path& path) {
 }  // namespace
 
 void ReadOptions::Validate() const {
-  if (!units.empty() && !internal::IsLengthUnit(units)) {
+  if (!units.empty() && !IsLengthUnit(units)) {
     throw InputError(
         fmt::format("units: '{}' is not mm, cm or m (or empty to keep the file's)", units));
   }
-  if (!internal::IsLengthUnit(units_if_unstated)) {
+  if (!IsLengthUnit(units_if_unstated)) {
     throw InputError(fmt::format("units_if_unstated: '{}' is not mm, cm or m", units_if_unstated));
   }
   if (!std::isfinite(rate_if_unstated) || rate_if_unstated < 0.0) {

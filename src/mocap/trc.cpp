@@ -53,7 +53,7 @@ TrcHeader ReadTrcHeader(const std::filesystem::path& path,
   const auto units = header.find("Units");
   if (units == header.end()) Fail(path, "Units", "missing from header lines 2–3");
   h.units = internal::ToLower(units->second);
-  if (!internal::IsLengthUnit(h.units)) {
+  if (!IsLengthUnit(h.units)) {
     Fail(path, "Units", fmt::format("'{}' is not mm, cm or m", units->second));
   }
   return h;

@@ -1,10 +1,11 @@
 #include "moreau/pbd/stepper.h"
 
-#include <chrono>
 #include <cmath>
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stopwatch.h"
+#include "moreau/common/summary_json.h"
 
 namespace moreau::pbd {
 
@@ -35,11 +36,36 @@ void StepperOptions::Validate() const {
   if (!(penalty > 0.0)) throw InputError(fmt::format("penalty must be > 0 (got {})", penalty));
 }
 
+nlohmann::json StepperOptions::ToJson() const {
+  return {{"method", std::string(MethodName(method))},
+          {"h", h},
+          {"abstol", abstol},
+          {"reltol", reltol},
+          {"max_sweeps", max_sweeps},
+          {"penalty", penalty},
+          {"monitor_violation", monitor_violation}};
+}
+
+nlohmann::json SimulationSummary::ToJson() const {
+  nlohmann::json j = SummaryJson(termination, message, total_seconds);
+  j["method"] = std::string(MethodName(method));
+  j["h"] = h;
+  j["steps"] = counters.steps;
+  j["final_time"] = final_time;
+  j["constraint_evaluations"] = counters.constraint_evaluations;
+  j["sweeps"] = counters.sweeps;
+  j["capped_steps"] = counters.capped_steps;
+  j["max_violation"] = FiniteOrNull(max_violation);
+  if (!ok()) j["failed_step"] = failed_step;
+  j["settings"] = options.ToJson();
+  return j;
+}
+
 std::string SimulationSummary::BriefReport() const {
   std::string s = fmt::format(
       "{}: h = {:g}, {} steps, {} constraint evaluations, {} sweeps, max violation {:.3e}, {:.3f} s",
       MethodName(method), h, counters.steps, counters.constraint_evaluations, counters.sweeps,
-      max_violation, wall_seconds);
+      max_violation, total_seconds);
   if (counters.capped_steps > 0) s += fmt::format(", {} steps hit max_sweeps", counters.capped_steps);
   if (!ok()) s += ": " + message;
   return s;
@@ -128,8 +154,9 @@ SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
   SimulationSummary summary;
   summary.method = options.method;
   summary.h = options.h;
+  summary.options = options;
 
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch stopwatch;
   Vector x = x0;
   Vector last_good = x0;
   if (observer) observer(0, 0.0, x);
@@ -151,8 +178,7 @@ SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
     last_good = x;
   }
   summary.counters = stepper.counters();
-  summary.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.total_seconds = stopwatch.Seconds();
   if (final_state != nullptr) *final_state = x;
   return summary;
 }

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "moreau/common/error.h"
+#include "moreau/common/summary_json.h"
 
 namespace moreau::pbd {
 
@@ -88,18 +89,29 @@ std::vector<StudyRow> RunStudy(const StudyProblem& problem, const std::vector<Me
       row.label = spec.label;
       row.method = spec.method;
       row.h = h;
-      row.ok = summary.ok() && std::isfinite(error);
-      row.error = row.ok ? error : std::numeric_limits<double>::infinity();
+      row.termination = summary.ok() && !std::isfinite(error) ? Termination::kNonFinite
+                                                              : summary.termination;
+      row.error = row.ok() ? error : std::numeric_limits<double>::infinity();
       row.constraint_evaluations = summary.counters.constraint_evaluations;
       row.sweeps = summary.counters.sweeps;
       row.max_violation = summary.max_violation;
-      row.wall_seconds = summary.wall_seconds;
-      row.message = summary.message;
+      row.total_seconds = summary.total_seconds;
+      row.message = summary.ok() && !row.ok() ? "the error is not finite" : summary.message;
       rows.push_back(row);
       if (progress) progress(static_cast<int>(rows.size()), total);
     }
   }
   return rows;
+}
+
+nlohmann::json StudyRow::ToJson() const {
+  nlohmann::json j = SummaryJson(termination, message, total_seconds);
+  j["h"] = h;
+  j["error"] = FiniteOrNull(error);
+  j["constraint_evaluations"] = constraint_evaluations;
+  j["sweeps"] = sweeps;
+  j["max_violation"] = FiniteOrNull(max_violation);
+  return j;
 }
 
 double ObservedOrder(const std::vector<double>& h, const std::vector<double>& error) {
@@ -125,7 +137,7 @@ double ObservedOrder(const std::vector<double>& h, const std::vector<double>& er
 double ErrorAtBudget(const std::vector<StudyRow>& rows, const std::string& label, double budget) {
   std::vector<std::pair<double, double>> curve;  // (log evaluations, log error)
   for (const StudyRow& r : rows) {
-    if (r.label != label || !r.ok || !(r.error > 0.0)) continue;
+    if (r.label != label || !r.ok() || !(r.error > 0.0)) continue;
     curve.emplace_back(std::log(static_cast<double>(r.constraint_evaluations)), std::log(r.error));
   }
   std::sort(curve.begin(), curve.end());

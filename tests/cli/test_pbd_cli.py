@@ -44,7 +44,7 @@ def test_run_sliding_writes_summary_and_trajectory(tmp_path, write_scenario):
     assert r.returncode == 0, r.stderr
     summary = json.loads((out / "summary.json").read_text())
     for key in ("method", "h", "steps", "constraint_evaluations", "max_violation",
-                "wall_seconds", "error"):
+                "total_seconds", "error"):
         assert key in summary
     assert summary["method"] == "pbd"
     assert summary["steps"] == 100
@@ -87,7 +87,7 @@ def test_study_writes_table_orders_and_figure(tmp_path, write_scenario):
     assert r.returncode == 0, r.stderr
     with open(out / "study.csv") as f:
         rows = list(csv.reader(f))
-    assert rows[0] == ["method", "h", "error", "constraint_evaluations", "wall_seconds"]
+    assert rows[0] == ["method", "h", "error", "constraint_evaluations", "total_seconds"]
     assert len(rows) == 1 + 4 * 4
     summary = json.loads((out / "summary.json").read_text())
     assert abs(summary["methods"]["pbd"]["observed_order"] - 1.0) < 0.15

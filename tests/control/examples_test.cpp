@@ -7,39 +7,32 @@
 #include <cmath>
 
 #include "moreau/control/continuation.h"
+#include "moreau/control/refinement_study.h"
+#include "moreau/control/value_error_bounds.h"
 
 namespace moreau::control {
 namespace {
-
-// Theorem 5.1 with C3 = 0: lower <= u − ū <= upper.
-struct Bounds {
-  double lower, upper;
-};
-Bounds TheoremBounds(double c1, double c2, double c3, double delta, double horizon, double dt) {
-  const double e = std::exp(c2 * horizon);
-  return {-0.5 * c1 * c2 * horizon * ((e - 1.0) * dt + dt * dt) - 0.5 * c1 * c3 * (e - 1.0) * dt -
-              horizon * delta,
-          0.5 * c1 * c2 * (c3 + 1.0) * e * horizon * dt + horizon * delta};
-}
 
 TEST(ControlOscillator, ThesisSection91Reproduced) {
   const OscillatorExample ex;  // the defaults are the values of section 9.1
   const ProblemFamily family = [&ex](double p) { return MakeOscillatorProblem(ex, p); };
   EXPECT_NEAR(family(1.0).RegularizationDelta(), 3.51772e-5, 1e-10);
-  StudyOptions options;
+  RefinementStudyOptions options;
   options.steps = {500, 1000, 1500, 2000, 2500, 3000, 3500, 4000};
   options.compare_samples = 500;
   options.continuation.newton.residual_tolerance = 1e-13;
-  const std::vector<StudyLevel> levels = RunStudy(family, options);
+  const RefinementStudySummary study = RunRefinementStudy(family, options);
+  EXPECT_TRUE(study.ok()) << study.message;
+  const std::vector<RefinementLevel>& levels = study.levels;
   ASSERT_EQ(levels.size(), options.steps.size());
-  const StudyLevel& finest = levels.back();
+  const RefinementLevel& finest = levels.back();
   for (std::size_t i = 0; i < levels.size(); ++i) {
-    const StudyLevel& l = levels[i];
-    EXPECT_TRUE(l.converged) << "N = " << l.steps << ": " << l.message;
+    const RefinementLevel& l = levels[i];
+    EXPECT_TRUE(l.ok()) << "N = " << l.steps << ": " << l.message;
     EXPECT_LT(l.residual, 1e-10) << "N = " << l.steps;
     EXPECT_LE(l.newton_iterations, 8);
-    const Bounds b =
-        TheoremBounds(0.352, 2.00069, 0.0, 3.51772e-5, ex.horizon, ex.horizon / l.steps);
+    const ValueErrorBounds b = Theorem51Bounds({0.352, 2.00069, 0.0, 3.51772e-5}, ex.horizon,
+                                               ex.horizon / l.steps);
     const double diff = finest.value - l.value;  // u − ū_N with u ≈ ū_4000
     EXPECT_GE(diff, b.lower) << "N = " << l.steps;
     EXPECT_LE(diff, b.upper) << "N = " << l.steps;
@@ -79,7 +72,7 @@ TEST(ControlOscillator, DampingMakesTheFixedPointSweepConverge) {
   EXPECT_GT(plain.change.back(), plain.change.front());
   options.damping = 0.3;
   const FixedPointSummary s = FixedPointSweep(disc, ReferenceGuess(disc), options, y);
-  ASSERT_TRUE(s.finite);
+  ASSERT_TRUE(s.ok()) << s.message;
   ASSERT_GE(s.change.size(), 10u);
   for (std::size_t i = 1; i < s.change.size(); ++i) EXPECT_LT(s.change[i], s.change[i - 1]);
   PontryaginWorkspace ws;
@@ -90,8 +83,8 @@ TEST(ControlOscillator, DampingMakesTheFixedPointSweepConverge) {
   FixedPointSweep(disc, ReferenceGuess(disc), FixedPointOptions{}, y2);
   NewtonOptions newton;
   newton.residual_tolerance = 1e-14;
-  ASSERT_TRUE(SolveNewton(disc, newton, y1).converged());
-  ASSERT_TRUE(SolveNewton(disc, newton, y2).converged());
+  ASSERT_TRUE(SolveNewton(disc, newton, y1).ok());
+  ASSERT_TRUE(SolveNewton(disc, newton, y2).ok());
   EXPECT_LT((y1 - y2).lpNorm<Eigen::Infinity>(), 1e-12);
 }
 
@@ -155,20 +148,20 @@ TEST(ControlArm, SolvesDirectlyAtSmallN) {
   const ProblemFamily family = [&ex](double p) { return MakeArmProblem(ex, p); };
   Eigen::VectorXd y;
   const ContinuationSummary s = SolveWithContinuation(family, 64, ContinuationOptions{}, y);
-  ASSERT_TRUE(s.converged) << s.BriefReport();
+  ASSERT_TRUE(s.ok()) << s.BriefReport();
   EXPECT_LT(s.last_newton.final_residual, 1e-10);
 }
 
 TEST(ControlArmSlow, ConvergesWithContinuationAndRefines) {
   const ArmExample ex;
   const ProblemFamily family = [&ex](double p) { return MakeArmProblem(ex, p); };
-  StudyOptions options;
+  RefinementStudyOptions options;
   options.steps = {32, 64, 128, 256, 512};
   options.continuation = ArmContinuation();
-  std::vector<StudyLevel> levels = RunStudy(family, options);
+  const std::vector<RefinementLevel> levels = RunRefinementStudy(family, options).levels;
   for (std::size_t i = 0; i < levels.size(); ++i) {
-    const StudyLevel& l = levels[i];
-    EXPECT_TRUE(l.converged) << "N = " << l.steps << ": " << l.message;
+    const RefinementLevel& l = levels[i];
+    EXPECT_TRUE(l.ok()) << "N = " << l.steps << ": " << l.message;
     EXPECT_LT(l.residual, 1e-10);
     if (i >= 2) {
       // Successive max-norm differences shrink at least by half per doubling of N (measured:
@@ -183,7 +176,7 @@ TEST(ControlArmSlow, ConvergesWithContinuationAndRefines) {
   // The continuation path from the documented start, recorded stage by stage.
   Eigen::VectorXd y;
   const ContinuationSummary cs = SolveWithContinuation(family, 128, ArmContinuation(), y);
-  ASSERT_TRUE(cs.converged) << cs.BriefReport();
+  ASSERT_TRUE(cs.ok()) << cs.BriefReport();
   ASSERT_GE(cs.path.size(), 3u);
   EXPECT_EQ(cs.path.front().stage, "initial");
   EXPECT_EQ(cs.path.front().path_fraction, 0.1);

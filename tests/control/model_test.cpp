@@ -9,6 +9,7 @@
 #include "moreau/common/error.h"
 #include "moreau/control/continuation.h"
 #include "moreau/control/examples.h"
+#include "moreau/control/refinement_study.h"
 #include "moreau/control/spring_network.h"
 
 namespace moreau::control {
@@ -228,7 +229,7 @@ TEST(ControlContinuation, HalvesTheStepOnFailureAndRecordsThePath) {
   options.gamma_decrease = 0.1;
   Eigen::VectorXd y;
   const ContinuationSummary s = SolveWithContinuation(family, 100, options, y);
-  ASSERT_TRUE(s.converged) << s.BriefReport();
+  ASSERT_TRUE(s.ok()) << s.BriefReport();
   ASSERT_GE(s.path.size(), 5u);
   EXPECT_EQ(s.path[0].stage, "initial");
   EXPECT_EQ(s.path[1].stage, "path");
@@ -257,7 +258,7 @@ TEST(ControlContinuation, ReportsFailureWithoutThrowing) {
   };
   Eigen::VectorXd y;
   const ContinuationSummary s = SolveWithContinuation(family, 50, ContinuationOptions{}, y);
-  EXPECT_FALSE(s.converged);
+  EXPECT_FALSE(s.ok());
   EXPECT_NE(s.message.find("did not converge"), std::string::npos) << s.message;
   EXPECT_EQ(s.path.size(), 1u);
   EXPECT_EQ(y.size(), 2 * 2 * 50);  // the best iterate is returned

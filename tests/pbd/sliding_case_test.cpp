@@ -113,7 +113,7 @@ double PbdOrder(const SlidingCase& c, const std::vector<double>& hs) {
   const auto rows = RunStudy(SlidingProblem(c), {ParseMethodSpec("pbd")}, hs, StepperOptions{});
   std::vector<double> h, e;
   for (const StudyRow& r : rows) {
-    EXPECT_TRUE(r.ok);
+    EXPECT_TRUE(r.ok());
     h.push_back(r.h);
     e.push_back(r.error);
   }

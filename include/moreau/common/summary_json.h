@@ -21,4 +21,7 @@ namespace moreau {
 nlohmann::json SummaryJson(Termination termination, std::string_view message,
                            double total_seconds);
 
+// v when finite, else null (JSON has no NaN or infinity).
+nlohmann::json FiniteOrNull(double v);
+
 }  // namespace moreau

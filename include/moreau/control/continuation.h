@@ -1,4 +1,4 @@
-// Parameter continuation (thesis section 8.2) and grid-refinement studies (section 9).
+// Parameter continuation (thesis section 8.2).
 //
 // Continuation solves a sequence of easier problems and warm-starts Newton from each accepted
 // solution, in three stages, each with step halving on failure:
@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,8 @@ struct ContinuationOptions {
   NewtonOptions newton;             // every Newton solve
   // Throws InputError("continuation.<field>: ...") on a value out of range.
   void Validate() const;
+  // The continuation fields, with "fixed_point" and "newton" as nested objects.
+  nlohmann::json ToJson() const;
 };
 
 struct ContinuationRecord {
@@ -50,23 +53,34 @@ struct ContinuationRecord {
   double gamma = 0.0;
   bool accepted = false;
   int newton_iterations = 0;
-  double residual = 0.0;
-  std::string termination;
+  double residual = 0.0;                              // ‖F‖_∞ at the end of the solve
+  Termination termination = Termination::kConverged;  // of the Newton solve
+  // {"stage", "path_fraction", "stiffness_scale", "gamma", "accepted", "newton_iterations",
+  //  "residual_norm", "termination"}
+  nlohmann::json ToJson() const;
 };
 
 struct ContinuationSummary {
-  bool converged = false;  // the target problem was solved
-  std::string message;     // why not, if not
+  // kConverged: the target problem was solved. Otherwise the termination of the Newton solve
+  // that failed, or kMaxIterations when the budget of Newton solves ran out.
+  Termination termination = Termination::kMaxIterations;
+  std::string message;  // why not, if not
   std::vector<ContinuationRecord> path;
   int newton_solves = 0;
   int newton_iterations = 0;  // summed over all solves
-  double time_total = 0.0;
+  double total_seconds = 0.0;
   NewtonSummary last_newton;  // of the final accepted (or last attempted) solve
   // Parameters of the last accepted solution (y belongs to this problem).
   double path_fraction = 0.0;
   double stiffness_scale = 0.0;
   double gamma = 0.0;
+  ContinuationOptions options;  // the settings used
+
+  bool ok() const { return IsSuccess(termination); }
   std::string BriefReport() const;
+  // SummaryJson + newton_solves, newton_iterations, reached {path_fraction, stiffness_scale,
+  // gamma}, continuation_path, last_newton (its ToJson without settings) and settings.
+  nlohmann::json ToJson() const;
 };
 
 // The problem at continuation parameters (p, s, γ).
@@ -88,44 +102,5 @@ ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps
 // Interpolates a solution y on N_from steps to N_to steps (linear in time for z and ρ).
 Eigen::VectorXd InterpolateSolution(const PontryaginDiscretization& from, const Eigen::VectorXd& y,
                                     const PontryaginDiscretization& to);
-
-// One level of a grid-refinement study.
-struct StudyLevel {
-  int steps = 0;
-  bool converged = false;
-  std::string message;
-  double value = 0.0;         // ū_N (31)
-  double residual = 0.0;      // ‖F‖_∞
-  int newton_iterations = 0;  // of the final solve (all solves for this N: newton_total)
-  int newton_total = 0;
-  double wall_seconds = 0.0;
-  double diff_previous = 0.0;  // max |x_N − x_{N_prev}| on the coarser grid's nodes (NaN first)
-  double diff_finest = 0.0;    // max |x_N − x_{N_max}| on `compare_samples` + 1 instants
-  double tracking_rms = 0.0;   // RMS of |x_j(t_n) − X_j(t_n)| over data points
-  Eigen::MatrixXd z;           // n_z × (N+1)
-  Eigen::MatrixXd controls;    // num_springs × N effective rest lengths
-};
-
-struct StudyOptions {
-  std::vector<int> steps;  // increasing N
-  ContinuationOptions continuation;
-  bool warm_start = false;  // first try Newton from the interpolated coarser solution; on
-                            // failure (or when false) solve by continuation from the start
-  int compare_samples = 0;  // instants for diff_finest (0: the coarsest grid's nodes)
-  std::function<void(const StudyLevel&)> on_level;  // called after each N (may be empty)
-  void Validate() const;
-};
-
-// Solves every N (the first with continuation; the next from the interpolated coarser solution,
-// falling back to continuation if Newton fails) and fills the comparison columns.
-std::vector<StudyLevel> RunStudy(const ProblemFamily& family, const StudyOptions& options);
-
-// Max-norm of the position difference between two state trajectories of the same problem on
-// S + 1 equally spaced instants (linear interpolation between grid nodes).
-double MaxPositionDifference(const TrackingProblem& problem, const Eigen::MatrixXd& z_a,
-                             const Eigen::MatrixXd& z_b, int samples);
-
-// RMS of the position tracking error over (node, time-step) pairs with positive weight.
-double TrackingRms(const PontryaginDiscretization& disc, const Eigen::MatrixXd& z);
 
 }  // namespace moreau::control

@@ -25,9 +25,9 @@
 namespace moreau::control {
 
 enum class LinearSolverType { kRiccati, kSparseLU };
-// "riccati" / "sparse_lu". ParseLinearSolverType throws InputError naming `key` otherwise.
+// "riccati" / "sparse_lu". ParseLinearSolverType throws InputError for any other name.
 const char* ToString(LinearSolverType type);
-LinearSolverType ParseLinearSolverType(const std::string& text, const std::string& key);
+LinearSolverType ParseLinearSolverType(const std::string& text);
 
 class NewtonLinearSolver {
  public:

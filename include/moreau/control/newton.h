@@ -12,9 +12,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "moreau/common/termination.h"
 #include "moreau/control/linear_solver.h"
 #include "moreau/control/pontryagin.h"
 
@@ -26,12 +28,21 @@ struct FixedPointOptions {
   double tolerance = 0.0;  // stop early when max |z̃ − z| < tolerance (0: never)
   // Throws InputError("fixed_point.<field>: ...") on sweeps < 0 or θ ∉ (0, 1].
   void Validate() const;
+  nlohmann::json ToJson() const;  // {"sweeps", "damping", "tolerance"}
 };
 
 struct FixedPointSummary {
-  int sweeps = 0;
+  // kConverged: a sweep changed z by less than the tolerance; kCompleted: every sweep ran;
+  // kDiverged: a sweep produced a non-finite value.
+  Termination termination = Termination::kCompleted;
+  std::string message;         // why it failed (empty on success)
+  int sweeps = 0;              // forward sweeps done
   std::vector<double> change;  // max |z̃ − z| per forward sweep
-  bool finite = true;          // false if the sweep produced a non-finite value
+  double total_seconds = 0.0;
+  FixedPointOptions options;   // the settings used
+
+  bool ok() const { return IsSuccess(termination); }
+  nlohmann::json ToJson() const;  // SummaryJson + sweeps, change, settings
 };
 
 // `z_guess`: n_z × (N+1) state trajectory guess (column 0 is replaced by z(0)). Writes y.
@@ -48,34 +59,36 @@ struct NewtonOptions {
   double divergence_threshold = 1e12;  // ‖F‖_∞ above this (or non-finite) counts as divergence
   // Throws InputError("newton.<field>: ...") on a value out of range.
   void Validate() const;
+  // {"max_iterations", "residual_tolerance", "linear_solver", "armijo", "min_step",
+  //  "divergence_threshold"}
+  nlohmann::json ToJson() const;
 };
-
-enum class NewtonTermination {
-  kConverged,         // ‖F‖_∞ <= tolerance
-  kMaxIterations,     // iteration limit reached
-  kLineSearchFailed,  // no step length >= min_step decreased the merit
-  kSingularJacobian,  // the linear solver met a singular (or non-finite) pivot block
-  kDiverged,          // the residual is non-finite or above the divergence threshold
-};
-const char* ToString(NewtonTermination termination);
 
 struct NewtonSummary {
-  NewtonTermination termination = NewtonTermination::kMaxIterations;
+  // kConverged: ‖F‖_∞ <= tolerance; kMaxIterations: iteration limit reached; kLineSearchFailed:
+  // no step length >= min_step decreased the merit; kSingularJacobian: the linear solver met a
+  // singular (or non-finite) pivot block; kDiverged: the residual is non-finite or above the
+  // divergence threshold.
+  Termination termination = Termination::kMaxIterations;
   std::string message;
   int iterations = 0;                  // Newton steps taken (accepted)
   std::vector<double> residual_norms;  // ‖F‖_∞ at the start and after each accepted step
   std::vector<double> step_lengths;    // α of each accepted step
   double initial_residual = 0.0;
   double final_residual = 0.0;
-  double time_residual_jacobian = 0.0;  // seconds: F and Jacobian evaluation
-  double time_factorize = 0.0;          // seconds: linear solver factorisation
-  double time_solve = 0.0;              // seconds: triangular/Riccati solves
-  double time_line_search = 0.0;        // seconds: residual evaluations in the line search
-  double time_total = 0.0;
+  double residual_jacobian_seconds = 0.0;  // F and Jacobian evaluation
+  double factorize_seconds = 0.0;          // linear solver factorisation
+  double solve_seconds = 0.0;              // triangular/Riccati solves
+  double line_search_seconds = 0.0;        // residual evaluations in the line search
+  double total_seconds = 0.0;              // the whole solve
+  NewtonOptions options;                   // the settings used
 
-  bool converged() const { return termination == NewtonTermination::kConverged; }
+  bool ok() const { return IsSuccess(termination); }
   std::string BriefReport() const;  // one line
   std::string FullReport() const;   // residual and step length per iteration, time per phase
+  // SummaryJson + iterations, residual_norms, step_lengths, initial/final_residual, the phase
+  // *_seconds and settings.
+  nlohmann::json ToJson() const;
 };
 
 // Newton on F(y) = 0 starting from y (overwritten by the best iterate).

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -83,6 +84,11 @@ class Recording {
   std::vector<double> positions_;       // frames · markers · 3
   std::vector<std::uint8_t> observed_;  // frames · markers
 };
+
+// Metres per unit for the length units a Recording holds ("mm", "cm", "m"); InputError otherwise.
+double MetresPerUnit(std::string_view units);
+// True for "mm", "cm" and "m".
+bool IsLengthUnit(std::string_view units);
 
 // A run of consecutive missing frames of one marker: frames first … last (0-based, inclusive),
 // with an observed sample (or the recording's end) on each side.

@@ -16,6 +16,8 @@
 #include <string>
 #include <string_view>
 
+#include <nlohmann/json.hpp>
+
 #include "moreau/common/termination.h"
 #include "moreau/common/steps.h"
 #include "moreau/pbd/constraints.h"
@@ -48,6 +50,8 @@ struct StepperOptions {
 
   // Throws InputError naming the field.
   void Validate() const;
+  // {"method", "h", "abstol", "reltol", "max_sweeps", "penalty", "monitor_violation"}
+  nlohmann::json ToJson() const;
 };
 
 struct StepCounters {
@@ -63,13 +67,17 @@ struct SimulationSummary {
   double final_time = 0.0;
   StepCounters counters;
   double max_violation = 0.0;  // max over all steps of Constraints::MaxViolation
-  double wall_seconds = 0.0;
-  Termination termination = Termination::kCompleted;
+  double total_seconds = 0.0;  // the whole time loop
+  Termination termination = Termination::kCompleted;  // kCompleted or kNonFinite
   std::string message;         // why it stopped early, with the step and time
   std::int64_t failed_step = -1;
+  StepperOptions options;      // the settings used
 
-  bool ok() const { return termination == Termination::kCompleted; }
+  bool ok() const { return IsSuccess(termination); }
   std::string BriefReport() const;
+  // SummaryJson + method, h, steps, final_time, constraint_evaluations, sweeps, capped_steps,
+  // max_violation, failed_step (when it failed) and settings.
+  nlohmann::json ToJson() const;
 };
 
 // One time stepper with its preallocated workspace. Holds references: the drift and the

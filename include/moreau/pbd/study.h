@@ -99,9 +99,14 @@ struct StudyRow {
   std::int64_t constraint_evaluations = 0;
   std::int64_t sweeps = 0;
   double max_violation = 0.0;
-  double wall_seconds = 0.0;
-  bool ok = true;
+  double total_seconds = 0.0;
+  // kCompleted, or kNonFinite when the run or its error stopped being finite.
+  Termination termination = Termination::kCompleted;
   std::string message;
+
+  bool ok() const { return IsSuccess(termination); }
+  // SummaryJson + h, error, constraint_evaluations, sweeps, max_violation (non-finite as null).
+  nlohmann::json ToJson() const;
 };
 
 // Runs every method at every h (from `base` for tolerances and γ). progress, if set, is called

@@ -1,0 +1,273 @@
+// A command's scenario fields in one list: key, type, range, help and the member each fills.
+//
+// The table drives everything a scenario file needs, so each field is named once:
+//   Read(scenario, settings)  reads every field present into its member (absent fields keep the
+//                             member's value: the default of the settings struct), checks the
+//                             type and the range, then runs the cross-field checks; errors are
+//                             InputError "FILE: KEY: REASON";
+//   Echo(settings)            the JSON of the settings used ({"solver": {"h": …}, …});
+//   Describe(settings)        one line per field: key, type, default, range, help.
+// A field's member is reached through an accessor: a pointer to member (&Options::h) or a generic
+// lambda `[](auto& s) -> auto& { return s.newton.armijo; }` (called with S& to read, const S& to
+// echo). Mount() reuses the table of a sub-struct (e.g. the stepper options) under a prefix.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "moreau/common/error.h"
+#include "scenario.h"
+
+namespace moreau::cli {
+
+// The allowed values of a numeric field.
+struct Range {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_open = false;
+  bool max_open = false;
+  std::string why;  // added to the error message ("so that the time step T/N is positive")
+
+  static Range Any() { return {}; }
+  static Range Positive() { return {0.0, Range{}.max, true, false, ""}; }      // > 0
+  static Range NonNegative() { return {0.0, Range{}.max, false, false, ""}; }  // ≥ 0
+  static Range AtLeast(double a) { return {a, Range{}.max, false, false, ""}; }
+  static Range Closed(double a, double b) { return {a, b, false, false, ""}; }   // [a, b]
+  static Range Open(double a, double b) { return {a, b, true, true, ""}; }       // (a, b)
+  static Range LeftOpen(double a, double b) { return {a, b, true, false, ""}; }  // (a, b]
+  Range Because(std::string reason) const;
+
+  bool Contains(double v) const;
+  std::string Describe() const;  // "> 0", "≥ 1", "in [3, 1000]", "" for Any()
+  // Throws through scenario.Fail: "must be > 0 (got -1)" (+ why).
+  void Check(const Scenario& scenario, std::string_view key, double v, std::string_view got) const;
+};
+
+// Sets j[a][b]… = value for the dotted key "a.b…".
+void SetDotted(nlohmann::json& j, std::string_view key, nlohmann::json value);
+// Runs `check`; an InputError it throws is re-thrown as "FILE: KEY: REASON".
+void WithKey(const Scenario& scenario, std::string_view key, const std::function<void()>& check);
+
+template <class S>
+class FieldTable {
+ public:
+  struct Field {
+    std::string key;
+    std::string type;  // "number", "integer", "boolean", "string", "one of …", …
+    std::string range;
+    std::string help;
+    bool required = false;
+    std::function<void(Scenario&, S&, const std::string& key)> read;
+    std::function<nlohmann::json(const S&)> echo;  // null json: not echoed
+  };
+
+  template <class A>
+  FieldTable& Number(std::string key, A ref, Range range, std::string help) {
+    return Add({std::move(key), "number", range.Describe(), std::move(help), false,
+                [ref, range](Scenario& sc, S& s, const std::string& k) {
+                  double& v = std::invoke(ref, s);
+                  v = sc.GetDouble(k, v);
+                  range.Check(sc, k, v, fmt::format("{}", v));
+                },
+                Echoer(ref)});
+  }
+
+  // An optional number: absent leaves the member empty (and unechoed).
+  template <class A>
+  FieldTable& OptionalNumber(std::string key, A ref, Range range, std::string help) {
+    return Add({std::move(key), "number (optional)", range.Describe(), std::move(help), false,
+                [ref, range](Scenario& sc, S& s, const std::string& k) {
+                  std::optional<double>& v = std::invoke(ref, s);
+                  if (sc.Has(k)) {
+                    v = sc.GetDouble(k, 0.0);
+                    range.Check(sc, k, *v, fmt::format("{}", *v));
+                  } else {
+                    (void)sc.GetNode(k);  // known key, absent
+                  }
+                },
+                [ref](const S& s) {
+                  const std::optional<double>& v = std::invoke(ref, s);
+                  return v ? nlohmann::json(*v) : nlohmann::json();
+                }});
+  }
+
+  // Any integer type; the range is checked before the value is narrowed to T.
+  template <class A>
+  FieldTable& Integer(std::string key, A ref, Range range, std::string help) {
+    using T = std::remove_reference_t<std::invoke_result_t<A, S&>>;
+    static_assert(std::is_integral_v<T>);
+    const Range type_range = Range::Closed(static_cast<double>(std::numeric_limits<T>::min()),
+                                           static_cast<double>(std::numeric_limits<T>::max()));
+    return Add({std::move(key), "integer", range.Describe(), std::move(help), false,
+                [ref, range, type_range](Scenario& sc, S& s, const std::string& k) {
+                  T& v = std::invoke(ref, s);
+                  const std::int64_t read = sc.GetInt(k, static_cast<std::int64_t>(v));
+                  const std::string got = fmt::format("{}", read);
+                  range.Check(sc, k, static_cast<double>(read), got);
+                  type_range.Check(sc, k, static_cast<double>(read), got);
+                  v = static_cast<T>(read);
+                },
+                Echoer(ref)});
+  }
+
+  template <class A>
+  FieldTable& Flag(std::string key, A ref, std::string help) {
+    return Add({std::move(key), "boolean", "", std::move(help), false,
+                [ref](Scenario& sc, S& s, const std::string& k) {
+                  bool& v = std::invoke(ref, s);
+                  v = sc.GetBool(k, v);
+                },
+                Echoer(ref)});
+  }
+
+  template <class A>
+  FieldTable& Text(std::string key, A ref, std::string help) {
+    return Add({std::move(key), "string", "", std::move(help), false,
+                [ref](Scenario& sc, S& s, const std::string& k) {
+                  std::string& v = std::invoke(ref, s);
+                  v = sc.GetString(k, v);
+                },
+                Echoer(ref)});
+  }
+
+  // An enum written by name: parse(name) throws InputError for an unknown name.
+  template <class A, class Parse, class Name>
+  FieldTable& Choice(std::string key, A ref, Parse parse, Name name, std::string choices,
+                     std::string help) {
+    return Add({std::move(key), "one of " + choices, "", std::move(help), false,
+                [ref, parse, name](Scenario& sc, S& s, const std::string& k) {
+                  auto& v = std::invoke(ref, s);
+                  const std::string text = sc.GetString(k, std::string(name(v)));
+                  WithKey(sc, k, [&] { v = parse(text); });
+                },
+                [ref, name](const S& s) {
+                  return nlohmann::json(std::string(name(std::invoke(ref, s))));
+                }});
+  }
+
+  // A fixed number of numbers (std::array<double, N>).
+  template <class A>
+  FieldTable& Numbers(std::string key, A ref, std::string help) {
+    constexpr std::size_t N = std::tuple_size_v<std::remove_cvref_t<std::invoke_result_t<A, S&>>>;
+    return Add({std::move(key), fmt::format("{} numbers", N), "", std::move(help), false,
+                [ref](Scenario& sc, S& s, const std::string& k) {
+                  auto& v = std::invoke(ref, s);
+                  const std::vector<double> read = sc.GetDoubleArray(k, {v.begin(), v.end()});
+                  if (read.size() != v.size()) {
+                    sc.Fail(k, fmt::format("expected {} numbers", v.size()));
+                  }
+                  std::copy(read.begin(), read.end(), v.begin());
+                },
+                Echoer(ref)});
+  }
+
+  // A structured value read by hand (arrays of tables, matrices); `echo` may be empty or return
+  // null (not echoed).
+  FieldTable& Custom(std::string key, std::string type,
+                     std::function<void(Scenario&, S&, const std::string& key)> read,
+                     std::function<nlohmann::json(const S&)> echo, std::string help) {
+    return Add({std::move(key), std::move(type), "", std::move(help), false, std::move(read),
+                std::move(echo)});
+  }
+
+  // Marks the field added last as required: absent, Read fails "required key is missing".
+  FieldTable& Required() {
+    fields_.back().required = true;
+    return *this;
+  }
+
+  // A check over several fields, run after every field is read; its InputError names `key`.
+  FieldTable& Check(std::string key, std::function<void(const S&)> check) {
+    checks_.emplace_back(std::move(key), std::move(check));
+    return *this;
+  }
+
+  // Every field and check of `sub` (a table of the struct ref(s)) under "prefix." (an empty
+  // prefix keeps the sub-table's keys).
+  template <class T, class A>
+  FieldTable& Mount(const std::string& prefix, A ref, const FieldTable<T>& sub) {
+    for (const typename FieldTable<T>::Field& f : sub.fields()) {
+      Add({Prefixed(prefix, f.key), f.type, f.range, f.help, f.required,
+           [ref, read = f.read](Scenario& sc, S& s, const std::string& k) {
+             read(sc, std::invoke(ref, s), k);
+           },
+           f.echo ? std::function<nlohmann::json(const S&)>(
+                        [ref, echo = f.echo](const S& s) { return echo(std::invoke(ref, s)); })
+                  : nullptr});
+    }
+    for (const auto& [key, check] : sub.checks()) {
+      checks_.emplace_back(Prefixed(prefix, key),
+                           [ref, check](const S& s) { check(std::invoke(ref, s)); });
+    }
+    return *this;
+  }
+
+  void Read(Scenario& scenario, S& settings) const {
+    for (const Field& f : fields_) {
+      if (f.required && !scenario.Has(f.key)) scenario.Fail(f.key, "required key is missing");
+      f.read(scenario, settings, f.key);
+    }
+    for (const auto& [key, check] : checks_) WithKey(scenario, key, [&] { check(settings); });
+  }
+
+  nlohmann::json Echo(const S& settings) const {
+    nlohmann::json j = nlohmann::json::object();
+    for (const Field& f : fields_) {
+      if (!f.echo) continue;
+      nlohmann::json value = f.echo(settings);
+      if (!value.is_null()) SetDotted(j, f.key, std::move(value));
+    }
+    return j;
+  }
+
+  // "key  type  default  range  help", one line per field (the defaults are those of `defaults`).
+  std::string Describe(const S& defaults) const {
+    std::string out;
+    for (const Field& f : fields_) {
+      const nlohmann::json value = f.echo ? f.echo(defaults) : nlohmann::json();
+      out += fmt::format("{:<32} {:<18} {:<14} {:<16} {}\n", f.key, f.type,
+                         f.required        ? "(required)"
+                         : value.is_null() ? "-"
+                                           : value.dump(),
+                         f.range, f.help);
+    }
+    return out;
+  }
+
+  const std::vector<Field>& fields() const { return fields_; }
+  const std::vector<std::pair<std::string, std::function<void(const S&)>>>& checks() const {
+    return checks_;
+  }
+
+ private:
+  static std::string Prefixed(const std::string& prefix, const std::string& key) {
+    return prefix.empty() ? key : prefix + "." + key;
+  }
+
+  FieldTable& Add(Field field) {
+    fields_.push_back(std::move(field));
+    return *this;
+  }
+
+  template <class A>
+  static std::function<nlohmann::json(const S&)> Echoer(A ref) {
+    return [ref](const S& s) { return nlohmann::json(std::invoke(ref, s)); };
+  }
+
+  std::vector<Field> fields_;
+  std::vector<std::pair<std::string, std::function<void(const S&)>>> checks_;
+};
+
+}  // namespace moreau::cli

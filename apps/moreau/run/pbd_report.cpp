@@ -1,0 +1,74 @@
+#include "run/pbd_report.h"
+
+#include <cstdio>
+#include <iterator>
+
+#include <fmt/format.h>
+
+#include "output.h"
+
+namespace moreau::cli {
+
+std::string PbdTrajectoryCsv(const PbdScenario& scenario, const PbdRunResult& result) {
+  fmt::memory_buffer csv;
+  auto out = std::back_inserter(csv);
+  if (scenario.is_disks()) {
+    fmt::format_to(out, "t,i,x,y\n");
+    for (const TrajectoryFrame& f : result.frames) {
+      for (int i = 0; i < static_cast<int>(f.x.size() / 2); ++i) {
+        fmt::format_to(out, "{:.17g},{},{:.17g},{:.17g}\n", f.t, i, f.x[2 * i], f.x[2 * i + 1]);
+      }
+    }
+    return fmt::to_string(csv);
+  }
+  fmt::format_to(out, "t");
+  const int d = scenario.sliding.dimension;
+  for (int i = 0; i < d; ++i) fmt::format_to(out, ",x{}", i);
+  fmt::format_to(out, "\n");
+  for (const TrajectoryFrame& f : result.frames) {
+    fmt::format_to(out, "{:.17g}", f.t);
+    for (int i = 0; i < static_cast<int>(f.x.size()); ++i) fmt::format_to(out, ",{:.17g}", f.x[i]);
+    fmt::format_to(out, "\n");
+  }
+  return fmt::to_string(csv);
+}
+
+nlohmann::json PbdRunJson(const PbdScenario& scenario, const PbdRunResult& result,
+                          const std::string& scenario_file) {
+  nlohmann::json j = result.summary.ToJson();
+  if (result.error) j["error"] = *result.error;
+  if (result.neighbour_list) {
+    j["neighbour_list_builds"] = result.neighbour_list->neighbour_list_builds;
+    j["candidate_pairs"] = result.neighbour_list->candidate_pairs;
+  }
+  j["settings"] = EchoPbdScenario(scenario);
+  j["scenario_file"] = scenario_file;
+  return j;
+}
+
+int ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
+                 const std::string& scenario_file, const std::string& out_dir) {
+  OutputDir out(out_dir);
+  out.WriteText("summary.json", PbdRunJson(scenario, result, scenario_file).dump(2) + "\n");
+  out.WriteText("trajectory.csv", PbdTrajectoryCsv(scenario, result));
+  RunPlotScript(
+      "plot_run.py",
+      {out.Stage("trajectory.png").string(), out.StagedPath("trajectory.csv").string(),
+       scenario.kind, fmt::format("{}", scenario.is_disks() ? scenario.disks.radius : 0.0)});
+  out.Commit();
+
+  const pbd::SimulationSummary& summary = result.summary;
+  std::printf("%s\n", summary.BriefReport().c_str());
+  if (result.error) {
+    std::printf("error against the %s solution: %.6e\n",
+                scenario.is_disks() ? "reference" : "exact", *result.error);
+  }
+  std::printf("wrote %s/summary.json, trajectory.csv, trajectory.png\n", out.dir().c_str());
+  if (!summary.ok()) {
+    std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace moreau::cli

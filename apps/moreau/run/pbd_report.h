@@ -1,0 +1,26 @@
+// What `moreau run` writes for the paper's cases: summary.json, trajectory.csv, trajectory.png.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "run/pbd_run.h"
+#include "run/pbd_scenario.h"
+
+namespace moreau::cli {
+
+// sliding: "t,x0,…,x{d−1}", one row per frame; disks: "t,i,x,y", one row per disk and frame.
+std::string PbdTrajectoryCsv(const PbdScenario& scenario, const PbdRunResult& result);
+
+// The simulation summary's JSON with error, neighbour-list counters, the scenario's settings and
+// the scenario file.
+nlohmann::json PbdRunJson(const PbdScenario& scenario, const PbdRunResult& result,
+                          const std::string& scenario_file);
+
+// Writes DIR (staged, committed only once everything is written) and prints the brief report.
+// Returns the exit code: 0, or 3 after a numerical failure.
+int ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
+                 const std::string& scenario_file, const std::string& out_dir);
+
+}  // namespace moreau::cli

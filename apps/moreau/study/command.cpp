@@ -1,0 +1,45 @@
+// `moreau study SCENARIO.toml --methods pbd,pngs,pgs,penalty[:gamma] --h 0.1,0.05,... [--out DIR]`:
+// error against the exact (sliding) or reference (disks) solution for every method and step size,
+// the observed orders, and the convergence and precision–work figures.
+#include <memory>
+
+#include "commands.h"
+#include "run/pbd_scenario.h"
+#include "study/study_report.h"
+#include "study/study_run.h"
+
+namespace moreau::cli {
+namespace {
+
+struct StudyArgs : ScenarioArgs {
+  StudyRequest request;
+};
+
+int Study(const StudyArgs& args) {
+  Scenario scenario = Scenario::Load(args.scenario, args.overrides);
+  const PbdScenario pbd_scenario = ReadPbdScenario(scenario);
+  scenario.CheckAllKeysUsed();
+  const PbdStudyPlan plan = MakeStudyPlan(args.request, pbd_scenario);
+  const PbdStudyResult result = RunPbdStudy(scenario, pbd_scenario, plan);
+  return ReportPbdStudy(pbd_scenario, plan, result, args.scenario, args.OutDir("_study"));
+}
+
+}  // namespace
+
+void AddStudyCommand(CLI::App& app) {
+  auto args = std::make_shared<StudyArgs>();
+  CLI::App* cmd = AddScenarioCommand(
+      app, "study", "Convergence and precision-work study over methods and step sizes", args.get(),
+      "out/<scenario name>_study", [args] { return Study(*args); });
+  cmd->add_option("--methods", args->request.methods, "pbd,pngs,pgs,penalty[:gamma]")
+      ->delimiter(',')
+      ->required();
+  cmd->add_option("--h", args->request.hs, "Step sizes, e.g. 0.1,0.05,0.025")
+      ->delimiter(',')
+      ->required();
+  cmd->add_option("--fit-points", args->request.fit_points,
+                  "How many of the smallest step sizes the observed order is fitted over")
+      ->capture_default_str();
+}
+
+}  // namespace moreau::cli
