@@ -310,7 +310,12 @@ class RunRecorder {
  public:
   RunRecorder(OutputDir& out, const OutputSettings& settings, const particles::ParticleModel& model,
               const std::optional<particles::Room>& room, double h, std::int64_t steps)
-      : settings_(settings), model_(model), h_(h), steps_(steps), ids_(model.radius.size()) {
+      : settings_(settings),
+        model_(model),
+        h_(h),
+        steps_(steps),
+        ids_(model.radius.size()),
+        x_(static_cast<std::size_t>(model.dimension) * model.radius.size()) {
     std::iota(ids_.begin(), ids_.end(), 0);
     if (settings.hdf5) {
       out.Stage("trajectory.xdmf");
@@ -324,13 +329,23 @@ class RunRecorder {
     if (room) evacuation_.emplace(*room, model.count());
   }
 
-  // The engine's observer.
-  void Observe(std::int64_t step, double t, std::span<const double> x) {
-    if (evacuation_) evacuation_csv_ += fmt::format("{:.9g},{}\n", t, evacuation_->Update(x));
-    if (step % settings_.stride == 0 || step == steps_) WriteFrame(step, t, x);
+  // The engine's observer: positions are copied to id order only for a frame or a snapshot.
+  void Observe(const particles::Engine& engine) {
+    const std::int64_t step = engine.step();
+    const double t = engine.time();
+    if (evacuation_) {
+      const particles::StoredPositions stored = engine.Stored();
+      evacuation_csv_ +=
+          fmt::format("{:.9g},{}\n", t, evacuation_->Update(stored.ids, stored.positions));
+    }
+    const bool frame = step % settings_.stride == 0 || step == steps_;
     const bool snapshot = step == 0 ? settings_.snapshot_times.empty() || IsSnapshotTime(t)
                                     : IsSnapshotTime(t);
-    if (snapshot) snapshots_.emplace_back(t, std::vector<double>(x.begin(), x.end()));
+    if (frame || snapshot) {
+      engine.CopyPositions(x_);
+      if (frame) WriteFrame(step, t, x_);
+      if (snapshot) snapshots_.emplace_back(t, x_);
+    }
     last_step_ = step;
   }
 
@@ -376,6 +391,7 @@ class RunRecorder {
   std::string evacuation_csv_ = "t,out\n";
   std::vector<std::pair<double, std::vector<double>>> snapshots_;
   std::int64_t last_step_ = 0;
+  std::vector<double> x_;  // positions in id order for frames and snapshots
 };
 
 // summary.json: the engine's summary (counters, *_seconds, settings) and the run's context.
@@ -454,9 +470,9 @@ int RunParticleScenario(Scenario& s, const ParticleRunFlags& flags) {
   RunRecorder recorder(out, settings, model, room, options.h, steps);
   ProgressBar progress("run", steps);
   const particles::EngineSummary summary =
-      engine.Run(T, [&](std::int64_t step, double t, std::span<const double> x) {
-        recorder.Observe(step, t, x);
-        progress.Update(step);
+      engine.Run(T, [&](const particles::Engine& e) {
+        recorder.Observe(e);
+        progress.Update(e.step());
       });
   progress.Finish();
   const std::vector<double> x = engine.Positions();

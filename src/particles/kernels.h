@@ -1,5 +1,5 @@
-// Internal kernels of the particle engine: the exact projections onto each set, periodic
-// wrapping, and a small linked-cell grid for the O(N) checks outside the hot loop.
+// Internal kernels of the particle core (stateless maths): the exact projections onto each set,
+// periodic wrapping and images, and the dispatch from run-time dimension to compiled kernels.
 #pragma once
 
 #include <algorithm>
@@ -189,58 +189,49 @@ inline double MinimumImage(double d, double L) {
   return d;
 }
 
-// A linked-cell grid over wrapped positions for validation and initial states (not the engine's
-// hot path): cells of edge ≥ `edge` over [lo, hi] (periodic axes: the domain), particles linked
-// per cell. Cell coordinates are clamped, which keeps pairs within `edge` in adjacent cells.
-class LinkedCells {
- public:
-  LinkedCells(int k, const Vec3& lo, const Vec3& hi, const std::array<bool, 3>& periodic,
-              double edge, std::int64_t max_cells);
-  void Insert(int particle, const double* x);
-  // Calls f(j) for every inserted particle j in the cells around x (each once).
-  template <typename F>
-  void ForEachNear(const double* x, F&& f) const {
-    int c[3] = {0, 0, 0};
-    for (int a = 0; a < k_; ++a) c[a] = Coord(a, x[a]);
-    int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (int a = 0; a < k_; ++a) {
-      if (periodic_[static_cast<std::size_t>(a)] && n_[a] >= 3) {
-        lo[a] = c[a] - 1;
-        hi[a] = c[a] + 1;
-      } else if (periodic_[static_cast<std::size_t>(a)]) {
-        lo[a] = 0;
-        hi[a] = n_[a] - 1;
-      } else {
-        lo[a] = std::max(0, c[a] - 1);
-        hi[a] = std::min(n_[a] - 1, c[a] + 1);
+// The periodic axes of a model: wrapping into [lo, lo + len) and the 27 image shifts
+// (code Σ_a (o_a + 1) 3^a for offsets o_a ∈ {−1, 0, 1}; code 13 is no shift).
+struct PeriodicBox {
+  int k = 2;
+  bool any = false;
+  bool periodic[3] = {false, false, false};
+  double lo[3] = {0.0, 0.0, 0.0};
+  double len[3] = {0.0, 0.0, 0.0};
+  double shift[27][3] = {};
+
+  static PeriodicBox Of(const ParticleModel& model) {
+    PeriodicBox box;
+    box.k = model.dimension;
+    for (int a = 0; a < box.k; ++a) {
+      const auto ua = static_cast<std::size_t>(a);
+      box.periodic[a] = model.periodic[ua];
+      if (!box.periodic[a]) continue;
+      box.any = true;
+      box.lo[a] = model.domain_lo[ua];
+      box.len[a] = model.domain_hi[ua] - model.domain_lo[ua];
+    }
+    for (int code = 0; code < 27; ++code) {
+      int c = code;
+      for (int a = 0; a < 3; ++a) {
+        const int o = c % 3 - 1;
+        c /= 3;
+        box.shift[code][a] = a < box.k ? o * box.len[a] : 0.0;
       }
     }
-    for (int z = lo[2]; z <= hi[2]; ++z) {
-      for (int y = lo[1]; y <= hi[1]; ++y) {
-        for (int xx = lo[0]; xx <= hi[0]; ++xx) {
-          const std::int64_t cell = Index(Norm(0, xx), Norm(1, y), Norm(2, z));
-          for (int j = head_[static_cast<std::size_t>(cell)]; j >= 0;
-               j = next_[static_cast<std::size_t>(j)]) {
-            f(j);
-          }
-        }
-      }
-    }
+    return box;
   }
 
- private:
-  int Coord(int a, double v) const;
-  int Norm(int a, int c) const { return c < 0 ? c + n_[a] : (c >= n_[a] ? c - n_[a] : c); }
-  std::int64_t Index(int x, int y, int z) const {
-    return (static_cast<std::int64_t>(z) * n_[1] + y) * n_[0] + x;
+  // x (n points of k coordinates) wrapped into the domain on the periodic axes.
+  void WrapAll(double* x, int n) const {
+    if (!any) return;
+    for (int a = 0; a < k; ++a) {
+      if (!periodic[a]) continue;
+      for (int s = 0; s < n; ++s) {
+        double& v = x[static_cast<std::size_t>(k * s + a)];
+        v = Wrap(v, lo[a], len[a]);
+      }
+    }
   }
-  int k_;
-  int n_[3] = {1, 1, 1};
-  double lo_[3] = {0, 0, 0};
-  double inv_[3] = {0, 0, 0};
-  std::array<bool, 3> periodic_;
-  std::vector<int> head_;
-  std::vector<int> next_;
 };
 
 }  // namespace moreau::particles::internal

@@ -7,7 +7,8 @@
 
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
-#include "particles/kernels.h"
+#include "particles/cell_list.h"
+#include "particles/neighbour_list.h"
 
 namespace moreau::particles {
 
@@ -105,57 +106,6 @@ void ParticleModel::Validate() const {
   }
 }
 
-namespace internal {
-
-LinkedCells::LinkedCells(int k, const Vec3& lo, const Vec3& hi, const std::array<bool, 3>& periodic,
-                         double edge, std::int64_t max_cells)
-    : k_(k), periodic_(periodic) {
-  std::int64_t total = 1;
-  for (int a = 0; a < k; ++a) {
-    const auto ua = static_cast<std::size_t>(a);
-    const double span = std::max(hi[ua] - lo[ua], 0.0);
-    double n = std::floor(span / edge);
-    n = std::clamp(n, 1.0, 1e6);
-    n_[a] = static_cast<int>(n);
-    total *= n_[a];
-  }
-  // Coarsen when the box is large for the particle count (a few far-out particles).
-  while (total > std::max<std::int64_t>(max_cells, 1)) {
-    total = 1;
-    for (int a = 0; a < k; ++a) {
-      n_[a] = std::max(1, n_[a] / 2);
-      total *= n_[a];
-    }
-    if (total == 1) break;
-  }
-  for (int a = 0; a < k; ++a) {
-    const auto ua = static_cast<std::size_t>(a);
-    lo_[a] = lo[ua];
-    const double span = std::max(hi[ua] - lo[ua], 0.0);
-    inv_[a] = span > 0.0 ? n_[a] / span : 0.0;
-  }
-  head_.assign(static_cast<std::size_t>(total), -1);
-}
-
-int LinkedCells::Coord(int a, double v) const {
-  const double t = (v - lo_[a]) * inv_[a];
-  if (!(t >= 0.0)) return 0;
-  if (t >= n_[a]) return n_[a] - 1;
-  return static_cast<int>(t);
-}
-
-void LinkedCells::Insert(int particle, const double* x) {
-  int c[3] = {0, 0, 0};
-  for (int a = 0; a < k_; ++a) c[a] = Coord(a, x[a]);
-  const std::int64_t cell = Index(c[0], c[1], c[2]);
-  if (next_.size() <= static_cast<std::size_t>(particle)) {
-    next_.resize(static_cast<std::size_t>(particle) + 1, -1);
-  }
-  next_[static_cast<std::size_t>(particle)] = head_[static_cast<std::size_t>(cell)];
-  head_[static_cast<std::size_t>(cell)] = particle;
-}
-
-}  // namespace internal
 
 namespace {
 
@@ -203,33 +153,36 @@ std::string FixedSetViolation(const ParticleModel& model, const std::vector<Unit
   return {};
 }
 
-// Positions wrapped into the periodic domain, and the box [lo, hi] the grid covers.
-std::vector<double> WrappedCopy(const ParticleModel& model, std::span<const double> positions,
-                                Vec3* lo, Vec3* hi) {
-  const int k = model.dimension;
-  const int n = model.count();
+// Positions wrapped into the periodic domain.
+std::vector<double> WrappedCopy(const ParticleModel& model, std::span<const double> positions) {
   std::vector<double> x(positions.begin(), positions.end());
-  for (int a = 0; a < k; ++a) {
-    const auto ua = static_cast<std::size_t>(a);
-    if (model.periodic[ua]) {
-      const double L = model.domain_hi[ua] - model.domain_lo[ua];
-      for (int i = 0; i < n; ++i) {
-        double& v = x[static_cast<std::size_t>(k * i + a)];
-        v = internal::Wrap(v, model.domain_lo[ua], L);
+  internal::PeriodicBox::Of(model).WrapAll(x.data(), model.count());
+  return x;
+}
+
+// Throws InputError for the first pair of the list, in lexicographic order, that overlaps by
+// more than tol · (r_i + r_j) (slots are ids).
+void CheckPairOverlaps(const ParticleModel& model, const std::vector<double>& x, double tol,
+                       const internal::NeighbourList& list) {
+  const int k = model.dimension;
+  const int* row_start = list.row_start();
+  const int* nbr = list.neighbours();
+  for (int i = 0; i < model.count(); ++i) {
+    const double* xi = &x[static_cast<std::size_t>(k * i)];
+    for (int p = row_start[i]; p < row_start[i + 1]; ++p) {
+      const int j = nbr[p];
+      double u[3];
+      Displacement(model, xi, &x[static_cast<std::size_t>(k * j)], u);
+      const double c = model.radius[static_cast<std::size_t>(i)] + model.radius[static_cast<std::size_t>(j)];
+      const double overlap = c - Norm(k, u);
+      if (overlap > tol * c) {
+        throw InputError(fmt::format(
+            "initial state: particles {} and {} overlap by {} (fix it with FixOverlaps / "
+            "--fix-overlaps)",
+            i, j, overlap));
       }
-      (*lo)[ua] = model.domain_lo[ua];
-      (*hi)[ua] = model.domain_hi[ua];
-    } else {
-      double mn = INFINITY, mx = -INFINITY;
-      for (int i = 0; i < n; ++i) {
-        mn = std::min(mn, x[static_cast<std::size_t>(k * i + a)]);
-        mx = std::max(mx, x[static_cast<std::size_t>(k * i + a)]);
-      }
-      (*lo)[ua] = mn;
-      (*hi)[ua] = mx;
     }
   }
-  return x;
 }
 
 }  // namespace
@@ -255,28 +208,13 @@ void CheckInitialState(const ParticleModel& model, std::span<const double> posit
         FixedSetViolation(model, walls, i, &positions[static_cast<std::size_t>(k * i)], tol);
     if (!v.empty()) throw InputError("initial state: " + v);
   }
-  Vec3 lo{0, 0, 0}, hi{0, 0, 0};
-  const std::vector<double> x = WrappedCopy(model, positions, &lo, &hi);
-  const double edge = 2.0 * model.max_radius();
-  internal::LinkedCells cells(k, lo, hi, model.periodic, edge, 4 * static_cast<std::int64_t>(n));
-  for (int i = 0; i < n; ++i) cells.Insert(i, &x[static_cast<std::size_t>(k * i)]);
-  for (int i = 0; i < n; ++i) {
-    const double* xi = &x[static_cast<std::size_t>(k * i)];
-    const double ri = model.radius[static_cast<std::size_t>(i)];
-    cells.ForEachNear(xi, [&](int j) {
-      if (j <= i) return;
-      double u[3];
-      Displacement(model, xi, &x[static_cast<std::size_t>(k * j)], u);
-      const double c = ri + model.radius[static_cast<std::size_t>(j)];
-      const double overlap = c - Norm(k, u);
-      if (overlap > tol * c) {
-        throw InputError(fmt::format(
-            "initial state: particles {} and {} overlap by {} (fix it with FixOverlaps / "
-            "--fix-overlaps)",
-            i, j, overlap));
-      }
-    });
-  }
+  const std::vector<double> x = WrappedCopy(model, positions);
+  // The candidate pairs of the particle core's neighbour list with a small skin (every pair
+  // closer than contact is in it), then the exact test on each.
+  const double rmax = model.max_radius();
+  internal::LexicographicPairList pairs(internal::PeriodicBox::Of(model), n, rmax, 0.01 * rmax);
+  pairs.Build(x.data(), model.radius.data());
+  CheckPairOverlaps(model, x, tol, pairs.list());
 }
 
 std::vector<double> RandomSequentialAddition(const ParticleModel& model, const Vec3& lo,
@@ -297,8 +235,13 @@ std::vector<double> RandomSequentialAddition(const ParticleModel& model, const V
     }
   }
   const std::vector<UnitWall> walls = UnitWalls(model);
-  internal::LinkedCells cells(k, glo, ghi, model.periodic, 2.0 * model.max_radius(),
-                              4 * static_cast<std::int64_t>(n));
+  // Placed particles linked per cell of the particle core's grid (edge ≥ 2 max r).
+  const internal::PeriodicBox box = internal::PeriodicBox::Of(model);
+  internal::CellGrid grid;
+  grid.Fit(k, glo.data(), ghi.data(), box, 2.0 * model.max_radius(),
+           4 * static_cast<std::int64_t>(n));
+  std::vector<int> head(static_cast<std::size_t>(grid.cells()), -1);
+  std::vector<int> next(static_cast<std::size_t>(n), -1);
   std::vector<double> x(static_cast<std::size_t>(k) * static_cast<std::size_t>(n), 0.0);
   SplitMix64 rng(seed);
   auto uniform = [&rng] { return rng.Uniform01(); };
@@ -326,14 +269,21 @@ std::vector<double> RandomSequentialAddition(const ParticleModel& model, const V
       }
       if (!FixedSetViolation(model, walls, i, xi, 0.0).empty()) continue;
       placed = true;
-      cells.ForEachNear(xi, [&](int j) {
-        if (!placed) return;
+      auto overlaps = [&](int j) {
         double u[3];
         Displacement(model, xi, &x[static_cast<std::size_t>(k * j)], u);
         double r2 = 0.0;
         for (int a = 0; a < k; ++a) r2 += u[a] * u[a];
         const double c = ri + model.radius[static_cast<std::size_t>(j)];
-        if (r2 < c * c) placed = false;
+        return r2 < c * c;
+      };
+      internal::DispatchDimension(k, [&](auto kk) {
+        grid.ForEachAdjacentCell<kk>(xi, [&](std::int64_t cell) {
+          for (int j = head[static_cast<std::size_t>(cell)]; j >= 0 && placed;
+               j = next[static_cast<std::size_t>(j)]) {
+            if (overlaps(j)) placed = false;
+          }
+        });
       });
     }
     if (!placed) {
@@ -341,7 +291,9 @@ std::vector<double> RandomSequentialAddition(const ParticleModel& model, const V
           "could not place particle {} without overlap in {} attempts (placed {} of {})", i,
           max_attempts, i, n));
     }
-    cells.Insert(i, xi);
+    const std::int64_t cell = grid.CellOf(xi);
+    next[static_cast<std::size_t>(i)] = head[static_cast<std::size_t>(cell)];
+    head[static_cast<std::size_t>(cell)] = i;
   }
   return x;
 }

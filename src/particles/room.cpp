@@ -46,8 +46,7 @@ SelfPropulsion Room::WalkToTheDoor(double speed) const {
 void AddRoom(const Room& room, ParticleModel* model) {
   room.Validate();
   if (model->dimension != 2) {
-    throw InputError(
-        fmt::format("room: a room needs dimension 2 (got {})", model->dimension));
+    throw InputError(fmt::format("room: a room needs dimension 2 (got {})", model->dimension));
   }
   for (const SegmentObstacle& s : room.Walls()) model->segments.push_back(s);
 }
@@ -55,13 +54,21 @@ void AddRoom(const Room& room, ParticleModel* model) {
 EvacuationCount::EvacuationCount(const Room& room, int count)
     : door_line_(room.width), left_(static_cast<std::size_t>(count), 0) {}
 
-int EvacuationCount::Update(std::span<const double> positions) {
-  for (std::size_t i = 0; i < left_.size(); ++i) {
-    if (!left_[i] && positions[2 * i] > door_line_) {
-      left_[i] = 1;
-      ++out_;
-    }
+void EvacuationCount::Mark(std::size_t id, double x) {
+  if (!left_[id] && x > door_line_) {
+    left_[id] = 1;
+    ++out_;
   }
+}
+
+int EvacuationCount::Update(std::span<const double> positions) {
+  for (std::size_t i = 0; i < left_.size(); ++i) Mark(i, positions[2 * i]);
+  return out_;
+}
+
+int EvacuationCount::Update(std::span<const int> ids, std::span<const double> positions) {
+  for (std::size_t s = 0; s < ids.size(); ++s)
+    Mark(static_cast<std::size_t>(ids[s]), positions[2 * s]);
   return out_;
 }
 

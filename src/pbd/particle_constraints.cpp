@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "moreau/common/error.h"
-#include "particles/kernels.h"
+#include "particles/neighbour_list.h"
 #include "unit_vector.h"
 
 namespace moreau::pbd {
@@ -75,6 +75,9 @@ ParticleConstraints::ParticleConstraints(std::shared_ptr<const particles::Partic
       row_start_[static_cast<std::size_t>(i) + 1] = static_cast<int>(neighbour_.size());
     }
     stats_.candidate_pairs = static_cast<std::int64_t>(neighbour_.size());
+  } else {
+    search_ = std::make_unique<particles::internal::LexicographicPairList>(
+        particles::internal::PeriodicBox::Of(*model_), n, model_->max_radius(), skin_);
   }
 }
 
@@ -131,9 +134,9 @@ bool ParticleConstraints::NeedsRebuild(const double* x) const {
 }
 
 
-// The candidate pairs with the particle core's cell grid (cells of edge 2 max r + skin over the
-// positions' bounding box): each row sorted by j, so the list is the all-pairs list restricted to
-// pairs within reach, in the same lexicographic order.
+// The candidate pairs from the particle core's neighbour search (pairs closer than
+// r_i + r_j + skin, in lexicographic order with each row sorted by j), so the list is the
+// all-pairs list restricted to pairs within reach, in the same order.
 template <int K>
 void ParticleConstraints::BuildPairs(const double* x) {
   const int n = model_->count();
@@ -143,33 +146,15 @@ void ParticleConstraints::BuildPairs(const double* x) {
   contact_.clear();
   contact2_.clear();
   separated2_.clear();
-  particles::Vec3 lo{0.0, 0.0, 0.0};
-  particles::Vec3 hi{0.0, 0.0, 0.0};
-  for (int c = 0; c < K; ++c) {
-    const auto uc = static_cast<std::size_t>(c);
-    lo[uc] = hi[uc] = x[c];
-    for (int i = 1; i < n; ++i) {
-      lo[uc] = std::min(lo[uc], x[K * i + c]);
-      hi[uc] = std::max(hi[uc], x[K * i + c]);
-    }
-  }
-  particles::internal::LinkedCells cells(K, lo, hi, {false, false, false},
-                                         2.0 * model_->max_radius() + skin_,
-                                         4 * static_cast<std::int64_t>(n));
-  for (int i = 0; i < n; ++i) cells.Insert(i, x + K * i);
+  search_->Build(x, radius.data());
+  const particles::internal::NeighbourList& list = search_->list();
+  const int* row_start = list.row_start();
+  const int* nbr = list.neighbours();
   for (int i = 0; i < n; ++i) {
-    const double* xi = x + K * i;
     const double ri = radius[static_cast<std::size_t>(i)];
-    row_.clear();
-    cells.ForEachNear(xi, [&](int j) {
-      if (j <= i) return;
-      const double reach = ri + radius[static_cast<std::size_t>(j)] + skin_;
-      double u[K];
-      for (int c = 0; c < K; ++c) u[c] = xi[c] - x[K * j + c];
-      if (SquaredNorm<K>(u) < reach * reach) row_.push_back(j);
-    });
-    std::sort(row_.begin(), row_.end());
-    for (const int j : row_) AddCandidate(i, j, ri + radius[static_cast<std::size_t>(j)]);
+    for (int p = row_start[i]; p < row_start[i + 1]; ++p) {
+      AddCandidate(i, nbr[p], ri + radius[static_cast<std::size_t>(nbr[p])]);
+    }
     row_start_[static_cast<std::size_t>(i) + 1] = static_cast<int>(neighbour_.size());
   }
   reference_ = Eigen::Map<const Vector>(x, K * n);

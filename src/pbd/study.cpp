@@ -1,8 +1,8 @@
 #include "moreau/pbd/study.h"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <limits>
 
 #include "moreau/common/error.h"
@@ -29,6 +29,16 @@ MethodSpec ParseMethodSpec(const std::string& text) {
   return spec;
 }
 
+ParticleSystemModel::ParticleSystemModel(std::shared_ptr<const particles::ParticleModel> model,
+                                         ParticleConstraintsOptions options)
+    : model_(std::move(model)), options_(options) {
+  if (!model_) throw InputError("model: a particle system model needs a particle model");
+}
+
+std::unique_ptr<Constraints> ParticleSystemModel::MakeWorkspace() const {
+  return std::make_unique<ParticleConstraints>(model_, options_);
+}
+
 Vector SampledTrajectory::At(double t) const {
   MOREAU_ASSERT(!states_.empty() && dt_ > 0.0);
   const double s = t / dt_;
@@ -47,7 +57,7 @@ SampledTrajectory ComputeReference(const StudyProblem& problem, const StepperOpt
                                    double sample_dt) {
   const std::int64_t stride = StepCount(sample_dt, options.h);
   SampledTrajectory reference(sample_dt);
-  auto constraints = problem.make_constraints();
+  auto constraints = problem.constraints->MakeWorkspace();
   const SimulationSummary summary =
       Simulate(*problem.drift, *constraints, options, problem.x0, problem.T,
                [&](std::int64_t k, double, ConstVectorRef x) {
@@ -68,13 +78,13 @@ std::vector<StudyRow> RunStudy(const StudyProblem& problem, const std::vector<Me
       options.method = spec.method;
       options.h = h;
       if (spec.penalty > 0.0) options.penalty = spec.penalty;
-      auto constraints = problem.make_constraints();
+      auto constraints = problem.constraints->MakeWorkspace();
       double error = 0.0;
-      const SimulationSummary summary = Simulate(
-          *problem.drift, *constraints, options, problem.x0, problem.T,
-          [&](std::int64_t, double t, ConstVectorRef x) {
-            error = std::max(error, (x - problem.solution(t)).norm());
-          });
+      const SimulationSummary summary =
+          Simulate(*problem.drift, *constraints, options, problem.x0, problem.T,
+                   [&](std::int64_t, double t, ConstVectorRef x) {
+                     error = std::max(error, (x - problem.solution(t)).norm());
+                   });
       StudyRow row;
       row.label = spec.label;
       row.method = spec.method;

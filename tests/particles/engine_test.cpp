@@ -40,8 +40,8 @@ std::vector<double> RunEngine(const DisksSetup& s, EngineOptions o, double T,
   Engine e(s.model, s.forces, o, s.x0);
   EngineObserver observer;
   if (after) {
-    observer = [&](std::int64_t step, double, std::span<const double>) {
-      if (step > 0) after(e);
+    observer = [&](const Engine& engine) {
+      if (engine.step() > 0) after(engine);
     };
   }
   const EngineSummary summary = e.Run(T, observer);
@@ -88,10 +88,8 @@ TEST(ParticleEngine, ColouredOrderConvergesToThePngsReference) {
   c.T = 1.0;
   const DisksSetup s = FromDisksCase(c);
   pbd::StudyProblem problem;
-  const particles::ParticleModel fmodel = c.MakeModel();
-  problem.make_constraints = [fmodel] {
-    return std::unique_ptr<pbd::Constraints>(std::make_unique<pbd::ParticleConstraints>(fmodel));
-  };
+  problem.constraints = std::make_shared<pbd::ParticleSystemModel>(
+      std::make_shared<const particles::ParticleModel>(c.MakeModel()));
   problem.drift = c.MakeDrift();
   problem.x0 = c.InitialState();
   problem.T = c.T;

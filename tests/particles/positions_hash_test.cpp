@@ -32,12 +32,17 @@ TEST(PositionsHash, CrowdExampleKeepsItsBits) {
   const std::vector<double> x0 =
       RandomSequentialAddition(model, model.domain_lo, model.domain_hi, kSeed);
   Engine engine(model, forces, options, x0);
+  // The count from the stored positions (no copy) and from copies in id order agree.
   EvacuationCount out(room, model.count());
-  const EngineSummary summary = engine.Run(4.0, [&](std::int64_t, double, std::span<const double> x) {
-    out.Update(x);
+  EvacuationCount out_by_id(room, model.count());
+  const EngineSummary summary = engine.Run(4.0, [&](const Engine& e) {
+    const StoredPositions stored = e.Stored();
+    out.Update(stored.ids, stored.positions);
+    out_by_id.Update(e.Positions());
   });
   ASSERT_TRUE(summary.ok()) << summary.message;
   EXPECT_EQ(out.out(), 14);  // "people out at t = 4: 14 of 200"
+  EXPECT_EQ(out_by_id.out(), 14);
   EXPECT_EQ(HashDoublesHex(engine.Positions()), "af2ea1e2b4fa72c1");
 }
 

@@ -13,11 +13,9 @@ namespace {
 
 StudyProblem DisksProblem(const DisksCase& c, PairSearch search = PairSearch::kVerletList) {
   StudyProblem p;
-  auto model = std::make_shared<const particles::ParticleModel>(c.MakeModel());
-  p.make_constraints = [model, search] {
-    return std::unique_ptr<Constraints>(
-        std::make_unique<ParticleConstraints>(model, ParticleConstraintsOptions{search, 1.0}));
-  };
+  p.constraints = std::make_shared<ParticleSystemModel>(
+      std::make_shared<const particles::ParticleModel>(c.MakeModel()),
+      ParticleConstraintsOptions{search, 1.0});
   p.drift = c.MakeDrift();
   p.x0 = c.InitialState();
   p.T = c.T;
@@ -48,8 +46,8 @@ TEST(DisksCase, VerletListGivesTheSameBitsAsAllPairs) {
     o.method = m;
     o.h = 1.0 / 512;
     Vector xa, xv;
-    auto all = DisksProblem(c, PairSearch::kAllPairs).make_constraints();
-    auto verlet = DisksProblem(c, PairSearch::kVerletList).make_constraints();
+    auto all = DisksProblem(c, PairSearch::kAllPairs).constraints->MakeWorkspace();
+    auto verlet = DisksProblem(c, PairSearch::kVerletList).constraints->MakeWorkspace();
     const auto sa = Simulate(*c.MakeDrift(), *all, o, c.InitialState(), c.T, {}, &xa);
     const auto sv = Simulate(*c.MakeDrift(), *verlet, o, c.InitialState(), c.T, {}, &xv);
     EXPECT_EQ(xa, xv) << MethodName(m);
@@ -101,7 +99,7 @@ TEST(DisksCase, PbdViolationIsBoundedByKh) {
     StepperOptions o;
     o.h = h;
     o.monitor_violation = false;
-    auto constraints = DisksProblem(c).make_constraints();
+    auto constraints = DisksProblem(c).constraints->MakeWorkspace();
     const auto& pc = dynamic_cast<ParticleConstraints&>(*constraints);
     double worst = 0.0;
     Simulate(*c.MakeDrift(), *constraints, o, c.InitialState(), c.T,

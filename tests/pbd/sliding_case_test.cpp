@@ -101,7 +101,7 @@ std::vector<double> Halvings(double h0, int from, int to) {
 
 StudyProblem SlidingProblem(const SlidingCase& c) {
   StudyProblem p;
-  p.make_constraints = [c] { return std::unique_ptr<Constraints>(c.MakeConstraints()); };
+  p.constraints = std::make_shared<CaseConstraintModel<SlidingCase>>(c);
   p.drift = c.MakeDrift();
   p.x0 = c.InitialState();
   p.T = c.T;

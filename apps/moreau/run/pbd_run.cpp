@@ -28,7 +28,7 @@ PbdRunResult RunPbdScenario(const PbdScenario& scenario) {
   if (scenario.is_disks()) {
     particles = scenario.MakeParticleConstraints();
   } else {
-    generic = problem.make_constraints();
+    generic = problem.constraints->MakeWorkspace();
   }
   pbd::Constraints& constraints = particles ? *particles : *generic;
 

@@ -175,14 +175,12 @@ pbd::StudyProblem PbdScenario::MakeProblem() const {
   p.T = T();
   if (!is_disks()) {
     const pbd::SlidingCase c = sliding;
-    p.make_constraints = [c] { return std::unique_ptr<pbd::Constraints>(c.MakeConstraints()); };
+    p.constraints = std::make_shared<pbd::CaseConstraintModel<pbd::SlidingCase>>(c);
     p.drift = c.MakeDrift();
     p.solution = [c](double t) { return c.ExactSolution(t); };
   } else {
-    auto model = std::make_shared<const particles::ParticleModel>(disks.MakeModel());
-    p.make_constraints = [model] {
-      return std::unique_ptr<pbd::Constraints>(std::make_unique<pbd::ParticleConstraints>(model));
-    };
+    p.constraints = std::make_shared<pbd::ParticleSystemModel>(
+        std::make_shared<const particles::ParticleModel>(disks.MakeModel()));
     p.drift = disks.MakeDrift();
   }
   return p;

@@ -102,6 +102,8 @@ struct EngineStats {
   double time = 0.0;                        // steps · h
   std::int64_t neighbour_list_builds = 0;   // Verlet-list builds (the initial one included)
   std::int64_t verlet_retries = 0;          // steps redone because the skin bound was reached
+  std::int64_t shortest_rebuild_interval = -1;  // fewest steps between two list builds (a redo's
+                                                // build counts at its step); −1: one build
   std::int64_t candidate_pairs = 0;         // pairs in the list at the last build
   std::int64_t constraint_evaluations = 0;  // sets visited: candidate pairs + N · (walls +
                                             // obstacles), per sweep
@@ -134,10 +136,21 @@ struct EngineSummary {
   nlohmann::json ToJson() const;
 };
 
-// Called with (step, t, positions) for step = 0 (the initial state) … the last step taken;
-// positions: size k·N, particle-id order, wrapped into the periodic domain.
-using EngineObserver =
-    std::function<void(std::int64_t step, double t, std::span<const double> positions)>;
+class Engine;
+
+// Called with the engine at step 0 (the initial state) and after every step taken. It reads
+// what it needs: step(), time(), Stored() (no copy) or CopyPositions / Positions (id order, a
+// copy of k·N values), so an observer that needs no positions costs nothing per step.
+using EngineObserver = std::function<void(const Engine& engine)>;
+
+// The engine's positions as stored, without a copy: slot s holds particle ids[s] at
+// positions[k·s … k·s + k − 1]. The slots are in the engine's storage order (which changes at
+// neighbour-list builds) and positions on periodic axes are NOT wrapped into the domain. Valid
+// until the next Step.
+struct StoredPositions {
+  std::span<const int> ids;
+  std::span<const double> positions;
+};
 
 class Engine {
  public:
@@ -167,6 +180,8 @@ class Engine {
   // Positions (size k·N, id order, wrapped into the periodic domain).
   void CopyPositions(std::span<double> out) const;
   std::vector<double> Positions() const;
+  // The stored positions without a copy (see StoredPositions).
+  StoredPositions Stored() const;
 
   int dimension() const;
   int count() const;

@@ -44,9 +44,14 @@ class EvacuationCount {
   EvacuationCount(const Room& room, int count);
   // positions: size 2·count, particle-id order. Returns the number out so far.
   int Update(std::span<const double> positions);
+  // The same from positions in any slot order: slot s holds particle ids[s] at
+  // positions[2s], positions[2s + 1] (Engine::Stored(), no copy). The count does not depend on
+  // the order.
+  int Update(std::span<const int> ids, std::span<const double> positions);
   int out() const { return out_; }
 
  private:
+  void Mark(std::size_t id, double x);  // counts particle id at abscissa x if it is out
   double door_line_;
   std::vector<char> left_;
   int out_ = 0;

@@ -1,6 +1,6 @@
 // Particle systems with volume exclusion as a constraint set for the paper's steppers: a thin
 // adapter over the particle core (moreau::particles: the model, its pair and wall projections and
-// its cell grid).
+// its neighbour search).
 //
 // The state is x = (X_0, …, X_{N−1}) ∈ R^{kN}, X_i ∈ R^k, k = model.dimension ∈ {1, 2, 3}. The sets
 // are, in sweep order: every pair S_ij = {‖X_i − X_j‖ ≥ r_i + r_j} for i < j in lexicographic
@@ -12,8 +12,8 @@
 // object is the per-run workspace (the neighbour list), so make one per simulation.
 //
 // With PairSearch::kVerletList only pairs closer than r_i + r_j + skin when the list was built
-// are visited (found with the particle core's cell grid); the list is rebuilt when a particle has
-// moved more than skin/4 since. Pairs left out are farther apart than contact, their projections
+// are visited (found by the particle core's neighbour search, in lexicographic order); the list
+// is rebuilt when a particle has moved more than skin/4 since. Pairs left out are farther apart than contact, their projections
 // are the identity, so the sweep gives the same bits as the all-pairs sweep (kAllPairs, kept for
 // cross-checks), and the constraint evaluations still count all m sets.
 #pragma once
@@ -27,6 +27,7 @@
 
 namespace moreau::particles::internal {
 struct UnitWall;
+class LexicographicPairList;
 }  // namespace moreau::particles::internal
 
 namespace moreau::pbd {
@@ -94,7 +95,7 @@ class ParticleConstraints final : public Constraints {
   std::vector<double> contact_;   // r_i + r_j per visited pair
   std::vector<double> contact2_;  // contact_² (rounded), the sweep's no-overlap test
   std::vector<double> separated2_;  // the double above contact_²: r2 ≥ it ⇒ fl(√r2) ≥ contact_
-  std::vector<int> row_;            // build buffer: one particle's partners
+  std::unique_ptr<particles::internal::LexicographicPairList> search_;  // kVerletList only
   Vector reference_;                // positions at the last build
   bool built_ = false;
   NeighbourListStats stats_;

@@ -6,8 +6,10 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "moreau/pbd/particle_constraints.h"
 #include "moreau/pbd/stepper.h"
 
 namespace moreau::pbd {
@@ -40,10 +42,43 @@ class SampledTrajectory {
   std::vector<Vector> states_;
 };
 
-// Everything a study needs about a problem. make_constraints gives a fresh Constraints per run
-// (they hold workspace).
+// The constraint model of a study: immutable and shared by all its runs; each run makes its own
+// workspace from it (a Constraints object holds per-run state: neighbour lists, scratch).
+class ConstraintModel {
+ public:
+  virtual ~ConstraintModel() = default;
+  virtual std::unique_ptr<Constraints> MakeWorkspace() const = 0;
+};
+
+// A particle system: one shared particle model; each workspace is a ParticleConstraints with its
+// own neighbour list. Throws InputError for a null model.
+class ParticleSystemModel final : public ConstraintModel {
+ public:
+  explicit ParticleSystemModel(std::shared_ptr<const particles::ParticleModel> model,
+                               ParticleConstraintsOptions options = {});
+  const particles::ParticleModel& model() const { return *model_; }
+  std::unique_ptr<Constraints> MakeWorkspace() const override;
+
+ private:
+  std::shared_ptr<const particles::ParticleModel> model_;
+  ParticleConstraintsOptions options_;
+};
+
+// A case whose sets are built by `Case::MakeConstraints() const` (SlidingCase): the case is the
+// model, each workspace a fresh set list.
+template <typename Case>
+class CaseConstraintModel final : public ConstraintModel {
+ public:
+  explicit CaseConstraintModel(Case c) : case_(std::move(c)) {}
+  std::unique_ptr<Constraints> MakeWorkspace() const override { return case_.MakeConstraints(); }
+
+ private:
+  Case case_;
+};
+
+// Everything a study needs about a problem.
 struct StudyProblem {
-  std::function<std::unique_ptr<Constraints>()> make_constraints;
+  std::shared_ptr<const ConstraintModel> constraints;
   std::shared_ptr<const Drift> drift;
   Vector x0;
   double T = 0.0;

@@ -1,0 +1,279 @@
+#include "particles/neighbour_list.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+#include "particles/parallel.h"
+
+namespace moreau::particles::internal {
+
+void NeighbourList::Configure(const PeriodicBox& box, int n, double skin, double skin_limit,
+                              double attraction_range) {
+  box_ = box;
+  n_ = n;
+  nominal_skin_ = skin;
+  skin_limit_ = skin_limit;
+  skin_ = std::min(skin, skin_limit);
+  attraction_range_ = attraction_range;
+  row_start_.assign(static_cast<std::size_t>(n) + 1, 0);
+  reference_.assign(static_cast<std::size_t>(box.k) * static_cast<std::size_t>(n), 0.0);
+}
+
+namespace {
+
+// Calls f(t, image code) for the slots t > s within reach of slot s, in the list's order.
+template <int K, bool P, typename F>
+void VisitPartners(int s, const double* x, const double* radius, double extra,
+                   const PeriodicBox& box, const CellList& cells, const int* members, int n,
+                   bool brute_force, F&& f) {
+  const double* xs = x + K * s;
+  const double rs = radius[s];
+  auto consider = [&](int t) {
+    if (t <= s) return;
+    double u[K];
+    int code = 13;
+    int weight = 1;
+    for (int a = 0; a < K; ++a) {
+      u[a] = xs[a] - x[K * t + a];
+      if constexpr (P) {
+        if (box.periodic[a]) {
+          if (u[a] > 0.5 * box.len[a]) {
+            u[a] -= box.len[a];
+            code += weight;
+          } else if (u[a] < -0.5 * box.len[a]) {
+            u[a] += box.len[a];
+            code -= weight;
+          }
+        }
+      }
+      weight *= 3;
+    }
+    const double r2 = SquaredNorm<K>(u);
+    const double c = rs + radius[t] + extra;
+    if (r2 < c * c) f(t, code);
+  };
+  if (brute_force) {
+    for (int t = s + 1; t < n; ++t) consider(t);
+    return;
+  }
+  if (members != nullptr) {
+    cells.grid().ForEachAdjacentCell<K>(xs, [&](std::int64_t cell) {
+      const std::int64_t rank = cells.rank(cell);
+      const std::int64_t e = cells.cell_start(rank + 1);
+      for (std::int64_t q = cells.cell_start(rank); q < e; ++q) consider(members[q]);
+    });
+    return;
+  }
+  // Storage is in cell order: visit slot ranges, merging cells of consecutive rank (neighbours
+  // along x inside a block), and skip slots ≤ s (the half list).
+  std::int64_t run_b = -1, run_e = -1;
+  auto flush = [&] {
+    const std::int64_t e = cells.cell_start(run_e);
+    for (std::int64_t q = std::max<std::int64_t>(cells.cell_start(run_b), s + 1); q < e; ++q) {
+      consider(static_cast<int>(q));
+    }
+  };
+  cells.grid().ForEachAdjacentCell<K>(xs, [&](std::int64_t cell) {
+    const std::int64_t rank = cells.rank(cell);
+    if (rank == run_e) {
+      run_e = rank + 1;
+      return;
+    }
+    if (run_b >= 0) flush();
+    run_b = rank;
+    run_e = rank + 1;
+  });
+  flush();
+}
+
+// Insertion sort of buf[first …] by t, the image codes along (t is unique in a row).
+template <bool P>
+void SortRow(std::vector<int>& buf, std::vector<std::uint8_t>& img, std::size_t first) {
+  for (std::size_t i = first + 1; i < buf.size(); ++i) {
+    const int t = buf[i];
+    const std::uint8_t c = P ? img[i] : 0;
+    std::size_t j = i;
+    while (j > first && buf[j - 1] > t) {
+      buf[j] = buf[j - 1];
+      if constexpr (P) img[j] = img[j - 1];
+      --j;
+    }
+    buf[j] = t;
+    if constexpr (P) img[j] = c;
+  }
+}
+
+}  // namespace
+
+// One pass: contiguous chunks of slots append their rows to reusable chunk buffers, then the
+// buffers are concatenated in chunk order (the same list for any thread count).
+template <int K, bool P>
+void NeighbourList::BuildRows(const double* x, const double* radius, const CellList& cells,
+                              const int* members, bool sort_rows, bool brute_force, int threads) {
+  const int n = n_;
+  const double extra = this->extra();
+  const int chunks = std::max(1, std::min(n, 16 * threads));
+  if (static_cast<int>(chunk_nbr_.size()) < chunks) {
+    chunk_nbr_.resize(static_cast<std::size_t>(chunks));
+    chunk_image_.resize(static_cast<std::size_t>(chunks));
+  }
+  ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
+    const int begin = static_cast<int>(static_cast<std::int64_t>(q) * n / chunks);
+    const int end = static_cast<int>(static_cast<std::int64_t>(q + 1) * n / chunks);
+    std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
+    std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
+    buf.clear();
+    img.clear();
+    for (int s = begin; s < end; ++s) {
+      const std::size_t first = buf.size();
+      VisitPartners<K, P>(s, x, radius, extra, box_, cells, members, n, brute_force,
+                          [&](int t, int code) {
+                            buf.push_back(t);
+                            if constexpr (P) img.push_back(static_cast<std::uint8_t>(code));
+                          });
+      row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(buf.size() - first);
+      if (sort_rows) SortRow<P>(buf, img, first);
+    }
+  });
+  Concatenate(P, chunks, threads);
+}
+
+void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
+  const int n = n_;
+  row_start_[0] = 0;
+  std::int64_t total = 0;
+  for (int s = 0; s < n; ++s) {
+    total += row_start_[static_cast<std::size_t>(s) + 1];
+    if (total > std::numeric_limits<int>::max()) {
+      throw NumericalError(fmt::format("neighbour list with more than {} pairs is too large",
+                                       std::numeric_limits<int>::max()));
+    }
+    row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(total);
+  }
+  nbr_.resize(static_cast<std::size_t>(total));
+  if (periodic) image_.resize(static_cast<std::size_t>(total));
+  ParallelFor(threads, 0, chunks, [&](std::int64_t q) {
+    const int begin = static_cast<int>(q * n / chunks);
+    const auto at = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(begin)]);
+    const std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
+    std::copy(buf.begin(), buf.end(), nbr_.begin() + static_cast<std::ptrdiff_t>(at));
+    if (periodic) {
+      const std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
+      std::copy(img.begin(), img.end(), image_.begin() + static_cast<std::ptrdiff_t>(at));
+    }
+  });
+}
+
+void NeighbourList::Build(const double* x, const double* radius, const CellList& cells,
+                          const int* members, bool sort_rows, bool brute_force, std::int64_t step,
+                          int threads) {
+  double* ref = reference_.data();
+  const auto total = static_cast<std::int64_t>(reference_.size());
+  ParallelFor(threads, 0, total, [&](std::int64_t i) { ref[i] = x[i]; });
+  if (box_.k == 1 && box_.any) {
+    BuildRows<1, true>(x, radius, cells, members, sort_rows, brute_force, threads);
+  } else if (box_.k == 1) {
+    BuildRows<1, false>(x, radius, cells, members, sort_rows, brute_force, threads);
+  } else {
+    DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
+      BuildRows<k, p>(x, radius, cells, members, sort_rows, brute_force, threads);
+    });
+  }
+  ++stats_.builds;
+  stats_.candidate_pairs = pairs();
+  if (last_build_step_ >= 0) {
+    const std::int64_t interval = step - last_build_step_;
+    if (stats_.shortest_rebuild_interval < 0 || interval < stats_.shortest_rebuild_interval) {
+      stats_.shortest_rebuild_interval = interval;
+    }
+  }
+  last_build_step_ = step;
+  built_here_ = true;
+  drift_bound_ = 0.0;
+}
+
+double NeighbourList::BoundAfterPrediction(double step_move, const double* y, int threads) const {
+  // max_i ‖Y_i − X_i^build‖ ≤ (bound on ‖X_i − X_i^build‖) + max_i ‖Y_i − X_i‖: a bound without
+  // reading the build positions; only when it reaches skin/4 is the exact maximum computed.
+  const double moved = drift_bound_ + step_move;
+  if (!(moved > 0.25 * skin_)) return moved;
+  const double* r0 = reference_.data();
+  const int k = box_.k;
+  const std::int64_t n = n_;
+  double worst = 0.0;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst)
+  for (std::int64_t s = 0; s < n; ++s) {
+    double d2 = 0.0;
+    for (int a = 0; a < k; ++a) {
+      const double d = y[k * s + a] - r0[k * s + a];
+      d2 += d * d;
+    }
+    worst = std::max(worst, d2);
+  }
+  return std::sqrt(worst);
+}
+
+bool NeighbourList::Accept(double moved) {
+  const double accept = 0.5 * skin_ * (1.0 - 1e-9);
+  if (!(moved * (1.0 + 1e-12) < accept)) return false;
+  drift_bound_ = moved * (1.0 + 1e-12);  // bounds ‖X_i − X_i^build‖ after the step
+  return true;
+}
+
+bool NeighbourList::PrepareRedo() {
+  if (!built_here_) return true;
+  if (skin_ >= skin_limit_) return false;
+  skin_ = std::min(2.0 * skin_, skin_limit_);
+  return true;
+}
+
+LexicographicPairList::LexicographicPairList(const PeriodicBox& box, int n, double max_radius,
+                                             double skin)
+    : box_(box), reach_(2.0 * max_radius + skin), id_(static_cast<std::size_t>(n)) {
+  list_.Configure(box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
+  for (int i = 0; i < n; ++i) id_[static_cast<std::size_t>(i)] = i;
+}
+
+void LexicographicPairList::Build(const double* x, const double* radius) {
+  const int n = static_cast<int>(id_.size());
+  cells_.Fit(x, n, box_, reach_, 0, 1);
+  cells_.Sort(x, id_.data(), n, 1);
+  list_.Build(x, radius, cells_, cells_.permutation().data(), true, false, 0, 1);
+}
+
+namespace {
+
+template <int K, bool P>
+double MaxPairOverlapImpl(const NeighbourList& list, const double* x, const double* radius, int n,
+                          int threads) {
+  const int* row_start = list.row_start();
+  const int* nbr = list.neighbours();
+  double worst = 0.0;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst)
+  for (int s = 0; s < n; ++s) {
+    const double ri = radius[s];
+    for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
+      const int t = nbr[p];
+      double u[K];
+      list.Displacement<K, P>(x, s, t, p, u);
+      const double c = ri + radius[t];
+      const double r2 = SquaredNorm<K>(u);
+      if (r2 >= c * c) continue;
+      worst = std::max(worst, c - std::sqrt(r2));
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+double MaxPairOverlap(const NeighbourList& list, const double* x, const double* radius, int n,
+                      int threads) {
+  return DispatchDimensionPeriodic(list.box().k, list.box().any, [&](auto kk, auto p) {
+    return MaxPairOverlapImpl<kk, p>(list, x, radius, n, threads);
+  });
+}
+
+}  // namespace moreau::particles::internal

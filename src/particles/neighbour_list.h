@@ -1,0 +1,129 @@
+// Verlet half-lists over the cell list, and the skin that keeps them exact.
+//
+// Build: for every slot s, the slots t > s with ‖X_s − X_t‖ < r_s + r_t + extra (minimum image on
+// periodic axes, whose image code is kept per pair), visited in a fixed order: the adjacent
+// cells z, y, x, each cell's slots in cell order (or, with sorted rows, by increasing t). The
+// list is the same for any thread count.
+//
+// Skin: extra = attraction range + skin. A regular build happens when some position moved more
+// than skin/4 from the last build; a step is accepted when the bound on every particle's distance
+// from its build position stays below skin/2, else it is redone with a list built at its
+// predicted positions (and, if that list was fresh already, a doubled skin that relaxes back by
+// halves at later regular builds). A pair left out is then farther apart than contact
+// throughout, so leaving it out changes no bit.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "particles/cell_list.h"
+
+namespace moreau::particles::internal {
+
+// Counters of one neighbour list; exact and independent of the thread count.
+struct NeighbourListStats {
+  std::int64_t builds = 0;
+  std::int64_t candidate_pairs = 0;  // at the last build
+  // The fewest steps between two builds (a redo's build counts at its step); −1 with one build.
+  std::int64_t shortest_rebuild_interval = -1;
+};
+
+class NeighbourList {
+ public:
+  // n slots in `box`; skin > 0 (clamped to skin_limit, 0.99 of the room periodic axes leave);
+  // attraction_range ≥ 0 widens every pair's reach.
+  void Configure(const PeriodicBox& box, int n, double skin, double skin_limit,
+                 double attraction_range);
+
+  // Builds the list at x (slots in cell order when members is null, else the slots of cell rank
+  // c are members[cell_start(c) …]). sort_rows: each row by increasing t (the lexicographic
+  // order); brute_force: candidates from an O(N²) loop instead of the cells. Records x as the
+  // build positions and the build at `step`.
+  void Build(const double* x, const double* radius, const CellList& cells, const int* members,
+             bool sort_rows, bool brute_force, std::int64_t step, int threads);
+
+  // The skin bound. BoundAfterPrediction: max_i ‖Y_i − X_i^build‖ from the bound of the last
+  // accepted step plus step_move, or (when that reaches skin/4) exactly from y.
+  double BoundAfterPrediction(double step_move, const double* y, int threads) const;
+  bool NeedsBuild(double moved) const { return moved > 0.25 * skin_; }
+  // A regular build: a skin widened by redos relaxes back toward the nominal one.
+  void RelaxSkin() { skin_ = std::max(std::min(nominal_skin_, skin_limit_), 0.5 * skin_); }
+  // Accepts a step whose particles are within `moved` of their build positions (returns false
+  // when a redo is needed: moved reached skin/2).
+  bool Accept(double moved);
+  // Before a redo: false when the skin cannot grow (it is at the periodic limit); else widens
+  // the skin if the list was built at this step's predicted positions already.
+  bool PrepareRedo();
+  void MarkPredicted() { built_here_ = false; }
+
+  const PeriodicBox& box() const { return box_; }
+  double skin() const { return skin_; }
+  double extra() const { return attraction_range_ + skin_; }
+  const NeighbourListStats& stats() const { return stats_; }
+  std::int64_t pairs() const { return static_cast<std::int64_t>(nbr_.size()); }
+  const int* row_start() const { return row_start_.data(); }
+  const int* neighbours() const { return nbr_.data(); }
+  const std::uint8_t* images() const { return image_.data(); }  // periodic boxes only
+
+  // u = X_s − X_t for the pair p = (s, t) of the list (its image on periodic axes).
+  template <int K, bool P>
+  void Displacement(const double* x, int s, int t, std::int64_t p, double* u) const {
+    for (int a = 0; a < K; ++a) u[a] = x[K * s + a] - x[K * t + a];
+    if constexpr (P) {
+      const int code = image_[static_cast<std::size_t>(p)];
+      if (code != 13) {
+        for (int a = 0; a < K; ++a) u[a] -= box_.shift[code][a];
+      }
+    }
+  }
+
+ private:
+  template <int K, bool P>
+  void BuildRows(const double* x, const double* radius, const CellList& cells, const int* members,
+                 bool sort_rows, bool brute_force, int threads);
+  void Concatenate(bool periodic, int chunks, int threads);
+
+  PeriodicBox box_;
+  int n_ = 0;
+  double skin_ = 0.0;
+  double nominal_skin_ = 0.0;
+  double skin_limit_ = std::numeric_limits<double>::infinity();
+  double attraction_range_ = 0.0;
+  bool built_here_ = false;   // built at the current predicted positions
+  double drift_bound_ = 0.0;  // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
+  std::int64_t last_build_step_ = -1;
+  std::vector<double> reference_;  // positions at the last build
+  // Half-lists: pairs (s, nbr_[p]) for p in [row_start_[s], row_start_[s + 1]), nbr_ > s.
+  std::vector<int> row_start_;  // int: the list is capped at INT_MAX pairs
+  std::vector<int> nbr_;
+  std::vector<std::uint8_t> image_;          // per pair, periodic only: the image code
+  std::vector<std::vector<int>> chunk_nbr_;  // build buffers, reused
+  std::vector<std::vector<std::uint8_t>> chunk_image_;
+  NeighbourListStats stats_;
+};
+
+// The pairs i < j in lexicographic order (id-order slots, rows sorted by j) with
+// ‖X_i − X_j‖ < r_i + r_j + skin, from a cell list of its own, on one thread: the neighbour search
+// of the initial-state checks and of pbd::ParticleConstraints. Buffers are kept between builds.
+class LexicographicPairList {
+ public:
+  // n particles of radii ≤ max_radius in `box`; skin > 0.
+  LexicographicPairList(const PeriodicBox& box, int n, double max_radius, double skin);
+  // Builds at x (n points, wrapped into the box) with the given radii.
+  void Build(const double* x, const double* radius);
+  const NeighbourList& list() const { return list_; }
+
+ private:
+  PeriodicBox box_;
+  double reach_;
+  CellList cells_;
+  NeighbourList list_;
+  std::vector<int> id_;
+};
+
+// The largest pair overlap max(0, r_s + r_t − ‖X_s − X_t‖) over the list's pairs at x.
+double MaxPairOverlap(const NeighbourList& list, const double* x, const double* radius, int n,
+                      int threads);
+
+}  // namespace moreau::particles::internal

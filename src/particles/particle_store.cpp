@@ -1,0 +1,53 @@
+#include "particles/particle_store.h"
+
+#include <numeric>
+
+#include "moreau/common/error.h"
+#include "particles/prediction.h"
+
+namespace moreau::particles::internal {
+
+ParticleStore::ParticleStore(const ParticleModel& model, std::span<const double> positions)
+    : k(model.dimension), n(model.count()) {
+  current.assign(positions.begin(), positions.end());
+  predicted.assign(current.size(), 0.0);
+  radius = model.radius;
+  mobility.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) mobility[static_cast<std::size_t>(i)] = model.mobility_of(i);
+  id.resize(static_cast<std::size_t>(n));
+  std::iota(id.begin(), id.end(), 0);
+  slot_of = id;
+}
+
+void ParticleStore::Reorder(const std::vector<int>& perm, int threads) {
+  GatherRows(perm, k, threads, &current, &scratch_k_);
+  GatherRows(perm, k, threads, &predicted, &scratch_k_);
+  GatherRows(perm, 1, threads, &radius, &scratch1_);
+  GatherRows(perm, 1, threads, &mobility, &scratch1_);
+  scratch_id_.resize(id.size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int s = 0; s < n; ++s) {
+    scratch_id_[static_cast<std::size_t>(s)] =
+        id[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])];
+  }
+  id.swap(scratch_id_);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int s = 0; s < n; ++s)
+    slot_of[static_cast<std::size_t>(id[static_cast<std::size_t>(s)])] = s;
+}
+
+void ParticleStore::CopyPositionsById(const PeriodicBox& box, std::span<double> out,
+                                      int threads) const {
+  MOREAU_ASSERT(out.size() == current.size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int s = 0; s < n; ++s) {
+    const int i = id[static_cast<std::size_t>(s)];
+    for (int a = 0; a < k; ++a) {
+      double v = current[static_cast<std::size_t>(k * s + a)];
+      if (box.periodic[a]) v = Wrap(v, box.lo[a], box.len[a]);
+      out[static_cast<std::size_t>(k * i + a)] = v;
+    }
+  }
+}
+
+}  // namespace moreau::particles::internal

@@ -1,0 +1,36 @@
+// The engine's particle storage: per slot the current and predicted positions, radius, mobility
+// and particle id. The slots are reordered along the cell list's Morton curve at neighbour-list
+// builds (coloured sweep order); ids travel with them, so results can be read in id order.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "particles/kernels.h"
+
+namespace moreau::particles::internal {
+
+struct ParticleStore {
+  int k = 2;
+  int n = 0;
+  std::vector<double> current;    // k per slot: X at the last accepted step (unwrapped between
+                                  // builds on periodic axes)
+  std::vector<double> predicted;  // k per slot: Y, then the sweep's result
+  std::vector<double> radius;
+  std::vector<double> mobility;
+  std::vector<int> id;       // particle id of each slot
+  std::vector<int> slot_of;  // slot of each particle id
+
+  // Slots in id order, positions from `positions` (k·N, id order).
+  ParticleStore(const ParticleModel& model, std::span<const double> positions);
+  // New slot s holds old slot perm[s] (positions, radius, mobility, ids).
+  void Reorder(const std::vector<int>& perm, int threads);
+  // The current positions in id order, wrapped into the periodic domain; out: size k·N.
+  void CopyPositionsById(const PeriodicBox& box, std::span<double> out, int threads) const;
+
+ private:
+  std::vector<double> scratch1_, scratch_k_;
+  std::vector<int> scratch_id_;
+};
+
+}  // namespace moreau::particles::internal

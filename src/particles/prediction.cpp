@@ -1,0 +1,240 @@
+#include "particles/prediction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace moreau::particles::internal {
+
+DriftParameters::DriftParameters(const Forces& forces, int k, double h) {
+  trap = forces.trap.has_value();
+  gamma = trap ? forces.trap->gamma : 0.0;
+  for (int a = 0; a < k; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    if (trap) center[a] = forces.trap->center[ua];
+    f0[a] = forces.constant_force[ua];
+    any_constant = any_constant || f0[a] != 0.0;
+  }
+  propulsion = forces.propulsion.has_value() && forces.propulsion->speed > 0.0;
+  v0 = propulsion ? forces.propulsion->speed : 0.0;
+  segment = propulsion && forces.propulsion->target_end.has_value();
+  exit = propulsion && forces.propulsion->exit_direction.has_value();
+  double n2 = 0.0;
+  for (int a = 0; a < k; ++a) {
+    const auto ua = static_cast<std::size_t>(a);
+    if (propulsion) target[a] = forces.propulsion->target[ua];
+    if (segment) target_end[a] = (*forces.propulsion->target_end)[ua];
+    if (exit) exit_direction[a] = (*forces.propulsion->exit_direction)[ua];
+    n2 += exit_direction[a] * exit_direction[a];
+  }
+  if (exit) {
+    for (int a = 0; a < k; ++a) exit_direction[a] /= std::sqrt(n2);
+  }
+  if (forces.attraction && forces.attraction->stiffness > 0.0) {
+    attraction_stiffness = forces.attraction->stiffness;
+    attraction_range = forces.attraction->range;
+  }
+  sigma = forces.diffusion > 0.0 ? std::sqrt(2.0 * forces.diffusion * h) : 0.0;
+}
+
+Prediction::Prediction(const Forces& forces, const PeriodicBox& box, int n, double h,
+                       std::uint64_t seed, bool uniform_mobility)
+    : parameters_(forces, box.k, h),
+      box_(box),
+      n_(n),
+      h_(h),
+      seed_(seed),
+      uniform_mobility_(uniform_mobility) {
+  if (attracts()) force_.assign(static_cast<std::size_t>(box.k) * static_cast<std::size_t>(n), 0.0);
+}
+
+void GatherRows(const std::vector<int>& perm, int width, int threads, std::vector<double>* v,
+                std::vector<double>* scratch) {
+  if (v->empty()) return;
+  scratch->resize(v->size());
+  const int n = static_cast<int>(perm.size());
+  const double* src = v->data();
+  double* dst = scratch->data();
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int s = 0; s < n; ++s) {
+    const int o = perm[static_cast<std::size_t>(s)];
+    for (int a = 0; a < width; ++a) dst[width * s + a] = src[width * o + a];
+  }
+  v->swap(*scratch);
+}
+
+void Prediction::Reorder(const std::vector<int>& perm, int threads) {
+  GatherRows(perm, box_.k, threads, &force_, &scratch_);
+}
+
+template <int K, bool P>
+void Prediction::AttractionImpl(const double* x, const double* radius, const NeighbourList& list,
+                                const Colouring& colouring, const CellList& cells,
+                                bool lexicographic, int threads) {
+  const double stiffness = parameters_.attraction_stiffness;
+  const double range = parameters_.attraction_range;
+  const int* row_start = list.row_start();
+  const int* nbr = list.neighbours();
+  double* f = force_.data();
+  std::fill(force_.begin(), force_.end(), 0.0);
+  auto rows = [&](int begin, int end) {
+    for (int s = begin; s < end; ++s) {
+      const double rs = radius[s];
+      for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
+        const int t = nbr[p];
+        double u[K];
+        list.Displacement<K, P>(x, s, t, p, u);
+        const double r = std::sqrt(SquaredNorm<K>(u));
+        const double g = r - (rs + radius[t]);
+        if (!(g > 0.0 && g < range)) continue;
+        const double scale = stiffness * g * (1.0 - g / range) / r;
+        for (int a = 0; a < K; ++a) {
+          f[K * s + a] -= scale * u[a];
+          f[K * t + a] += scale * u[a];
+        }
+      }
+    }
+  };
+  if (lexicographic) {
+    rows(0, n_);
+    return;
+  }
+#pragma omp parallel num_threads(threads)
+  ForEachBlockByColour(colouring, cells, rows);
+}
+
+void Prediction::Attraction(const double* x, const double* radius, const NeighbourList& list,
+                            const Colouring& colouring, const CellList& cells, bool lexicographic,
+                            int threads) {
+  DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
+    AttractionImpl<k, p>(x, radius, list, colouring, cells, lexicographic, threads);
+  });
+}
+
+namespace {
+
+// The self-propulsion velocity v0 e of a particle at xw (wrapped), added to v. Inlined: a call in
+// the prediction loop would keep its running maximum in memory.
+template <int K>
+[[gnu::always_inline]] inline void AddPropulsion(const DriftParameters& d, const double* xw,
+                                                 double* v) {
+  double beyond = 0.0;
+  if (d.exit) {
+    for (int a = 0; a < K; ++a) beyond += (xw[a] - d.target[a]) * d.exit_direction[a];
+  }
+  if (beyond > 0.0) {
+    for (int a = 0; a < K; ++a) v[a] += d.v0 * d.exit_direction[a];
+    return;
+  }
+  double target[K];
+  if (d.segment) {
+    double e2 = 0.0, dot = 0.0;
+    for (int a = 0; a < K; ++a) {
+      e2 += (d.target_end[a] - d.target[a]) * (d.target_end[a] - d.target[a]);
+      dot += (xw[a] - d.target[a]) * (d.target_end[a] - d.target[a]);
+    }
+    const double t = e2 > 0.0 ? std::clamp(dot / e2, 0.0, 1.0) : 0.0;
+    for (int a = 0; a < K; ++a) target[a] = d.target[a] + t * (d.target_end[a] - d.target[a]);
+  } else {
+    for (int a = 0; a < K; ++a) target[a] = d.target[a];
+  }
+  double dx[K];
+  for (int a = 0; a < K; ++a) dx[a] = target[a] - xw[a];
+  const double dist = std::sqrt(SquaredNorm<K>(dx));
+  if (dist > 1e-12) {
+    for (int a = 0; a < K; ++a) v[a] += d.v0 * (dx[a] / dist);
+  }
+}
+
+}  // namespace
+
+template <int K, bool P, bool Noise>
+void Prediction::PredictImpl(const double* x, double* y, const int* id, const double* mobility,
+                             std::int64_t step, int threads, double* max_move,
+                             std::int64_t* bad_id) const {
+  // Plain local scalars, not members or a struct: they stay in registers or the loop's operands
+  // (a member or a struct copy could alias y or crowd out the running maximum).
+  const DriftParameters& d = parameters_;
+  const bool trap = d.trap, any_constant = d.any_constant, propulsion = d.propulsion;
+  const double gamma = d.gamma, sigma = d.sigma, h = h_;
+  double center[3], f0[3];
+  for (int a = 0; a < 3; ++a) {
+    center[a] = d.center[a];
+    f0[a] = d.f0[a];
+  }
+  bool wrap_axis[3] = {false, false, false};
+  double lo[3] = {0, 0, 0}, len[3] = {0, 0, 0};
+  for (int a = 0; a < 3; ++a) {
+    wrap_axis[a] = box_.periodic[a] && (trap || propulsion);
+    lo[a] = box_.lo[a];
+    len[a] = box_.len[a];
+  }
+  const std::uint64_t seed = seed_;
+  const bool uniform_mobility = uniform_mobility_;
+  const int n = n_;
+  const double* fa = force_.data();
+  const bool attract = !force_.empty();
+  double worst = 0.0;
+  std::int64_t bad = std::numeric_limits<std::int64_t>::max();
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max                    \
+                                                                         : worst) reduction(min \
+                                                                                            : bad)
+  for (int s = 0; s < n; ++s) {
+    double xw[K];
+    for (int a = 0; a < K; ++a) {
+      xw[a] = x[K * s + a];
+      if constexpr (P) {
+        if (wrap_axis[a]) xw[a] = Wrap(xw[a], lo[a], len[a]);
+      }
+    }
+    double F[K];
+    for (int a = 0; a < K; ++a) F[a] = trap ? -gamma * (xw[a] - center[a]) : 0.0;
+    if (any_constant) {
+      for (int a = 0; a < K; ++a) F[a] += f0[a];
+    }
+    if (attract) {
+      for (int a = 0; a < K; ++a) F[a] += fa[K * s + a];
+    }
+    const double mu = uniform_mobility ? 1.0 : mobility[s];
+    double v[K];
+    for (int a = 0; a < K; ++a) v[a] = mu * F[a];
+    if (propulsion) AddPropulsion<K>(d, xw, v);
+    double yy[K];
+    for (int a = 0; a < K; ++a) yy[a] = x[K * s + a] + h * v[a];
+    if constexpr (Noise) {
+      double xi[3];
+      GaussianNoise(seed, id[s], step, K, xi);
+      for (int a = 0; a < K; ++a) yy[a] += sigma * xi[a];
+    }
+    double d2 = 0.0;
+    bool finite = true;
+    for (int a = 0; a < K; ++a) {
+      y[K * s + a] = yy[a];
+      finite = finite && std::isfinite(yy[a]);
+      const double dd = yy[a] - x[K * s + a];
+      d2 += dd * dd;
+    }
+    if (!finite) {
+      bad = std::min<std::int64_t>(bad, id[s]);
+    } else {
+      worst = std::max(worst, d2);
+    }
+  }
+  *max_move = std::sqrt(worst);
+  *bad_id = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
+}
+
+void Prediction::Predict(const double* x, double* y, const int* id, const double* mobility,
+                         std::int64_t step, int threads, double* max_move,
+                         std::int64_t* bad_id) const {
+  // Without noise the loop makes no call, so its running maximum stays in a register.
+  DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
+    if (parameters_.sigma > 0.0) {
+      PredictImpl<k, p, true>(x, y, id, mobility, step, threads, max_move, bad_id);
+    } else {
+      PredictImpl<k, p, false>(x, y, id, mobility, step, threads, max_move, bad_id);
+    }
+  });
+}
+
+}  // namespace moreau::particles::internal

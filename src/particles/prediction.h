@@ -1,0 +1,78 @@
+// The engine's prediction Y_i = X_i + h u_i(X) + √(2 D h) ξ_i (forces.h): the drift from the
+// trap, the constant force, the pair attraction (over the neighbour list) and self-propulsion,
+// and the counter-based noise ξ_i(seed, id, step). Per slot; the noise depends only on the ids.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "moreau/particles/forces.h"
+#include "particles/colouring.h"
+#include "particles/neighbour_list.h"
+
+namespace moreau::particles::internal {
+
+// The drift's constants, taken from Forces once (k = dimension components).
+struct DriftParameters {
+  bool trap = false;
+  double gamma = 0.0;
+  double center[3] = {0, 0, 0};
+  bool any_constant = false;
+  double f0[3] = {0, 0, 0};
+  bool propulsion = false;  // speed > 0
+  double v0 = 0.0;
+  double target[3] = {0, 0, 0};
+  bool segment = false;  // the target is [target, target_end]
+  double target_end[3] = {0, 0, 0};
+  bool exit = false;  // past the target the direction is exit_direction (normalised)
+  double exit_direction[3] = {0, 0, 0};
+  double attraction_stiffness = 0.0;
+  double attraction_range = 0.0;  // > 0 when the attraction is on
+  double sigma = 0.0;             // √(2 D h); 0 without noise
+
+  DriftParameters(const Forces& forces, int k, double h);
+};
+
+class Prediction {
+ public:
+  // n slots; uniform_mobility: every μ_i = 1 (the mobility loads are skipped).
+  Prediction(const Forces& forces, const PeriodicBox& box, int n, double h, std::uint64_t seed,
+             bool uniform_mobility);
+
+  bool attracts() const { return parameters_.attraction_range > 0.0; }
+  // The attraction at x (storage order) over the list's pairs into the force buffer: by colour
+  // in parallel, or (lexicographic) on one thread in row order.
+  void Attraction(const double* x, const double* radius, const NeighbourList& list,
+                  const Colouring& colouring, const CellList& cells, bool lexicographic,
+                  int threads);
+  // y = the predicted positions of x for the step from t_step to t_{step+1}. *max_move: the
+  // largest ‖Y_i − X_i‖ over finite rows; *bad_id: the smallest id with a non-finite Y_i, or −1.
+  void Predict(const double* x, double* y, const int* id, const double* mobility, std::int64_t step,
+               int threads, double* max_move, std::int64_t* bad_id) const;
+  // The force buffer follows a reordering of the slots (new slot s holds old slot perm[s]).
+  void Reorder(const std::vector<int>& perm, int threads);
+
+ private:
+  template <int K, bool P>
+  void AttractionImpl(const double* x, const double* radius, const NeighbourList& list,
+                      const Colouring& colouring, const CellList& cells, bool lexicographic,
+                      int threads);
+  template <int K, bool P, bool Noise>
+  void PredictImpl(const double* x, double* y, const int* id, const double* mobility,
+                   std::int64_t step, int threads, double* max_move, std::int64_t* bad_id) const;
+
+  DriftParameters parameters_;
+  PeriodicBox box_;
+  int n_ = 0;
+  double h_ = 0.0;
+  std::uint64_t seed_ = 0;
+  bool uniform_mobility_ = true;
+  std::vector<double> force_;  // k per slot, attraction only
+  std::vector<double> scratch_;
+};
+
+// Reorders rows of `width` values: new row s is old row perm[s]; *scratch keeps its capacity.
+void GatherRows(const std::vector<int>& perm, int width, int threads, std::vector<double>* v,
+                std::vector<double>* scratch);
+
+}  // namespace moreau::particles::internal

@@ -1,0 +1,191 @@
+#include "particles/sweep.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace moreau::particles::internal {
+
+ProjectionSweep::ProjectionSweep(const ParticleModel& model, bool uniform_radius)
+    : k_(model.dimension), n_(model.count()), uniform_radius_(uniform_radius) {
+  for (const UnitWall& w : UnitWalls(model)) {
+    for (int a = 0; a < k_; ++a) wall_n_.push_back(w.n[a]);
+    wall_b_.push_back(w.b);
+  }
+  for (const SphereObstacle& o : model.spheres) {
+    for (int a = 0; a < k_; ++a) sphere_c_.push_back(o.center[static_cast<std::size_t>(a)]);
+    sphere_r_.push_back(o.radius);
+  }
+  for (const SegmentObstacle& g : model.segments) {
+    seg_a_.insert(seg_a_.end(), {g.a[0], g.a[1]});
+    seg_b_.insert(seg_b_.end(), {g.b[0], g.b[1]});
+  }
+  fixed_sets_ = static_cast<int>(model.walls.size() + model.spheres.size() + model.segments.size());
+  path_.assign(static_cast<std::size_t>(n_), 0.0);
+  stamp_.assign(static_cast<std::size_t>(n_), 0);
+}
+
+// The pairs of rows [begin, end). X_s stays in registers over its row (the pairs (s, ·) are
+// consecutive and no other pair touches X_s in between) and is written back only if it moved.
+template <int K, bool P, bool U>
+void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* radius,
+                                const NeighbourList& list, double* max_path, std::int64_t* proj) {
+  const int* rs = list.row_start();
+  const int* nb = list.neighbours();
+  const std::uint8_t* image = list.images();
+  const double(*shift)[3] = list.box().shift;
+  const double uniform_c = 2.0 * radius[0];  // r_i + r_j when all radii are equal (exact)
+  const double uniform_c2 = uniform_c * uniform_c;
+  double local_max = *max_path;
+  std::int64_t moved = 0;
+  for (int s = begin; s < end; ++s) {
+    std::int64_t p = rs[s];
+    const std::int64_t e = rs[s + 1];
+    if (p == e) continue;
+    double* xs_mem = x + K * s;
+    double xs[K];
+    for (int a = 0; a < K; ++a) xs[a] = xs_mem[a];
+    const double ri = U ? 0.0 : radius[s];
+    double add = 0.0;
+    for (; p < e; ++p) {
+      const int t = nb[p];
+      double* xt = x + K * t;
+      double u[K];
+      for (int a = 0; a < K; ++a) u[a] = xs[a] - xt[a];
+      if constexpr (P) {
+        const int code = image[p];
+        if (code != 13) {
+          for (int a = 0; a < K; ++a) u[a] -= shift[code][a];
+        }
+      }
+      const double c = U ? uniform_c : ri + radius[t];
+      const double r2 = SquaredNorm<K>(u);
+      if (r2 >= (U ? uniform_c2 : c * c)) continue;
+      const double d = ProjectOverlappingPair<K>(xs, xt, u, r2, c);
+      add += d;
+      local_max = std::max(local_max, AddPath(t, d));
+      ++moved;
+    }
+    if (add > 0.0) {
+      for (int a = 0; a < K; ++a) xs_mem[a] = xs[a];
+      local_max = std::max(local_max, AddPath(s, add));
+    }
+  }
+  *max_path = local_max;
+  *proj += moved;
+}
+
+template <int K>
+void ProjectionSweep::SweepFixed(int begin, int end, double* x, const double* radius,
+                                 double* max_path, std::int64_t* proj) {
+  const int walls = static_cast<int>(wall_b_.size());
+  const int spheres = static_cast<int>(sphere_r_.size());
+  const int segments = static_cast<int>(seg_a_.size() / 2);
+  double local_max = *max_path;
+  std::int64_t moved = 0;
+  for (int s = begin; s < end; ++s) {
+    double* xs = x + K * s;
+    const double r = radius[s];
+    double add = 0.0;
+    auto count = [&](double d) {
+      if (d > 0.0) {
+        add += d;
+        ++moved;
+      }
+    };
+    for (int w = 0; w < walls; ++w) {
+      count(ProjectWall<K>(xs, &wall_n_[static_cast<std::size_t>(K * w)],
+                           wall_b_[static_cast<std::size_t>(w)] + r));
+    }
+    for (int o = 0; o < spheres; ++o) {
+      count(ProjectSphereExterior<K>(xs, &sphere_c_[static_cast<std::size_t>(K * o)],
+                                     sphere_r_[static_cast<std::size_t>(o)] + r));
+    }
+    if constexpr (K == 2) {
+      for (int g = 0; g < segments; ++g) {
+        count(ProjectSegmentExterior(xs, &seg_a_[static_cast<std::size_t>(2 * g)],
+                                     &seg_b_[static_cast<std::size_t>(2 * g)], r));
+      }
+    }
+    if (add > 0.0) local_max = std::max(local_max, AddPath(s, add));
+  }
+  *max_path = local_max;
+  *proj += moved;
+}
+
+template <int K, bool P>
+double ProjectionSweep::SweepImpl(double* x, const double* radius, const NeighbourList& list,
+                                  const Colouring& colouring, const CellList& cells,
+                                  bool lexicographic, int threads, std::int64_t* projections) {
+  const int n = n_;
+  auto rows = [&](int begin, int end, double* max_path, std::int64_t* proj) {
+    if (uniform_radius_) {
+      SweepRows<K, P, true>(begin, end, x, radius, list, max_path, proj);
+    } else {
+      SweepRows<K, P, false>(begin, end, x, radius, list, max_path, proj);
+    }
+  };
+  double max_path = 0.0;
+  std::int64_t proj = 0;
+  if (lexicographic) {
+    rows(0, n, &max_path, &proj);
+    if (fixed_sets_ > 0) SweepFixed<K>(0, n, x, radius, &max_path, &proj);
+    *projections += proj;
+    return max_path;
+  }
+#pragma omp parallel num_threads(threads) reduction(max : max_path) reduction(+ : proj)
+  {
+    ForEachBlockByColour(colouring, cells,
+                         [&](int begin, int end) { rows(begin, end, &max_path, &proj); });
+    if (fixed_sets_ > 0) {
+#pragma omp for schedule(static)
+      for (int chunk = 0; chunk < (n + 1023) / 1024; ++chunk) {
+        SweepFixed<K>(chunk * 1024, std::min(n, chunk * 1024 + 1024), x, radius, &max_path, &proj);
+      }
+    }
+  }
+  *projections += proj;
+  return max_path;
+}
+
+double ProjectionSweep::Sweep(double* x, const double* radius, const NeighbourList& list,
+                              const Colouring& colouring, const CellList& cells, bool lexicographic,
+                              int threads, std::int64_t* projections) {
+  ++sweep_id_;
+  if (sweep_id_ == 0) {  // wrapped around: clear the stamps
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    sweep_id_ = 1;
+  }
+  return DispatchDimensionPeriodic(k_, list.box().any, [&](auto kk, auto p) {
+    return SweepImpl<kk, p>(x, radius, list, colouring, cells, lexicographic, threads, projections);
+  });
+}
+
+double ProjectionSweep::MaxFixedViolation(const double* x, const double* radius) const {
+  const int k = k_;
+  double worst = 0.0;
+  for (int s = 0; s < n_; ++s) {
+    const double* xs = x + k * s;
+    const double r = radius[s];
+    for (std::size_t w = 0; w < wall_b_.size(); ++w) {
+      double g = -(wall_b_[w] + r);
+      for (int a = 0; a < k; ++a)
+        g += wall_n_[static_cast<std::size_t>(k) * w + static_cast<std::size_t>(a)] * xs[a];
+      worst = std::max(worst, -g);
+    }
+    for (std::size_t o = 0; o < sphere_r_.size(); ++o) {
+      double r2 = 0.0;
+      for (int a = 0; a < k; ++a) {
+        const double d =
+            xs[a] - sphere_c_[static_cast<std::size_t>(k) * o + static_cast<std::size_t>(a)];
+        r2 += d * d;
+      }
+      worst = std::max(worst, sphere_r_[o] + r - std::sqrt(r2));
+    }
+    for (std::size_t g = 0; g < seg_a_.size() / 2; ++g) {
+      worst = std::max(worst, -SegmentGap(xs, &seg_a_[2 * g], &seg_b_[2 * g], r));
+    }
+  }
+  return worst;
+}
+
+}  // namespace moreau::particles::internal

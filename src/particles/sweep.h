@@ -1,0 +1,73 @@
+// The engine's PBD sweep: every candidate pair of the neighbour list (non-overlap), then for
+// every particle its walls (model order), sphere obstacles and segment obstacles, each an exact
+// projection (kernels.h).
+//
+// Order: kLexicographic visits the rows of slots 0 … N−1 on one thread (storage = id order);
+// kColoured visits the colours in order, the blocks of one colour in parallel, each block's
+// slots in storage order, then the fixed sets in chunks of 1024 slots. Both are the same for any
+// thread count.
+//
+// Path bounds: the sweep adds the length of every projection move to the moved particle's path
+// (per sweep, reset lazily by a sweep stamp) and returns the longest path, which bounds how far
+// any particle moved in the sweep (the neighbour list's no-missed-contact bound).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "particles/colouring.h"
+#include "particles/neighbour_list.h"
+
+namespace moreau::particles::internal {
+
+class ProjectionSweep {
+ public:
+  // The fixed sets of the model (walls normalised) and n path slots; uniform_radius: all r_i
+  // equal (the pair loop then skips the radius loads).
+  ProjectionSweep(const ParticleModel& model, bool uniform_radius);
+
+  // One sweep over x (storage order); adds the number of projections that moved a particle to
+  // *projections and returns the longest path.
+  double Sweep(double* x, const double* radius, const NeighbourList& list,
+               const Colouring& colouring, const CellList& cells, bool lexicographic, int threads,
+               std::int64_t* projections);
+
+  // Sets visited per sweep besides the pairs: N · (walls + obstacles).
+  int fixed_sets() const { return fixed_sets_; }
+  // The largest violation of a wall or obstacle at x (0 when none is violated).
+  double MaxFixedViolation(const double* x, const double* radius) const;
+
+ private:
+  template <int K, bool P>
+  double SweepImpl(double* x, const double* radius, const NeighbourList& list,
+                   const Colouring& colouring, const CellList& cells, bool lexicographic,
+                   int threads, std::int64_t* projections);
+  template <int K, bool P, bool U>
+  void SweepRows(int begin, int end, double* x, const double* radius, const NeighbourList& list,
+                 double* max_path, std::int64_t* proj);
+  template <int K>
+  void SweepFixed(int begin, int end, double* x, const double* radius, double* max_path,
+                  std::int64_t* proj);
+  double AddPath(int s, double d) {
+    const auto us = static_cast<std::size_t>(s);
+    if (stamp_[us] != sweep_id_) {
+      stamp_[us] = sweep_id_;
+      path_[us] = 0.0;
+    }
+    path_[us] += d;
+    return path_[us];
+  }
+
+  int k_ = 2;
+  int n_ = 0;
+  bool uniform_radius_ = false;
+  // Fixed sets: unit wall normals (k per wall) and offsets (the radius is added per particle),
+  // sphere centres and radii, segment ends.
+  std::vector<double> wall_n_, wall_b_, sphere_c_, sphere_r_, seg_a_, seg_b_;
+  int fixed_sets_ = 0;
+  std::vector<double> path_;
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t sweep_id_ = 0;
+};
+
+}  // namespace moreau::particles::internal

@@ -1,0 +1,117 @@
+// The cell list: the grid's adjacency, the Morton order of blocks and cells, and the sort.
+#include "particles/cell_list.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <set>
+
+#include "particles/part_fixtures.h"
+
+namespace moreau::particles::internal {
+namespace {
+
+using testing::RandomConfiguration;
+
+// The permutation of a sorted cell list: a permutation of the slots, ordered by cell rank, by
+// id within a cell; every slot lies in the cell of its rank.
+void CheckSorted(const RandomConfiguration& c, int threads) {
+  const int k = c.model.dimension;
+  const int n = c.model.count();
+  const PeriodicBox box = PeriodicBox::Of(c.model);
+  std::vector<int> id(static_cast<std::size_t>(n));
+  std::iota(id.begin(), id.end(), 0);
+  std::reverse(id.begin(), id.end());  // ids differ from slots
+  CellList cells;
+  ASSERT_TRUE(cells.Fit(c.x.data(), n, box, 1.5, 0, threads));
+  cells.Sort(c.x.data(), id.data(), n, threads);
+  std::vector<int> perm = cells.permutation();
+  std::vector<int> sorted = perm;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<int> slots(static_cast<std::size_t>(n));
+  std::iota(slots.begin(), slots.end(), 0);
+  ASSERT_EQ(sorted, slots);
+  EXPECT_EQ(cells.cell_start(0), 0);
+  EXPECT_EQ(cells.cell_start(cells.cells()), n);
+  for (std::int64_t r = 0; r < cells.cells(); ++r) {
+    for (std::int64_t q = cells.cell_start(r); q < cells.cell_start(r + 1); ++q) {
+      const int s = perm[static_cast<std::size_t>(q)];
+      EXPECT_EQ(cells.rank(cells.grid().CellOf(&c.x[static_cast<std::size_t>(k * s)])), r);
+      if (q > cells.cell_start(r)) {
+        EXPECT_LT(id[static_cast<std::size_t>(perm[static_cast<std::size_t>(q - 1)])],
+                  id[static_cast<std::size_t>(s)]);
+      }
+    }
+  }
+  // The same permutation on one thread.
+  CellList one;
+  one.Fit(c.x.data(), n, box, 1.5, 0, 1);
+  one.Sort(c.x.data(), id.data(), n, 1);
+  EXPECT_EQ(one.permutation(), perm);
+}
+
+TEST(ParticleCellList, SortIsAPermutationByCellRankThenId) {
+  CheckSorted(RandomConfiguration(2, {false, false, false}, 800, 40.0, 3), 3);
+  CheckSorted(RandomConfiguration(3, {true, true, true}, 600, 12.0, 4), 2);
+}
+
+TEST(ParticleCellList, BlocksFollowTheMortonCurveAndCellRanksArePermutation) {
+  const RandomConfiguration c(2, {false, false, false}, 3000, 90.0, 5);
+  CellList cells;
+  cells.Fit(c.x.data(), c.model.count(), PeriodicBox::Of(c.model), 1.5, 2, 1);
+  const int* nb = cells.blocks_per_axis();
+  ASSERT_GT(cells.blocks(), 4);
+  std::uint64_t previous = 0;
+  for (std::int64_t r = 0; r < cells.blocks(); ++r) {
+    const std::int64_t b = cells.block_of_rank()[static_cast<std::size_t>(r)];
+    const int coords[3] = {static_cast<int>(b % nb[0]), static_cast<int>(b / nb[0]), 0};
+    const std::uint64_t code = Morton(coords, 2);
+    if (r > 0) {
+      EXPECT_GT(code, previous);
+    }
+    previous = code;
+    EXPECT_LT(cells.block_cell_begin(r), cells.block_cell_begin(r + 1));
+  }
+  EXPECT_EQ(cells.block_cell_begin(cells.blocks()), cells.cells());
+  std::set<std::int64_t> ranks;
+  for (std::int64_t cell = 0; cell < cells.cells(); ++cell) ranks.insert(cells.rank(cell));
+  EXPECT_EQ(static_cast<std::int64_t>(ranks.size()), cells.cells());
+  EXPECT_EQ(*ranks.rbegin(), cells.cells() - 1);
+  // Morton codes interleave the bits, x lowest: (1, 0) → 1, (0, 1) → 2, (3, 5) → 0b100111.
+  const int a[2] = {1, 0}, b[2] = {0, 1}, d[2] = {3, 5};
+  EXPECT_EQ(Morton(a, 2), 1u);
+  EXPECT_EQ(Morton(b, 2), 2u);
+  EXPECT_EQ(Morton(d, 2), 0b100111u);
+}
+
+TEST(ParticleCellList, CloserThanTheEdgeMeansAdjacentCells) {
+  for (const bool periodic : {false, true}) {
+    const RandomConfiguration c(2, {periodic, periodic, false}, 500, 30.0, 6);
+    CellGrid grid;
+    const double lo[3] = {0, 0, 0}, hi[3] = {30, 30, 0};
+    grid.Fit(2, lo, hi, PeriodicBox::Of(c.model), 1.7, 1000);
+    for (int a = 0; a < 2; ++a) EXPECT_GE(grid.edge[a], 1.7);
+    for (int i = 0; i < c.model.count(); ++i) {
+      std::set<std::int64_t> near;
+      grid.ForEachAdjacentCell<2>(&c.x[static_cast<std::size_t>(2 * i)], [&](std::int64_t cell) {
+        EXPECT_TRUE(near.insert(cell).second) << "cell visited twice";
+      });
+      for (int j = 0; j < c.model.count(); ++j) {
+        double r2 = 0.0;
+        for (int a = 0; a < 2; ++a) {
+          double d =
+              c.x[static_cast<std::size_t>(2 * i + a)] - c.x[static_cast<std::size_t>(2 * j + a)];
+          if (periodic) d -= 30.0 * std::round(d / 30.0);
+          r2 += d * d;
+        }
+        if (r2 < 1.7 * 1.7) {
+          EXPECT_TRUE(near.count(grid.CellOf(&c.x[static_cast<std::size_t>(2 * j)])));
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace moreau::particles::internal
