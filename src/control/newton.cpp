@@ -159,6 +159,28 @@ std::string NewtonSummary::FullReport() const {
   return r;
 }
 
+namespace {
+
+// Backtracking line search on ½‖F‖₂² from y along step: the first α = 1, ½, ¼, … ≥ min_step with
+// ½‖F(y + α step)‖² ≤ (1 − 2 armijo α) ½‖F(y)‖² (trial holds y + α step), or 0 when none is.
+double LineSearch(const PontryaginDiscretization& disc, const NewtonOptions& options,
+                  const Eigen::VectorXd& y, const Eigen::VectorXd& step,
+                  const Eigen::VectorXd& residual, PontryaginWorkspace& ws, Eigen::VectorXd& trial,
+                  Eigen::VectorXd& trial_residual) {
+  const double merit = 0.5 * residual.squaredNorm();
+  for (double alpha = 1.0; alpha >= options.min_step; alpha *= 0.5) {
+    trial = y + alpha * step;
+    const double trial_norm = EvaluateResidual(disc, trial, ws, trial_residual);
+    if (std::isfinite(trial_norm) &&
+        0.5 * trial_residual.squaredNorm() <= (1.0 - 2.0 * options.armijo * alpha) * merit) {
+      return alpha;
+    }
+  }
+  return 0.0;
+}
+
+}  // namespace
+
 NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
                           Eigen::VectorXd& y) {
   options.Validate();
@@ -212,22 +234,9 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
       return finish(Termination::kSingularJacobian,
                     fmt::format("non-finite Newton step at iteration {}", it + 1));
     }
-    // Backtracking line search on ½‖F‖₂².
     phase.Restart();
-    const double merit = 0.5 * residual.squaredNorm();
-    double alpha = 1.0;
-    bool accepted = false;
-    double trial_norm = 0.0;
-    while (alpha >= options.min_step) {
-      trial = y + alpha * step;
-      trial_norm = EvaluateResidual(disc, trial, ws, trial_residual);
-      if (std::isfinite(trial_norm) &&
-          0.5 * trial_residual.squaredNorm() <= (1.0 - 2.0 * options.armijo * alpha) * merit) {
-        accepted = true;
-        break;
-      }
-      alpha *= 0.5;
-    }
+    const double alpha = LineSearch(disc, options, y, step, residual, ws, trial, trial_residual);
+    const bool accepted = alpha > 0.0;
     summary.line_search_seconds += phase.Seconds();
     if (!accepted) {
       return finish(Termination::kLineSearchFailed,
