@@ -149,17 +149,24 @@ BENCHMARK(BM_PlainLoop)->Unit(benchmark::kMillisecond);
 void BM_PlainLoopHoisted(benchmark::State& state) { TimePlainLoop<PlainLoopHoistedRun>(state); }
 BENCHMARK(BM_PlainLoopHoisted)->Unit(benchmark::kMillisecond);
 
-void BM_LibraryPBD(benchmark::State& state) {
+// The library's PBD on the 40 disks with the given pair search; state.range(0) turns the
+// violation monitor on.
+template <moreau::pbd::PairSearch kSearch>
+void TimeLibraryRun(benchmark::State& state) {
   const bool monitor = state.range(0) != 0;
   const moreau::pbd::Vector x0 = Case().InitialState();
   LibraryResult r;
   for (auto _ : state) {
-    r = LibraryRun(x0, monitor, moreau::pbd::PairSearch::kVerletList);
+    r = LibraryRun(x0, monitor, kSearch);
     benchmark::DoNotOptimize(r.final_state.data());
     benchmark::ClobberMemory();
   }
   state.counters["list_builds"] = static_cast<double>(r.stats.neighbour_list_builds);
   state.counters["pairs_last_build"] = static_cast<double>(r.stats.candidate_pairs);
+}
+
+void BM_LibraryPBD(benchmark::State& state) {
+  TimeLibraryRun<moreau::pbd::PairSearch::kVerletList>(state);
 }
 BENCHMARK(BM_LibraryPBD)
     ->ArgName("monitor_violation")
@@ -168,14 +175,7 @@ BENCHMARK(BM_LibraryPBD)
     ->Unit(benchmark::kMillisecond);
 
 void BM_LibraryPBDAllPairs(benchmark::State& state) {
-  const bool monitor = state.range(0) != 0;
-  const moreau::pbd::Vector x0 = Case().InitialState();
-  LibraryResult r;
-  for (auto _ : state) {
-    r = LibraryRun(x0, monitor, moreau::pbd::PairSearch::kAllPairs);
-    benchmark::DoNotOptimize(r.final_state.data());
-    benchmark::ClobberMemory();
-  }
+  TimeLibraryRun<moreau::pbd::PairSearch::kAllPairs>(state);
 }
 BENCHMARK(BM_LibraryPBDAllPairs)
     ->ArgName("monitor_violation")

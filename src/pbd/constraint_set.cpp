@@ -14,8 +14,7 @@ double ConstraintSet::Distance(ConstVectorRef x) const {
   return (p - x).norm();
 }
 
-BallInterior::BallInterior(Vector center, double radius)
-    : center_(std::move(center)), radius_(radius) {
+BallSet::BallSet(Vector center, double radius) : center_(std::move(center)), radius_(radius) {
   if (!(radius > 0.0)) throw InputError(fmt::format("ball radius must be > 0 (got {})", radius));
 }
 
@@ -35,11 +34,6 @@ bool BallInterior::Project(VectorRef x) const {
   if (r <= radius_) return false;
   x = center_ + (radius_ / r) * (x - center_);
   return true;
-}
-
-BallExterior::BallExterior(Vector center, double radius)
-    : center_(std::move(center)), radius_(radius) {
-  if (!(radius > 0.0)) throw InputError(fmt::format("ball radius must be > 0 (got {})", radius));
 }
 
 double BallExterior::Value(ConstVectorRef x) const { return (x - center_).norm() - radius_; }

@@ -37,32 +37,33 @@ class ConstraintSet {
   virtual double Distance(ConstVectorRef x) const;
 };
 
-// {x : ‖x − c‖ ≤ R}.
-class BallInterior final : public ConstraintSet {
+// The centre c and radius R > 0 shared by the two ball sets below.
+class BallSet : public ConstraintSet {
  public:
-  BallInterior(Vector center, double radius);  // Throws InputError if radius ≤ 0.
+  BallSet(Vector center, double radius);  // Throws InputError if radius ≤ 0.
   int dimension() const override { return static_cast<int>(center_.size()); }
-  double Value(ConstVectorRef x) const override;
-  void Gradient(ConstVectorRef x, VectorRef grad) const override;
-  bool Project(VectorRef x) const override;
 
- private:
+ protected:
   Vector center_;
   double radius_;
 };
 
-// {x : ‖x − c‖ ≥ R}. At x = c the projection picks c + R e_1.
-class BallExterior final : public ConstraintSet {
+// {x : ‖x − c‖ ≤ R}.
+class BallInterior final : public BallSet {
  public:
-  BallExterior(Vector center, double radius);  // Throws InputError if radius ≤ 0.
-  int dimension() const override { return static_cast<int>(center_.size()); }
+  using BallSet::BallSet;
   double Value(ConstVectorRef x) const override;
   void Gradient(ConstVectorRef x, VectorRef grad) const override;
   bool Project(VectorRef x) const override;
+};
 
- private:
-  Vector center_;
-  double radius_;
+// {x : ‖x − c‖ ≥ R}. At x = c the projection picks c + R e_1.
+class BallExterior final : public BallSet {
+ public:
+  using BallSet::BallSet;
+  double Value(ConstVectorRef x) const override;
+  void Gradient(ConstVectorRef x, VectorRef grad) const override;
+  bool Project(VectorRef x) const override;
 };
 
 // {x : ⟨n, x⟩ ≥ b}; n is normalised on construction (throws InputError if n = 0).
