@@ -1,10 +1,13 @@
 // `moreau run SCENARIO.toml [--set key=value ...] [--out DIR] [--fix-overlaps]`: one simulation.
-// problem.kind = "particles" goes to the particle engine (particles_run.h); "sliding" and
-// "disks" to the paper's steppers (pbd_scenario → pbd_run → pbd_report).
+// problem.kind = "particles" goes to the particle engine (particles_scenario → particles_run →
+// particles_report); "sliding" and "disks" to the paper's steppers (pbd_scenario → pbd_run →
+// pbd_report).
 #include <memory>
 
 #include "commands.h"
-#include "particles_run.h"
+#include "run/particles_report.h"
+#include "run/particles_run.h"
+#include "run/particles_scenario.h"
 #include "run/pbd_report.h"
 #include "run/pbd_run.h"
 #include "run/pbd_scenario.h"
@@ -16,10 +19,21 @@ struct RunArgs : ScenarioArgs {
   bool fix_overlaps = false;
 };
 
+// Every input is read and checked, the engine set up on its initial state, before the output
+// folder is made: the run streams its trajectory there.
+int RunParticleScenario(Scenario& scenario, const RunArgs& args) {
+  const ParticleScenario settings = ReadParticleScenario(scenario, args.fix_overlaps);
+  scenario.CheckAllKeysUsed();
+  ParticleSetup setup = SetUpParticleRun(settings, scenario);
+  OutputDir out(args.OutDir());
+  const ParticleRunResult result = RunParticles(settings, setup, out);
+  return ReportParticleRun(settings, setup, result, scenario.path(), out);
+}
+
 int Run(const RunArgs& args) {
   Scenario scenario = Scenario::Load(args.scenario, args.overrides);
   if (scenario.GetString("problem.kind", "") == "particles") {
-    return RunParticleScenario(scenario, {args.OutDir(), args.fix_overlaps});
+    return RunParticleScenario(scenario, args);
   }
   const PbdScenario pbd_scenario = ReadPbdScenario(scenario);
   scenario.CheckAllKeysUsed();

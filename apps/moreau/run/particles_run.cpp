@@ -1,0 +1,149 @@
+#include "run/particles_run.h"
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <numeric>
+#include <span>
+
+#include <fmt/format.h>
+
+#include "field_table.h"
+#include "moreau/common/steps.h"
+#include "moreau/io/trajectory.h"
+#include "moreau/particles/room.h"
+#include "progress.h"
+
+namespace moreau::cli {
+namespace {
+
+// What the run writes as it goes: trajectory frames, snapshot frames, the evacuation series.
+class RunRecorder {
+ public:
+  RunRecorder(OutputDir& out, const ParticleScenario& scenario, const particles::Engine& engine,
+              std::int64_t steps)
+      : output_(scenario.output),
+        stride_(output_.stride > 0 ? output_.stride : std::max<std::int64_t>(1, steps / 100)),
+        model_(engine.model()),
+        h_(engine.options().h),
+        steps_(steps),
+        ids_(model_.radius.size()),
+        x_(static_cast<std::size_t>(model_.dimension) * model_.radius.size()) {
+    std::iota(ids_.begin(), ids_.end(), 0);
+    if (output_.hdf5) {
+      out.Stage("trajectory.xdmf");
+      hdf5_ = io::MakeHdf5Writer(out.Stage("trajectory.h5"));
+    }
+    if (output_.vtu) {
+      const std::filesystem::path dir = out.Stage("vtu");
+      std::filesystem::create_directories(dir);
+      vtu_ = io::MakeVtuSeriesWriter(dir, "frame");
+    }
+    if (scenario.room) evacuation_.emplace(*scenario.room, model_.count());
+  }
+
+  // The engine's observer: positions are copied to id order only for a frame or a snapshot.
+  void Observe(const particles::Engine& engine) {
+    const std::int64_t step = engine.step();
+    const double t = engine.time();
+    if (evacuation_) {
+      const particles::StoredPositions stored = engine.Stored();
+      evacuation_csv_ +=
+          fmt::format("{:.9g},{}\n", t, evacuation_->Update(stored.ids, stored.positions));
+    }
+    const bool frame = step % stride_ == 0 || step == steps_;
+    const bool snapshot =
+        step == 0 ? output_.snapshot_times.empty() || IsSnapshotTime(t) : IsSnapshotTime(t);
+    if (frame || snapshot) {
+      engine.CopyPositions(x_);
+      if (frame) WriteFrame(step, t, x_);
+      if (snapshot) snapshots_.emplace_back(t, x_);
+    }
+    last_step_ = step;
+  }
+
+  // After the run: the last good frame after a failure, the final snapshot, writers closed.
+  ParticleRunResult Finish(const particles::EngineSummary& summary, double t,
+                           std::vector<double> x) {
+    if (!summary.ok() && last_step_ % stride_ != 0) WriteFrame(last_step_, t, x);
+    if (hdf5_) hdf5_->Close();
+    if (vtu_) vtu_->Close();
+    if (output_.snapshot_times.empty()) snapshots_.emplace_back(t, x);
+    ParticleRunResult result{
+        summary,          std::move(x),   std::nullopt, "", std::move(snapshots_),
+        hdf5_ != nullptr, vtu_ != nullptr};
+    if (evacuation_) {
+      result.evacuated = evacuation_->out();
+      result.evacuation_csv = std::move(evacuation_csv_);
+    }
+    return result;
+  }
+
+ private:
+  bool IsSnapshotTime(double t) const {
+    for (double ts : output_.snapshot_times) {
+      if (std::abs(t - ts) <= 0.5 * h_) return true;
+    }
+    return false;
+  }
+  void WriteFrame(std::int64_t step, double t, std::span<const double> x) {
+    const io::ParticleFrame frame{
+        step, t, model_.dimension, x.data(), ids_.data(), model_.radius.data(), model_.count()};
+    if (hdf5_) hdf5_->Write(frame);
+    if (vtu_) vtu_->Write(frame);
+  }
+
+  const ParticleOutputSettings& output_;
+  std::int64_t stride_;  // a frame every stride steps (and the last)
+  const particles::ParticleModel& model_;
+  double h_;
+  std::int64_t steps_;
+  std::vector<std::int64_t> ids_;
+  std::unique_ptr<io::TrajectoryWriter> hdf5_, vtu_;
+  std::optional<particles::EvacuationCount> evacuation_;
+  std::string evacuation_csv_ = "t,out\n";
+  std::vector<std::pair<double, std::vector<double>>> snapshots_;
+  std::int64_t last_step_ = 0;
+  std::vector<double> x_;  // positions in id order for frames and snapshots
+};
+
+}  // namespace
+
+ParticleSetup SetUpParticleRun(const ParticleScenario& scenario, const Scenario& file) {
+  particles::ParticleModel model = scenario.MakeModel();
+  WithKey(file, "problem", [&] { model.Validate(); });
+  std::vector<double> x0;
+  if (scenario.positions) {
+    x0 = *scenario.positions;
+  } else {
+    WithKey(file, "initial", [&] {
+      x0 = particles::RandomSequentialAddition(model, scenario.initial_lo.value_or(model.domain_lo),
+                                               scenario.initial_hi.value_or(model.domain_hi),
+                                               static_cast<std::uint64_t>(scenario.seed));
+    });
+  }
+  int fix_sweeps = 0;
+  if (scenario.fix_overlaps) {
+    WithKey(file, "initial", [&] { fix_sweeps = particles::FixOverlaps(model, x0); });
+  }
+  std::optional<particles::Engine> engine;
+  WithKey(file, "initial", [&] {
+    engine.emplace(std::move(model), scenario.MakeForces(), scenario.MakeEngineOptions(), x0);
+  });
+  return {std::move(*engine), fix_sweeps, StepCount(scenario.T, scenario.solver.h)};
+}
+
+ParticleRunResult RunParticles(const ParticleScenario& scenario, ParticleSetup& setup,
+                               OutputDir& out) {
+  particles::Engine& engine = setup.engine;
+  RunRecorder recorder(out, scenario, engine, setup.steps);
+  ProgressBar progress("run", setup.steps);
+  const particles::EngineSummary summary = engine.Run(scenario.T, [&](const particles::Engine& e) {
+    recorder.Observe(e);
+    progress.Update(e.step());
+  });
+  progress.Finish();
+  return recorder.Finish(summary, engine.time(), engine.Positions());
+}
+
+}  // namespace moreau::cli

@@ -1,0 +1,467 @@
+#include "run/particles_scenario.h"
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+#include "moreau/common/random.h"
+#include "moreau/common/steps.h"
+
+namespace moreau::cli {
+namespace {
+
+using particles::Vec3;
+using S = ParticleScenario;
+
+// k numbers from a TOML array node (k: the problem's dimension).
+Vec3 VecFromNode(const Scenario& sc, const std::string& key, const toml::node* node, int k) {
+  const toml::array* arr = node ? node->as_array() : nullptr;
+  if (arr == nullptr || static_cast<int>(arr->size()) != k) {
+    sc.Fail(key, fmt::format("expected an array of {} numbers", k));
+  }
+  Vec3 out{0.0, 0.0, 0.0};
+  for (int a = 0; a < k; ++a) {
+    const auto v = (*arr)[static_cast<std::size_t>(a)].value<double>();
+    if (!v || !std::isfinite(*v)) sc.Fail(key, "entries must be finite numbers");
+    out[static_cast<std::size_t>(a)] = *v;
+  }
+  return out;
+}
+
+// A key holding k numbers; empty when absent (the key still counts as known).
+std::optional<Vec3> ReadVec(Scenario& sc, const std::string& key, int k) {
+  if (!sc.Has(key)) {
+    (void)sc.GetNode(key);
+    return std::nullopt;
+  }
+  const std::vector<double> v = sc.GetDoubleArray(key, {});
+  if (static_cast<int>(v.size()) != k) {
+    sc.Fail(key, fmt::format("expected {} numbers (the dimension), got {}", k, v.size()));
+  }
+  Vec3 out{0.0, 0.0, 0.0};
+  std::copy(v.begin(), v.end(), out.begin());
+  return out;
+}
+
+nlohmann::json EchoVec(const Vec3& v, int k) {
+  return std::vector<double>(v.begin(), v.begin() + k);
+}
+nlohmann::json EchoVec(const std::optional<Vec3>& v, int k) {
+  return v ? EchoVec(*v, k) : nlohmann::json();
+}
+
+// A vector of the problem's dimension (a Vec3 or an optional Vec3 member).
+template <class A>
+void AddVec(FieldTable<S>& t, std::string key, A ref, std::string help) {
+  t.Custom(
+      std::move(key), "k numbers",
+      [ref](Scenario& sc, S& s, const std::string& k) {
+        if (const std::optional<Vec3> v = ReadVec(sc, k, s.dimension)) std::invoke(ref, s) = *v;
+      },
+      [ref](const S& s) { return EchoVec(std::invoke(ref, s), s.dimension); }, std::move(help));
+}
+
+// A flag whose default depends on fields read before it.
+template <class A, class D>
+void AddFlag(FieldTable<S>& t, std::string key, A ref, D fallback, std::string help) {
+  t.Custom(
+      std::move(key), "boolean",
+      [ref, fallback](Scenario& sc, S& s, const std::string& k) {
+        std::invoke(ref, s) = sc.GetBool(k, fallback(s));
+      },
+      [ref](const S& s) { return nlohmann::json(std::invoke(ref, s)); }, std::move(help));
+}
+
+// The tables of an array of tables ([[walls]]); empty when absent.
+std::vector<const toml::table*> Tables(Scenario& sc, const std::string& key) {
+  std::vector<const toml::table*> out;
+  const toml::node* node = sc.GetNode(key);
+  if (node == nullptr) return out;
+  const toml::array* arr = node->as_array();
+  if (arr == nullptr) sc.Fail(key, "expected an array of tables ([[" + key + "]])");
+  for (const toml::node& item : *arr) {
+    if (item.as_table() == nullptr) sc.Fail(key, "expected an array of tables");
+    out.push_back(item.as_table());
+  }
+  return out;
+}
+
+double NumberFromTable(const Scenario& sc, const std::string& key, const toml::table& t,
+                       const char* field) {
+  const auto v = t[field].value<double>();
+  if (!v || !std::isfinite(*v)) sc.Fail(key + "." + field, "expected a finite number");
+  return *v;
+}
+
+// [[KEY]]: one entry of `list` per table, made by make(scenario, settings, "KEY[i]", table).
+template <class T, class Make>
+auto ReadEach(std::vector<T> S::*list, Make make) {
+  return [list, make](Scenario& sc, S& s, const std::string& key) {
+    const auto tables = Tables(sc, key);
+    for (std::size_t i = 0; i < tables.size(); ++i) {
+      (s.*list).push_back(make(sc, s, fmt::format("{}[{}]", key, i), *tables[i]));
+    }
+  };
+}
+
+particles::Wall MakeWall(const Scenario& sc, const S& s, const std::string& at,
+                         const toml::table& t) {
+  return {VecFromNode(sc, at + ".normal", t.get("normal"), s.dimension),
+          NumberFromTable(sc, at, t, "offset")};
+}
+
+particles::SphereObstacle MakeSphere(const Scenario& sc, const S& s, const std::string& at,
+                                     const toml::table& t) {
+  return {VecFromNode(sc, at + ".center", t.get("center"), s.dimension),
+          NumberFromTable(sc, at, t, "radius")};
+}
+
+particles::SegmentObstacle MakeSegment(const Scenario& sc, const S& s, const std::string& at,
+                                       const toml::table& t) {
+  if (s.dimension != 2) sc.Fail(at, "segments need dimension 2");
+  const Vec3 a = VecFromNode(sc, at + ".a", t.get("a"), 2);
+  const Vec3 b = VecFromNode(sc, at + ".b", t.get("b"), 2);
+  return {{a[0], a[1]}, {b[0], b[1]}};
+}
+
+nlohmann::json EchoWalls(const S& s) {
+  nlohmann::json j;
+  for (const particles::Wall& w : s.walls) {
+    j.push_back({{"normal", EchoVec(w.normal, s.dimension)}, {"offset", w.offset}});
+  }
+  return j;
+}
+
+nlohmann::json EchoSpheres(const S& s) {
+  nlohmann::json j;
+  for (const particles::SphereObstacle& o : s.spheres) {
+    j.push_back({{"center", EchoVec(o.center, s.dimension)}, {"radius", o.radius}});
+  }
+  return j;
+}
+
+nlohmann::json EchoSegments(const S& s) {
+  nlohmann::json j;
+  for (const particles::SegmentObstacle& g : s.segments) j.push_back({{"a", g.a}, {"b", g.b}});
+  return j;
+}
+
+// [room] width, height, door_width, all three required when the table is there.
+void ReadRoom(Scenario& sc, S& s, const std::string& key) {
+  if (!sc.Has(key)) {
+    (void)sc.GetNode(key);
+    return;
+  }
+  s.room = particles::Room{sc.RequireDouble(key + ".width"), sc.RequireDouble(key + ".height"),
+                           sc.RequireDouble(key + ".door_width")};
+}
+
+nlohmann::json EchoRoom(const S& s) {
+  if (!s.room) return nullptr;
+  return {{"width", s.room->width}, {"height", s.room->height}, {"door_width", s.room->door_width}};
+}
+
+// [initial] positions = [[x, y], …]: problem.count rows of k numbers.
+void ReadPositions(Scenario& sc, S& s, const std::string& key) {
+  const toml::node* node = sc.GetNode(key);
+  if (node == nullptr) return;
+  const toml::array* rows = node->as_array();
+  if (rows == nullptr || static_cast<std::int64_t>(rows->size()) != s.count) {
+    sc.Fail(key, fmt::format("expected an array of {} positions (problem.count)", s.count));
+  }
+  const auto k = static_cast<std::size_t>(s.dimension);
+  std::vector<double> x(k * rows->size());
+  for (std::size_t i = 0; i < rows->size(); ++i) {
+    const Vec3 p = VecFromNode(sc, fmt::format("{}[{}]", key, i), &(*rows)[i], s.dimension);
+    std::copy(p.begin(), p.begin() + s.dimension, x.begin() + static_cast<std::ptrdiff_t>(k * i));
+  }
+  s.positions = std::move(x);
+}
+
+void ReadPeriodic(Scenario& sc, S& s, const std::string& key) {
+  const toml::node* node = sc.GetNode(key);
+  if (node == nullptr) return;
+  const toml::array* arr = node->as_array();
+  if (arr == nullptr || static_cast<int>(arr->size()) != s.dimension) {
+    sc.Fail(key, fmt::format("expected {} booleans", s.dimension));
+  }
+  for (std::size_t a = 0; a < arr->size(); ++a) {
+    const auto b = (*arr)[a].value<bool>();
+    if (!b) sc.Fail(key, "entries must be true or false");
+    s.periodic[a] = *b;
+  }
+}
+
+void ReadDimension(Scenario& sc, S& s, const std::string& key) {
+  const std::int64_t d = sc.GetInt(key, s.dimension);
+  if (d != 2 && d != 3) sc.Fail(key, fmt::format("must be 2 or 3 (got {})", d));
+  s.dimension = static_cast<int>(d);
+}
+
+void AddProblemFields(FieldTable<S>& t) {
+  t.Text("problem.kind", &S::kind, "particles (sliding, disks: docs/paper.md)")
+      .Custom(
+          "problem.dimension", "2 or 3", ReadDimension,
+          [](const S& s) { return nlohmann::json(s.dimension); }, "dimension k")
+      .Integer("problem.count", &S::count, Range::AtLeast(1), "number of particles N")
+      .Required()
+      .OptionalNumber("problem.radius", &S::radius, Range::Positive(), "radius of every particle")
+      .OptionalNumber("problem.radius_min", &S::radius_min, Range::Positive(),
+                      "polydisperse: radii uniform in [radius_min, radius_max] (seeded)")
+      .OptionalNumber("problem.radius_max", &S::radius_max, Range::Any(), "polydisperse")
+      .Number("problem.mobility", &S::mobility, Range::Positive(), "mobility of every particle")
+      .Number("problem.T", &S::T, Range::Positive(), "final time")
+      .Required()
+      .Integer("problem.seed", &S::seed, Range::Any(), "radii, random start and noise")
+      .Flag("problem.fix_overlaps", &S::fix_overlaps, "project an overlapping start (sweeps)");
+  AddVec(t, "domain.lo", &S::domain_lo, "box of the random start; periodic axes' domain");
+  AddVec(t, "domain.hi", &S::domain_hi, "the other corner");
+  t.Custom(
+       "domain.periodic", "k booleans", ReadPeriodic,
+       [](const S& s) {
+         return nlohmann::json(
+             std::vector<bool>(s.periodic.begin(), s.periodic.begin() + s.dimension));
+       },
+       "periodic axes")
+      .Flag("domain.box_walls", &S::box_walls, "walls on the faces of the non-periodic axes")
+      .Custom("initial.positions", "array of k numbers", ReadPositions, {},
+              "explicit start (default: random sequential addition)");
+  AddVec(t, "initial.lo", &S::initial_lo, "box of the random start (default: the domain)");
+  AddVec(t, "initial.hi", &S::initial_hi, "the other corner");
+  t.Custom("walls", "[[walls]] normal, offset", ReadEach(&S::walls, MakeWall), EchoWalls,
+           "half-spaces ⟨n, X⟩ ≥ offset + r")
+      .Custom("spheres", "[[spheres]] center, radius", ReadEach(&S::spheres, MakeSphere),
+              EchoSpheres, "obstacles")
+      .Custom("segments", "[[segments]] a, b", ReadEach(&S::segments, MakeSegment), EchoSegments,
+              "segment obstacles (2D)")
+      .Custom("room", "width, height, door_width", ReadRoom, EchoRoom,
+              "a walled room with a door; everybody walks to it");
+}
+
+void AddForceFields(FieldTable<S>& t) {
+  const auto f = [](auto& s) -> auto& { return s.forces; };
+  FieldTable<ParticleForceSettings> sub;
+  using F = ParticleForceSettings;
+  sub.OptionalNumber("trap_gamma", &F::trap_gamma, Range::Any(), "harmonic trap γ")
+      .OptionalNumber("propulsion_speed", &F::propulsion_speed, Range::Any(), "walking speed v0")
+      .OptionalNumber("attraction_stiffness", &F::attraction_stiffness, Range::Any(),
+                      "pair attraction k")
+      .OptionalNumber("attraction_range", &F::attraction_range, Range::Any(), "its range ℓ")
+      .Number("diffusion", &F::diffusion, Range::Any(), "diffusion D (noise)");
+  t.Mount("forces", f, sub);
+  AddVec(
+      t, "forces.trap_center", [](auto& s) -> auto& { return s.forces.trap_center; },
+      "trap centre");
+  AddVec(
+      t, "forces.constant", [](auto& s) -> auto& { return s.forces.constant; }, "force f");
+  AddVec(
+      t, "forces.target", [](auto& s) -> auto& { return s.forces.target; }, "walking target");
+  AddVec(
+      t, "forces.target_end", [](auto& s) -> auto& { return s.forces.target_end; },
+      "the target is the segment [target, target_end]");
+}
+
+FieldTable<particles::EngineOptions> EngineFields() {
+  using O = particles::EngineOptions;
+  FieldTable<O> t;
+  t.Number("h", &O::h, Range::Positive(), "time step h")
+      .Required()
+      .Choice("order", &O::order, particles::ParseSweepOrder, particles::SweepOrderName,
+              "coloured, lexicographic", "sweep order")
+      .Integer("threads", &O::threads, Range::Any(), "OpenMP threads (0: automatic)")
+      .Integer("sweeps", &O::sweeps, Range::Any(), "PBD sweeps per step")
+      .Number("skin_factor", &O::skin_factor, Range::Any(), "Verlet skin / max r")
+      .Integer("block_cells", &O::block_cells, Range::Any(), "colouring block (0: automatic)")
+      .Integer("memory_limit", &O::memory_limit_bytes,
+               Range::NonNegative().Because("(bytes; 0 = physical memory)"),
+               "memory limit for the particle count");
+  return t;
+}
+
+void AddOutputFields(FieldTable<S>& t) {
+  t.Integer(
+       "output.stride", [](auto& s) -> auto& { return s.output.stride; }, Range::NonNegative(),
+       "steps between trajectory frames (0: about 100 frames)")
+      .Flag(
+          "output.hdf5", [](auto& s) -> auto& { return s.output.hdf5; }, "trajectory.h5");
+  AddFlag(
+      t, "output.vtu", [](auto& s) -> auto& { return s.output.vtu; },
+      [](const S& s) { return s.count <= 100000; }, "vtu/frame.pvd");
+  AddFlag(
+      t, "output.snapshots", [](auto& s) -> auto& { return s.output.snapshots; },
+      [](const S& s) { return s.count <= 200000 && s.dimension == 2; }, "snapshots.png (2D only)");
+  t.Custom(
+      "output.snapshot_times", "numbers",
+      [](Scenario& sc, S& s, const std::string& k) {
+        s.output.snapshot_times = sc.GetDoubleArray(k, s.output.snapshot_times);
+      },
+      [](const S& s) { return nlohmann::json(s.output.snapshot_times); },
+      "at most four snapshot times (default: the first and the last frame)");
+}
+
+void CheckRadii(FieldTable<S>& t) {
+  t.Check("problem.radius",
+          [](const S& s) {
+            if (!s.radius && !s.radius_min && !s.radius_max) {
+              throw InputError("required key is missing (or radius_min and radius_max)");
+            }
+            if (s.radius && (s.radius_min || s.radius_max)) {
+              throw InputError("give radius or radius_min and radius_max, not both");
+            }
+          })
+      .Check("problem.radius_min",
+             [](const S& s) {
+               if (s.radius_max && !s.radius_min) throw InputError("required key is missing");
+             })
+      .Check("problem.radius_max", [](const S& s) {
+        if (s.radius_min && !s.radius_max) throw InputError("required key is missing");
+        if (s.radius_min && s.radius_max && !(*s.radius_max >= *s.radius_min)) {
+          throw InputError("must be ≥ problem.radius_min");
+        }
+      });
+}
+
+// Checks over several fields; the memory check comes first, before anything of size N.
+void AddChecks(FieldTable<S>& t) {
+  t.Check("problem.count", [](const S& s) {
+    particles::CheckParticleMemory(s.dimension, s.count, s.solver.memory_limit_bytes);
+    if (s.count > std::numeric_limits<int>::max()) throw InputError("too many particles");
+  });
+  CheckRadii(t);
+  t.Check("domain.hi",
+          [](const S& s) {
+            for (std::size_t a = 0; a < static_cast<std::size_t>(s.dimension); ++a) {
+              if (!(s.domain_hi[a] > s.domain_lo[a])) {
+                throw InputError(fmt::format("must exceed domain.lo on axis {}", a));
+              }
+            }
+          })
+      .Check("initial.lo",
+             [](const S& s) {
+               if (s.positions && (s.initial_lo || s.initial_hi)) {
+                 throw InputError("initial.lo and initial.hi do not go with initial.positions");
+               }
+             })
+      .Check("room",
+             [](const S& s) {
+               if (!s.room) return;
+               if (s.dimension != 2) throw InputError("a room needs dimension 2");
+               s.room->Validate();
+             })
+      .Check("forces.target",
+             [](const S& s) {
+               if ((s.forces.target || s.forces.target_end) &&
+                   (!s.forces.propulsion_speed || s.room)) {
+                 throw InputError("needs forces.propulsion_speed (and no [room])");
+               }
+             })
+      .Check("forces.attraction_range",
+             [](const S& s) {
+               if (s.forces.attraction_range && !s.forces.attraction_stiffness) {
+                 throw InputError("needs forces.attraction_stiffness");
+               }
+             })
+      .Check("forces", [](const S& s) { (void)s.MakeForces(); })
+      .Check("solver", [](const S& s) { s.solver.Validate(); })
+      .Check("solver.method",
+             [](const S& s) {
+               if (s.method != "pbd") throw InputError("the particle engine runs pbd");
+             })
+      .Check("solver.h", [](const S& s) { (void)StepCount(s.T, s.solver.h); })
+      .Check("output.snapshot_times", [](const S& s) {
+        if (s.output.snapshot_times.size() > 4) throw InputError("at most four times");
+        for (double time : s.output.snapshot_times) {
+          if (time < 0.0 || time > s.T) {
+            throw InputError(fmt::format("{} is outside [0, T]", time));
+          }
+        }
+      });
+}
+
+FieldTable<S> MakeFields() {
+  FieldTable<S> t;
+  AddProblemFields(t);
+  AddForceFields(t);
+  t.Mount("solver", &S::solver, EngineFields())
+      .Text("solver.method", &S::method, "pbd (the only method of the particle engine)");
+  AddOutputFields(t);
+  AddChecks(t);
+  return t;
+}
+
+const FieldTable<S>& ParticleFields() {
+  static const FieldTable<S> table = MakeFields();
+  return table;
+}
+
+}  // namespace
+
+particles::ParticleModel ParticleScenario::MakeModel() const {
+  particles::ParticleModel model;
+  model.dimension = dimension;
+  const auto n = static_cast<std::size_t>(count);
+  if (radius) {
+    model.radius.assign(n, *radius);
+  } else {
+    SplitMix64 rng(static_cast<std::uint64_t>(seed) ^ 0x5DEECE66DULL);
+    model.radius.resize(n);
+    for (double& r : model.radius) r = *radius_min + (*radius_max - *radius_min) * rng.Uniform01();
+  }
+  if (mobility != 1.0) model.mobility.assign(n, mobility);
+  model.domain_lo = domain_lo;
+  model.domain_hi = domain_hi;
+  model.periodic = periodic;
+  if (box_walls) model.AddBoxWalls(domain_lo, domain_hi);
+  model.walls.insert(model.walls.end(), walls.begin(), walls.end());
+  model.spheres.insert(model.spheres.end(), spheres.begin(), spheres.end());
+  model.segments.insert(model.segments.end(), segments.begin(), segments.end());
+  if (room) particles::AddRoom(*room, &model);
+  return model;
+}
+
+particles::Forces ParticleScenario::MakeForces() const {
+  particles::Forces f;
+  const ParticleForceSettings& in = forces;
+  if (in.trap_gamma) f.trap = particles::HarmonicTrap{*in.trap_gamma, in.trap_center};
+  f.constant_force = in.constant;
+  if (in.propulsion_speed || room) {
+    const double speed = in.propulsion_speed.value_or(1.0);
+    if (room) {
+      f.propulsion = room->WalkToTheDoor(speed);
+    } else {
+      particles::SelfPropulsion p;
+      p.speed = speed;
+      p.target = in.target.value_or(Vec3{0.0, 0.0, 0.0});
+      p.target_end = in.target_end;
+      f.propulsion = p;
+    }
+  }
+  if (in.attraction_stiffness) {
+    f.attraction =
+        particles::PairAttraction{*in.attraction_stiffness, in.attraction_range.value_or(0.0)};
+  }
+  f.diffusion = in.diffusion;
+  f.Validate();
+  return f;
+}
+
+particles::EngineOptions ParticleScenario::MakeEngineOptions() const {
+  particles::EngineOptions options = solver;
+  options.seed = static_cast<std::uint64_t>(seed);
+  return options;
+}
+
+ParticleScenario ReadParticleScenario(Scenario& scenario, bool fix_overlaps_flag) {
+  ParticleScenario out;
+  ParticleFields().Read(scenario, out);
+  out.fix_overlaps = out.fix_overlaps || fix_overlaps_flag;
+  return out;
+}
+
+nlohmann::json EchoParticleScenario(const ParticleScenario& scenario) {
+  return ParticleFields().Echo(scenario);
+}
+
+}  // namespace moreau::cli

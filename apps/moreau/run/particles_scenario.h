@@ -1,0 +1,87 @@
+// The scenario of `moreau run` for particles at scale (problem.kind = "particles"): [problem],
+// [domain], [initial], [[walls]], [[spheres]], [[segments]], [room], [forces], [solver],
+// [output] (docs/particles.md "Scenario keys"), read through one field table.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "field_table.h"
+#include "moreau/particles/engine.h"
+#include "moreau/particles/room.h"
+#include "scenario.h"
+
+namespace moreau::cli {
+
+// [forces] as written; MakeForces() turns them into the engine's drift.
+struct ParticleForceSettings {
+  std::optional<double> trap_gamma;  // a harmonic trap when set
+  particles::Vec3 trap_center{0.0, 0.0, 0.0};
+  particles::Vec3 constant{0.0, 0.0, 0.0};     // a constant force f
+  std::optional<double> propulsion_speed;      // self-propulsion when set (or with a room)
+  std::optional<particles::Vec3> target;       // default: the origin
+  std::optional<particles::Vec3> target_end;   // the target is a segment when set
+  std::optional<double> attraction_stiffness;  // pair attraction when set
+  std::optional<double> attraction_range;      // default 0
+  double diffusion = 0.0;
+};
+
+// [output].
+struct ParticleOutputSettings {
+  std::int64_t stride = 0;  // a trajectory frame every stride steps (and the last); 0: ~100 frames
+  bool hdf5 = true;
+  bool vtu = true;                     // default: count ≤ 100000
+  bool snapshots = true;               // snapshots.png, 2D only; default: count ≤ 200000
+  std::vector<double> snapshot_times;  // at most four; empty: the first and the last frame
+};
+
+struct ParticleScenario {
+  std::string kind = "particles";
+  int dimension = 2;             // 2 or 3
+  std::int64_t count = 0;        // N
+  std::optional<double> radius;  // one radius, or uniform in [radius_min, radius_max]
+  std::optional<double> radius_min;
+  std::optional<double> radius_max;
+  double mobility = 1.0;
+  double T = 0.0;
+  std::int64_t seed = 1;      // radii, random start and noise
+  bool fix_overlaps = false;  // project an overlapping start to a feasible one
+  particles::Vec3 domain_lo{0.0, 0.0, 0.0};
+  particles::Vec3 domain_hi{1.0, 1.0, 1.0};
+  std::array<bool, 3> periodic{false, false, false};
+  bool box_walls = false;                        // walls on the box faces of the non-periodic axes
+  std::optional<std::vector<double>> positions;  // [initial] positions, k·N, id order
+  std::optional<particles::Vec3> initial_lo;     // random start box (default: the domain)
+  std::optional<particles::Vec3> initial_hi;
+  std::vector<particles::Wall> walls;
+  std::vector<particles::SphereObstacle> spheres;
+  std::vector<particles::SegmentObstacle> segments;
+  std::optional<particles::Room> room;
+  ParticleForceSettings forces;
+  particles::EngineOptions solver;  // seed comes from problem.seed
+  std::string method = "pbd";       // the particle engine runs pbd only
+  ParticleOutputSettings output;
+
+  int n() const { return static_cast<int>(count); }
+  // The model's radii, mobilities, domain, walls and obstacles (room walls included).
+  // Throws InputError from AddRoom.
+  particles::ParticleModel MakeModel() const;
+  // The drift; with a room everybody walks to the door. Throws InputError from Validate.
+  particles::Forces MakeForces() const;
+  // The engine options with the seed of [problem].
+  particles::EngineOptions MakeEngineOptions() const;
+};
+
+// Reads and validates every key (throws InputError "FILE: KEY: REASON"); --fix-overlaps is
+// `fix_overlaps_flag`. Call scenario.CheckAllKeysUsed() after.
+ParticleScenario ReadParticleScenario(Scenario& scenario, bool fix_overlaps_flag);
+
+// The settings used, keyed like the scenario file: {"problem": {…}, "domain": {…}, …}.
+nlohmann::json EchoParticleScenario(const ParticleScenario& scenario);
+
+}  // namespace moreau::cli
