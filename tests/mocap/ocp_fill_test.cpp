@@ -23,7 +23,8 @@ TEST(MocapOcpFill, RigidBodyHiddenMarkerIsRecovered) {
   Recording in = truth;
   const Gap gap = testing::Hide(in, 2, 50, 99);  // 0.5 s
   Recording out;
-  const OcpFillSummary s = FillGapsOcp(in, {gap}, OcpFillOptions{}, &out);
+  const testing::Baselines baselines(in, {gap}, OcpFillOptions{}.candidates);
+  const OcpFillSummary s = FillGapsOcp(in, {gap}, OcpFillOptions{}, &out, baselines.candidates);
   ASSERT_TRUE(s.ok()) << s.message << " " << s.gaps[0].message;
   ASSERT_EQ(s.gaps.size(), 1u);
   const OcpGapReport& r = s.gaps[0];
@@ -73,7 +74,8 @@ TEST(MocapOcpFill, MarkersHiddenTogetherAreSolvedInOneWindow) {
   const std::vector<Gap> gaps = {testing::Hide(in, 0, 60, 99), testing::Hide(in, 1, 55, 95),
                                  testing::Hide(in, 8, 20, 30)};
   Recording out;
-  const OcpFillSummary s = FillGapsOcp(in, gaps, OcpFillOptions{}, &out);
+  const testing::Baselines baselines(in, gaps, OcpFillOptions{}.candidates);
+  const OcpFillSummary s = FillGapsOcp(in, gaps, OcpFillOptions{}, &out, baselines.candidates);
   ASSERT_TRUE(s.ok()) << s.message;
   EXPECT_EQ(s.windows, 2);
   EXPECT_EQ(s.gaps[0].window, s.gaps[1].window);
@@ -96,7 +98,8 @@ TEST(MocapOcpFillSlow, WholeSegmentHiddenIsFilled) {
   std::vector<Gap> gaps;
   for (int m = 0; m < 4; ++m) gaps.push_back(testing::Hide(in, m, 30, 45));
   Recording out;
-  const OcpFillSummary s = FillGapsOcp(in, gaps, OcpFillOptions{}, &out);
+  const testing::Baselines baselines(in, gaps, {"spline"});
+  const OcpFillSummary s = FillGapsOcp(in, gaps, OcpFillOptions{}, &out, baselines.candidates);
   EXPECT_EQ(s.windows, 1);
   EXPECT_EQ(s.gaps[0].free_nodes, 4);
   EXPECT_EQ(s.gaps[0].anchors, 0);
@@ -121,19 +124,20 @@ TEST(MocapOcpFill, FailedWindowFallsBackToTheBestCandidate) {
   o.newton.max_iterations = 1;
   o.newton.residual_tolerance = 1e-300;  // cannot be met: every solve fails
   Recording out;
-  const OcpFillSummary s = FillGapsOcp(in, {gap}, o, &out);
+  const testing::Baselines baselines(in, {gap}, {"rigid"});
+  const OcpFillSummary s = FillGapsOcp(in, {gap}, o, &out, baselines.candidates);
   EXPECT_FALSE(s.ok());
   EXPECT_EQ(s.fallbacks, 1);
   EXPECT_EQ(s.gaps[0].status, "fallback");
-  EXPECT_EQ(s.gaps[0].fallback_method, "rigid");  // the rigid fill agrees with the distances
+  EXPECT_EQ(s.gaps[0].fallback_method, "prior");
   EXPECT_FALSE(s.gaps[0].message.empty());
-  EXPECT_LT(MaxError(out, truth, gap), 1e-9);  // the rigid fill is exact on a rigid body
+  EXPECT_LT(MaxError(out, truth, gap), 1e-9);  // the prior (rigid) is exact on a rigid body
 }
 
 std::string FillError(const Recording& in, const std::vector<Gap>& gaps, const OcpFillOptions& o) {
   Recording out;
   try {
-    FillGapsOcp(in, gaps, o, &out);
+    FillGapsOcp(in, gaps, o, &out, {CandidateFill{"self", &in}});
   } catch (const InputError& e) {
     return e.what();
   }

@@ -17,8 +17,9 @@
 // frame (docs/mocap_ocp.md).
 // A window that fails to converge is retried with stiffness continuation from a smooth γ; if that
 // fails too, or a solved gap disagrees with the partners' distance distributions much more than
-// the best candidate (guard_ratio), the gap is filled by the best candidate (smallest
-// disagreement) and reported with status "fallback".
+// the prior (guard_ratio), the gap is filled by the prior and reported with status "fallback".
+// Through fill.h (FillMethod::kOcp, FillGaps / FillGap) the candidates are the baseline fills
+// named by `candidates`.
 #pragma once
 
 #include <cstdint>
@@ -48,7 +49,19 @@ struct OcpFillOptions {
   double stiffness_start = 0.25;   // retry: continuation in κ, ξ from this scale (0, 1]
   double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
   double guard_ratio = 1.5;        // keep the solved fill only if its distance disagreement E is
-                                   // <= guard_ratio E_best + 1 (E_best: best candidate's) (>= 1)
+                                   // <= guard_ratio E_prior + 1 (E_prior: the prior's) (>= 1)
+  // Through FillGaps (method "ocp"): the baseline fills (fill.h) computed for the same gaps and
+  // used as candidates; names of methods other than "ocp", at least one.
+  std::vector<std::string> candidates = {"spline", "rigid", "pca"};
+  // Exponent p of the candidate weights 1 / (E_c + 10⁻³)^p (>= 0; 0: plain average).
+  double weight_exponent = 1.0;
+  // Rest-length bounds of a window centred on the prior: the range of the spring's length along
+  // the prior over the window, widened by the network's margin rule and kept inside the bounds
+  // observed over the recording (false: the recording's bounds).
+  bool prior_bounds = true;
+  // false: the gaps are filled with the prior (the weighted candidate average) without solving
+  // the optimal control problem (the ablation in docs/mocap_ocp.md).
+  bool optimal_control = true;
   control::NewtonOptions newton;   // every Newton solve (tolerance in solver units)
 
   // Throws InputError("ocp.<field>: ...") for a value out of range.
@@ -84,7 +97,8 @@ struct OcpGapReport {
   std::string status;           // "ocp" or "fallback"
   std::string fallback_method;  // candidate used when status is "fallback"
   std::string message;
-  std::vector<double> candidate_weights;  // prior weight of each candidate (sum 1)
+  std::vector<double> candidate_weights;  // prior weight of each candidate (sum 1; 0 for one
+                                          // that does not fill the gap)
   nlohmann::json ToJson() const;
 };
 
@@ -107,13 +121,14 @@ struct OcpFillSummary {
 };
 
 // Fills `gaps` of `in` into `out` (a copy of `in` whose gap samples are set; other samples are
-// untouched). `candidates` are the prior/fallback fills; when empty, two internal ones are used
-// (linear interpolation and a rigid-body fill from the marker's springs, Kabsch to the frames
-// bounding the gap, blended across it). Throws InputError for invalid options, a gap outside the
-// recording or over an observed sample, a padding longer than the recording, a gap of a marker
-// without springs, or a candidate of another shape or without finite samples in a gap.
+// untouched). `candidates` are the prior/fallback fills (at least one; FillGaps with method
+// "ocp" passes the baseline fills named by options.candidates); a candidate without finite
+// samples in a gap is not used for that gap. Throws InputError for invalid options, no
+// candidate, a gap outside the recording or over an observed sample, a padding longer than the
+// recording, a gap of a marker without springs, a candidate of another shape, or a gap that no
+// candidate fills.
 OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
                            const OcpFillOptions& options, Recording* out,
-                           const std::vector<CandidateFill>& candidates = {});
+                           const std::vector<CandidateFill>& candidates);
 
 }  // namespace moreau::mocap
