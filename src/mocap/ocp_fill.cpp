@@ -119,7 +119,11 @@ std::vector<std::vector<std::size_t>> GroupGaps(const std::vector<Gap>& gaps,
 }  // namespace
 
 void OcpFillOptions::Validate() const {
-  network.Validate();
+  try {
+    network.Validate();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("ocp.{}", e.what()));
+  }
   auto fail = [](const char* field, double value, const char* reason) {
     throw InputError(fmt::format("ocp.{}: {}, got {}", field, reason, value));
   };
@@ -332,6 +336,11 @@ bool WriteGap(const Recording& in, const MarkerNetwork& net, const Gap& g, const
               Recording& out) {
   rep.candidate_weights = prior.weights;
   rep.disagreement = prior.disagreement;
+  if (!options.optimal_control) {
+    rep.status = "prior";
+    SetTrack(out, g, prior.track);
+    return true;
+  }
   bool use = IsSuccess(w.result->termination);
   if (use) {
     const auto& free = w.window->free;
@@ -381,7 +390,8 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
   std::vector<GapPrior> priors;
   Recording base = in;
   for (std::size_t i = 0; i < gaps.size(); ++i) {
-    priors.push_back(MakePrior(in, net, gaps[i], tracks[i], candidates.size(), options.weight_exponent));
+    priors.push_back(
+        MakePrior(in, net, gaps[i], tracks[i], candidates.size(), options.weight_exponent));
     SetTrack(base, gaps[i], priors.back().track);
   }
   summary.prior_seconds = phase.Seconds();

@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 #include <map>
 #include <memory>
+#include <utility>
 
 #include "moreau/common/error.h"
 #include "moreau/control/continuation.h"
@@ -112,8 +112,7 @@ struct WindowModel {
 };
 
 WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, const OcpWindow& w,
-                             const Eigen::Vector3d& origin, double scale,
-                             const OcpFillOptions& o) {
+                             const Eigen::Vector3d& origin, double scale, const OcpFillOptions& o) {
   const int max_anchor_springs = o.anchor_springs;
   WindowModel model;
   std::map<int, int> node_of;
@@ -160,9 +159,8 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
         ++model.anchors;
       }
       const MarkerSpring& sp = net.springs[static_cast<std::size_t>(s)];
-      const auto [rest_min, rest_max] = o.prior_bounds
-                                            ? PriorBounds(base, sp, w, o.network)
-                                            : std::pair{sp.rest_min, sp.rest_max};
+      const auto [rest_min, rest_max] = o.prior_bounds ? PriorBounds(base, sp, w, o.network)
+                                                       : std::pair{sp.rest_min, sp.rest_max};
       model.springs.push_back(control::NetworkSpring{node_of[marker], node_of[other], kappa, xi,
                                                      rest_min / scale, rest_max / scale});
     }
