@@ -1,6 +1,13 @@
-// Gap filling by optimal control of a mass–spring–damper network (issue 9; the thesis'
-// regularised Hamiltonian, Symplectic Pontryagin scheme, Newton and continuation, in
-// include/moreau/control/). docs/mocap_ocp.md explains the method and every default.
+// Gap filling by candidate fills weighted by their agreement with the markers' distance
+// distributions (Tits et al. 2018: the prior), optionally refined by optimal control of a
+// mass–spring–damper network (issue 9; the thesis' regularised Hamiltonian, Symplectic
+// Pontryagin scheme, Newton and continuation, in include/moreau/control/).
+// docs/mocap_ocp.md explains the method, every default and the measurements behind them.
+//
+// The prior of a gap: the candidates' average with weights (E_c + 10⁻³)^(−weight_exponent),
+// E_c the mean squared z-score of the candidate's distances to the marker's spring partners seen
+// at the gap's frames, z = (d − mean) / max(spread, bound margin). With optimal_control off
+// (the default) the prior is the fill (status "prior"); with it on:
 //
 // Per group of gaps (gaps whose padded windows overlap in time and whose markers are the same
 // or joined by a spring are solved together) one window is solved:
@@ -61,8 +68,8 @@ struct OcpFillOptions {
   bool prior_bounds = false;
   // true: the network tracks the prior and the observed samples (the optimal control problem);
   // false: the gaps are filled with the prior (the weighted candidate average), status "prior".
-  // Off by default: on the measured recordings the solved fills are worse than their prior at
-  // gaps up to 0.5 s (docs/mocap_ocp.md, "Measured").
+  // Off by default: on the measured recordings the solved fills are not clearly better than
+  // their prior and cost 5–400× the time (docs/mocap_ocp.md, "Measured").
   bool optimal_control = false;
   control::NewtonOptions newton;  // every Newton solve (tolerance in solver units)
 
