@@ -7,10 +7,10 @@
 #include <map>
 #include <utility>
 
+#include "mocap/ocp_method.h"
 #include "moreau/common/error.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
-#include "mocap/ocp_method.h"
 
 namespace moreau::mocap {
 

@@ -154,7 +154,7 @@ TEST(MocapOcpFillSlow, WholeSegmentHiddenIsFilled) {
   }
 }
 
-TEST(MocapOcpFill, FailedWindowFallsBackToTheBestCandidate) {
+TEST(MocapOcpFill, FailedWindowFallsBackToThePrior) {
   const Recording truth = testing::RigidBodies(1, 6, 100, 100.0);
   Recording in = truth;
   const Gap gap = testing::Hide(in, 4, 30, 60);
