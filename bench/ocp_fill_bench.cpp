@@ -1,8 +1,9 @@
-// Wall-clock time of the optimal-control gap fill (FillGapsOcp, all threads) on synthetic
-// recordings of rigid bodies with 4 markers each (smooth rotation and translation, mm):
+// Wall-clock time of the ocp fill through FillGaps (FillMethod::kOcp: the candidate fills, the
+// network, the prior and, in the *OptimalControl variants, the windows' optimal control; all
+// threads) on synthetic recordings of rigid bodies with 4 markers each (smooth rotation and
+// translation, mm):
 //   Qualisys-sized: 56 markers, 340 frames at 200 Hz, 10 gaps of 0.2–0.5 s;
 //   long: 40 markers, 5000 frames at 100 Hz, 50 gaps of 0.2–0.5 s.
-// The cost grows with the gaps, not with the recording (windows around the gaps only).
 //
 //   OMP_NUM_THREADS=2 build/release/ocp_fill_bench --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
@@ -13,7 +14,7 @@
 #include <numbers>
 
 #include "moreau/common/random.h"
-#include "moreau/mocap/ocp_fill.h"
+#include "moreau/mocap/fill.h"
 
 namespace {
 
@@ -65,26 +66,42 @@ std::vector<Gap> MakeGaps(Recording& rec, int count, std::uint64_t seed) {
   return gaps;
 }
 
-void Run(benchmark::State& state, int bodies, std::int64_t frames, double rate, int count) {
+void Run(benchmark::State& state, int bodies, std::int64_t frames, double rate, int count,
+         bool optimal_control) {
   Recording rec = Bodies(bodies, frames, rate);
   const std::vector<Gap> gaps = MakeGaps(rec, count, 7);
+  FillOptions options;
+  options.method = FillMethod::kOcp;
+  options.ocp.optimal_control = optimal_control;
   Recording out;
-  OcpFillSummary summary;
+  FillSummary summary;
   for (auto _ : state) {
-    summary = FillGapsOcp(rec, gaps, OcpFillOptions{}, &out);
+    summary = FillGaps(rec, gaps, options, &out);
     benchmark::DoNotOptimize(out.positions().data());
   }
+  int solved = 0;
+  for (const GapReport& g : summary.gaps) solved += g.message.starts_with("optimal control");
   state.counters["gaps"] = count;
-  state.counters["windows"] = summary.windows;
-  state.counters["fallbacks"] = summary.fallbacks;
-  state.counters["solve_s"] = summary.solve_seconds;
+  state.counters["filled"] = static_cast<double>(summary.gaps_filled);
+  state.counters["solved"] = solved;  // filled by the optimal control (not its prior)
 }
 
-void BM_OcpFillQualisysSized(benchmark::State& state) { Run(state, 14, 340, 200.0, 10); }
-void BM_OcpFillLong(benchmark::State& state) { Run(state, 10, 5000, 100.0, 50); }
+void BM_OcpFillQualisysSized(benchmark::State& state) { Run(state, 14, 340, 200.0, 10, false); }
+void BM_OcpFillLong(benchmark::State& state) { Run(state, 10, 5000, 100.0, 50, false); }
+void BM_OcpFillQualisysSizedOptimalControl(benchmark::State& state) {
+  Run(state, 14, 340, 200.0, 10, true);
+}
+void BM_OcpFillLongOptimalControl(benchmark::State& state) {
+  Run(state, 10, 5000, 100.0, 50, true);
+}
 
 BENCHMARK(BM_OcpFillQualisysSized)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_OcpFillLong)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_OcpFillQualisysSizedOptimalControl)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_OcpFillLongOptimalControl)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include <map>
 #include <utility>
 
+#include "mocap/ocp_method.h"
 #include "moreau/common/error.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
@@ -24,12 +25,13 @@ struct MethodEntry {
 };
 
 // The one place that lists the methods: enum, name, function.
-constexpr std::array<MethodEntry, 5> kMethods{{
+constexpr std::array<MethodEntry, 6> kMethods{{
     {FillMethod::kLinear, "linear", &FillGapLinear},
     {FillMethod::kSpline, "spline", &FillGapSpline},
     {FillMethod::kPchip, "pchip", &FillGapPchip},
     {FillMethod::kRigid, "rigid", &FillGapRigid},
     {FillMethod::kPca, "pca", &FillGapPca},
+    {FillMethod::kOcp, "ocp", &FillGapOcp},
 }};
 
 constexpr std::array<std::pair<GapStatus, std::string_view>, 6> kStatuses{{
@@ -132,6 +134,24 @@ void FillOptions::Validate() const {
   if (!(pca.tolerance > 0.0) || !std::isfinite(pca.tolerance)) {
     fail("pca.tolerance", pca.tolerance, "> 0");
   }
+  try {
+    ocp.Validate();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("fill.{}", e.what()));
+  }
+  for (std::size_t i = 0; i < ocp.candidates.size(); ++i) {
+    const auto known = [&] {
+      try {
+        return ParseFillMethod(ocp.candidates[i]) != FillMethod::kOcp;
+      } catch (const InputError&) {
+        return false;
+      }
+    };
+    if (!known()) {
+      fail(fmt::format("ocp.candidates[{}]", i), ocp.candidates[i],
+           "a baseline method (linear, spline, pchip, rigid or pca)");
+    }
+  }
 }
 
 nlohmann::json FillOptions::ToJson() const {
@@ -146,7 +166,8 @@ nlohmann::json FillOptions::ToJson() const {
             {"distal_threshold", pca.distal_threshold},
             {"min_complete_frames", pca.min_complete_frames},
             {"max_iterations", pca.max_iterations},
-            {"tolerance", pca.tolerance}}}};
+            {"tolerance", pca.tolerance}}},
+          {"ocp", ocp.ToJson()}};
 }
 
 GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options) {
@@ -202,9 +223,13 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const Fi
   summary.settings = options;
   Recording result = in;
   std::map<GapStatus, int> unfilled;
-  for (const Gap& gap : gaps) {
+  // ocp fills every gap at once (gaps that overlap in time are solved together).
+  std::vector<GapFill> joint;
+  if (options.method == FillMethod::kOcp) joint = internal::FillGapsByOcp(in, gaps, options);
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    const Gap& gap = gaps[i];
     const Stopwatch watch;
-    GapFill fill = FillGap(in, gap, options);
+    GapFill fill = joint.empty() ? FillGap(in, gap, options) : std::move(joint[i]);
     GapReport report{gap.marker,
                      in.labels()[static_cast<std::size_t>(gap.marker)],
                      gap.first,

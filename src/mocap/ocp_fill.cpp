@@ -1,6 +1,7 @@
 #include "moreau/mocap/ocp_fill.h"
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -45,34 +46,37 @@ void CheckGaps(const Recording& in, const std::vector<Gap>& gaps, const MarkerNe
   }
 }
 
-// Per gap: the candidates' tracks over the gap.
-std::vector<std::vector<GapTrack>> CandidateTracks(const Recording& in,
-                                                   const std::vector<Gap>& gaps,
-                                                   const MarkerNetwork& net,
-                                                   const std::vector<CandidateFill>& candidates) {
-  std::vector<std::vector<GapTrack>> tracks(gaps.size());
+// Per gap: the tracks of the candidates that fill it (finite at every gap frame) and their
+// indices in `candidates`.
+struct GapCandidates {
+  std::vector<GapTrack> tracks;
+  std::vector<std::size_t> index;
+};
+
+std::vector<GapCandidates> CandidateTracks(const Recording& in, const std::vector<Gap>& gaps,
+                                           const std::vector<CandidateFill>& candidates) {
+  std::vector<GapCandidates> out(gaps.size());
   for (std::size_t i = 0; i < gaps.size(); ++i) {
     const Gap& g = gaps[i];
-    if (candidates.empty()) {
-      tracks[i] = {internal::LinearGapFill(in, g), internal::RigidGapFill(in, net, g)};
-      continue;
-    }
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       GapTrack t(g.length(), 3);
-      for (std::int64_t f = g.first; f <= g.last; ++f) {
+      bool finite = true;
+      for (std::int64_t f = g.first; f <= g.last && finite; ++f) {
         const auto p = candidates[c].recording->point(f, g.marker);
-        if (!p.allFinite()) {
-          throw InputError(fmt::format(
-              "candidates[{}] ('{}'): no finite position for marker "
-              "'{}' at frame {}, inside gaps[{}]",
-              c, candidates[c].method, in.labels()[static_cast<std::size_t>(g.marker)], f, i));
-        }
+        finite = p.allFinite();
         t.row(f - g.first) = p.transpose();
       }
-      tracks[i].push_back(std::move(t));
+      if (!finite) continue;
+      out[i].tracks.push_back(std::move(t));
+      out[i].index.push_back(c);
+    }
+    if (out[i].tracks.empty()) {
+      throw InputError(fmt::format("gaps[{}]: no candidate fills marker '{}' at frames {}..{}", i,
+                                   in.labels()[static_cast<std::size_t>(g.marker)], g.first,
+                                   g.last));
     }
   }
-  return tracks;
+  return out;
 }
 
 // Groups of gaps solved together: padded windows overlapping in time and the same marker or a
@@ -115,7 +119,11 @@ std::vector<std::vector<std::size_t>> GroupGaps(const std::vector<Gap>& gaps,
 }  // namespace
 
 void OcpFillOptions::Validate() const {
-  network.Validate();
+  try {
+    network.Validate();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("ocp.{}", e.what()));
+  }
   auto fail = [](const char* field, double value, const char* reason) {
     throw InputError(fmt::format("ocp.{}: {}, got {}", field, reason, value));
   };
@@ -146,6 +154,12 @@ void OcpFillOptions::Validate() const {
   if (!(stiffness_start > 0.0 && stiffness_start <= 1.0)) {
     fail("stiffness_start", stiffness_start, "must be in (0, 1]");
   }
+  if (candidates.empty()) {
+    throw InputError("ocp.candidates: must name at least one baseline fill method");
+  }
+  if (!(weight_exponent >= 0.0) || !std::isfinite(weight_exponent)) {
+    fail("weight_exponent", weight_exponent, "must be >= 0 and finite");
+  }
   newton.Validate();
 }
 
@@ -162,6 +176,10 @@ nlohmann::json OcpFillOptions::ToJson() const {
           {"stiffness_start", stiffness_start},
           {"retry_gamma_start", retry_gamma_start},
           {"guard_ratio", guard_ratio},
+          {"candidates", candidates},
+          {"weight_exponent", weight_exponent},
+          {"prior_bounds", prior_bounds},
+          {"optimal_control", optimal_control},
           {"newton",
            {{"max_iterations", newton.max_iterations},
             {"residual_tolerance", newton.residual_tolerance}}}};
@@ -207,35 +225,29 @@ nlohmann::json OcpFillSummary::ToJson(const Recording& recording) const {
 
 namespace {
 
-// The prior of one gap: candidates averaged with weights 1 / (E_c + ε), E_c the candidate's
-// distance disagreement (Tits et al. 2018); also the best single candidate (smallest E_c).
+// The prior of one gap: candidates averaged with weights 1 / (E_c + ε)^p, E_c the candidate's
+// distance disagreement (Tits et al. 2018), and the prior's own disagreement.
 struct GapPrior {
   GapTrack track;
-  std::vector<double> weights;
-  std::vector<double> disagreement;  // E_c per candidate
-  std::size_t best = 0;
+  std::vector<double> weights;  // per candidate of the gap
+  double disagreement = 0.0;    // E of the prior
 };
 
 GapPrior MakePrior(const Recording& in, const MarkerNetwork& net, const Gap& gap,
-                   const std::vector<GapTrack>& tracks) {
+                   const GapCandidates& candidates, std::size_t count, double exponent) {
   GapPrior prior;
-  std::vector<double> error(tracks.size());
-  for (std::size_t c = 0; c < tracks.size(); ++c) {
-    error[c] = internal::DistanceDisagreement(in, net, gap, tracks[c]);
+  prior.weights.assign(count, 0.0);
+  std::vector<double> w;
+  for (const GapTrack& t : candidates.tracks) {
+    w.push_back(std::pow(internal::DistanceDisagreement(in, net, gap, t) + 1e-3, -exponent));
   }
-  prior.disagreement = error;
-  prior.best =
-      static_cast<std::size_t>(std::min_element(error.begin(), error.end()) - error.begin());
-  double total = 0.0;
-  for (double e : error) {
-    prior.weights.push_back(1.0 / (e + 1e-3));
-    total += prior.weights.back();
-  }
+  const double total = std::accumulate(w.begin(), w.end(), 0.0);
   prior.track = GapTrack::Zero(gap.length(), 3);
-  for (std::size_t c = 0; c < tracks.size(); ++c) {
-    prior.weights[c] /= total;
-    prior.track += prior.weights[c] * tracks[c];
+  for (std::size_t c = 0; c < w.size(); ++c) {
+    prior.weights[candidates.index[c]] = w[c] / total;
+    prior.track += (w[c] / total) * candidates.tracks[c];
   }
+  prior.disagreement = internal::DistanceDisagreement(in, net, gap, prior.track);
   return prior;
 }
 
@@ -246,6 +258,7 @@ void SetTrack(Recording& rec, const Gap& gap, const GapTrack& track) {
 }
 
 void CheckCandidates(const Recording& in, const std::vector<CandidateFill>& candidates) {
+  if (candidates.empty()) throw InputError("candidates: at least one candidate fill is needed");
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     const Recording* r = candidates[c].recording;
     if (r == nullptr || r->markers() != in.markers() || r->frames() != in.frames()) {
@@ -315,15 +328,19 @@ void ReportWindow(const Recording& in, const Gap& g, const WindowOutcome& w, Ocp
   rep.message = r.message;
 }
 
-// Writes the solved fill of gap g, or the best candidate when the window failed or the solved
-// fill disagrees with the distance distributions much more than the best candidate (the guard,
-// after Tits et al.). Returns true when the solved fill was used.
+// Writes the solved fill of gap g, or the prior when the window failed or the solved fill
+// disagrees with the distance distributions much more than the prior (the guard, after Tits et
+// al.). Returns true when the solved fill was used.
 bool WriteGap(const Recording& in, const MarkerNetwork& net, const Gap& g, const WindowOutcome& w,
-              const GapPrior& prior, const std::vector<GapTrack>& tracks,
-              const OcpFillOptions& options, const std::vector<std::string>& methods,
-              OcpGapReport& rep, Recording& out) {
+              const GapPrior& prior, const OcpFillOptions& options, OcpGapReport& rep,
+              Recording& out) {
   rep.candidate_weights = prior.weights;
-  const double best = prior.disagreement[prior.best];
+  rep.disagreement = prior.disagreement;
+  if (!options.optimal_control) {
+    rep.status = "prior";
+    SetTrack(out, g, prior.track);
+    return true;
+  }
   bool use = IsSuccess(w.result->termination);
   if (use) {
     const auto& free = w.window->free;
@@ -331,20 +348,20 @@ bool WriteGap(const Recording& in, const MarkerNetwork& net, const Gap& g, const
     const GapTrack track =
         w.result->positions.block(g.first - w.window->first, 3 * j, g.length(), 3);
     rep.disagreement = internal::DistanceDisagreement(in, net, g, track);
-    use = rep.disagreement <= options.guard_ratio * best + 1.0;
+    use = rep.disagreement <= options.guard_ratio * prior.disagreement + 1.0;
     if (use) {
       SetTrack(out, g, track);
     } else {
       rep.message = fmt::format(
           "the optimal-control fill disagrees with the distance distributions ({:.3g}) more "
-          "than '{}' ({:.3g})",
-          rep.disagreement, methods[prior.best], best);
+          "than the prior ({:.3g})",
+          rep.disagreement, prior.disagreement);
     }
   }
   rep.status = use ? "ocp" : "fallback";
   if (!use) {
-    rep.fallback_method = methods[prior.best];
-    SetTrack(out, g, tracks[prior.best]);
+    rep.fallback_method = "prior";
+    SetTrack(out, g, prior.track);
   }
   return use;
 }
@@ -367,14 +384,14 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
   summary.network_seconds = phase.Seconds();
   CheckGaps(in, gaps, net);
   for (const auto& c : candidates) summary.methods.push_back(c.method);
-  if (candidates.empty()) summary.methods = {"linear", "rigid"};
 
   phase.Restart();
-  const auto tracks = CandidateTracks(in, gaps, net, candidates);
+  const auto tracks = CandidateTracks(in, gaps, candidates);
   std::vector<GapPrior> priors;
   Recording base = in;
   for (std::size_t i = 0; i < gaps.size(); ++i) {
-    priors.push_back(MakePrior(in, net, gaps[i], tracks[i]));
+    priors.push_back(
+        MakePrior(in, net, gaps[i], tracks[i], candidates.size(), options.weight_exponent));
     SetTrack(base, gaps[i], priors.back().track);
   }
   summary.prior_seconds = phase.Seconds();
@@ -387,19 +404,24 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
   std::vector<internal::OcpWindowResult> results(groups.size());
   std::vector<internal::OcpWindow> windows(groups.size());
   std::vector<double> seconds(groups.size());
-#pragma omp parallel for schedule(dynamic)
+  // Windows in parallel only at the top level (inside EvaluateFillMethods' trials they run on
+  // the trial's thread); each writes its own slot, so the result never depends on the threads.
+#pragma omp parallel for schedule(dynamic) if (omp_get_level() == 0)
   for (std::size_t w = 0; w < groups.size(); ++w) {
     const Stopwatch clock;
     windows[w] = MakeWindow(gaps, groups[w], padding, in.frames());
-    results[w] = internal::SolveOcpWindow(in, base, net, windows[w], options);
+    if (options.optimal_control) {
+      results[w] = internal::SolveOcpWindow(in, base, net, windows[w], options);
+    } else {
+      results[w].message = "ocp.optimal_control is false: the prior is used";
+    }
     seconds[w] = clock.Seconds();
   }
   for (std::size_t w = 0; w < groups.size(); ++w) {
     const WindowOutcome outcome{w, &windows[w], &results[w], seconds[w]};
     for (std::size_t i : groups[w]) {
       ReportWindow(in, gaps[i], outcome, summary.gaps[i]);
-      if (!WriteGap(in, net, gaps[i], outcome, priors[i], tracks[i], options, summary.methods,
-                    summary.gaps[i], *out)) {
+      if (!WriteGap(in, net, gaps[i], outcome, priors[i], options, summary.gaps[i], *out)) {
         ++summary.fallbacks;
       }
     }
@@ -408,7 +430,7 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
   if (summary.fallbacks > 0) {
     summary.termination = Termination::kDiverged;
     summary.message = fmt::format(
-        "{} of {} gaps filled by their best candidate after the optimal control failed or "
+        "{} of {} gaps filled by their prior after the optimal control failed or "
         "disagreed with the distance distributions (see gaps[].message)",
         summary.fallbacks, gaps.size());
   }

@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
+#include <utility>
 
 #include "moreau/common/error.h"
 #include "moreau/control/continuation.h"
@@ -81,6 +83,27 @@ Track WindowTrack(const Recording& base, int marker, const OcpWindow& w,
   return t;
 }
 
+// Rest-length bounds of a spring in the window, centred on the prior: the range of its length
+// along `base` (observed samples and the gaps' priors) over the window frames, widened by the
+// network's margin rule (network_from_recording.h) and kept inside the recording's bounds; the
+// recording's bounds when the two do not overlap.
+std::pair<double, double> PriorBounds(const Recording& base, const MarkerSpring& sp,
+                                      const OcpWindow& w, const MarkerNetworkOptions& o) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::int64_t f = w.first; f <= w.last; ++f) {
+    const double d = (base.point(f, sp.a) - base.point(f, sp.b)).norm();
+    if (!std::isfinite(d)) continue;
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  if (!(lo <= hi)) return {sp.rest_min, sp.rest_max};
+  const double margin = o.bound_margin * (hi - lo) + o.bound_floor * sp.mean;
+  const double rest_min = std::max(sp.rest_min, lo - margin);
+  const double rest_max = std::min(sp.rest_max, hi + margin);
+  if (!(rest_min < rest_max)) return {sp.rest_min, sp.rest_max};
+  return {rest_min, rest_max};
+}
+
 struct WindowModel {
   std::vector<control::NetworkNode> nodes;
   std::vector<control::NetworkSpring> springs;
@@ -89,7 +112,8 @@ struct WindowModel {
 };
 
 WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, const OcpWindow& w,
-                             const Eigen::Vector3d& origin, double scale, int max_anchor_springs) {
+                             const Eigen::Vector3d& origin, double scale, const OcpFillOptions& o) {
+  const int max_anchor_springs = o.anchor_springs;
   WindowModel model;
   std::map<int, int> node_of;
   // Time unit: one frame.
@@ -135,8 +159,10 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
         ++model.anchors;
       }
       const MarkerSpring& sp = net.springs[static_cast<std::size_t>(s)];
+      const auto [rest_min, rest_max] = o.prior_bounds ? PriorBounds(base, sp, w, o.network)
+                                                       : std::pair{sp.rest_min, sp.rest_max};
       model.springs.push_back(control::NetworkSpring{node_of[marker], node_of[other], kappa, xi,
-                                                     sp.rest_min / scale, sp.rest_max / scale});
+                                                     rest_min / scale, rest_max / scale});
     }
   }
   return model;
@@ -233,7 +259,7 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   for (int marker : w.free) origin += base.point(w.first, marker) / m;
   try {
-    const WindowModel model = BuildWindowModel(base, net, w, origin, scale, o.anchor_springs);
+    const WindowModel model = BuildWindowModel(base, net, w, origin, scale, o);
     result.anchors = model.anchors;
     result.springs = static_cast<int>(model.springs.size());
     const WindowProblem p = MakeWindowProblem(in, base, net, w, o, model);

@@ -256,6 +256,54 @@ TEST(FillGaps, OptionValidationNamesTheField) {
   EXPECT_NE(ValidationMessage(o).find("fill.pca.tolerance"), std::string::npos);
 }
 
+TEST(FillGaps, OcpGapThatNoCandidateFillsKeepsTheCandidatesStatus) {
+  // A gap at the start of the recording: spline and rigid skip it; with only those candidates
+  // the gap stays missing with the first candidate's status.
+  const Recording truth = MakeRigidBodyRecording(5, 60, 100.0, 3);
+  Recording gapped = truth;
+  const Gap gap = Hide(gapped, 1, 0, 9);
+  FillOptions o = With(FillMethod::kOcp);
+  o.ocp.candidates = {"spline", "rigid"};
+  Recording out;
+  const FillSummary summary = FillGaps(gapped, {gap}, o, &out);
+  EXPECT_EQ(summary.gaps_filled, 0);
+  EXPECT_EQ(summary.gaps[0].status, GapStatus::kSkippedEdge);
+  EXPECT_FALSE(out.observed(0, 1));
+}
+
+std::string OcpFillError(const Recording& in, const Gap& gap, const FillOptions& options) {
+  Recording out;
+  try {
+    FillGaps(in, {gap}, options, &out);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(FillGaps, OcpBadSettingsAreOneInputErrorNamingTheField) {
+  Recording gapped = MakeRigidBodyRecording(5, 40, 100.0, 5);
+  const Gap gap = Hide(gapped, 1, 10, 20);
+  FillOptions o = With(FillMethod::kOcp);
+  o.ocp.prior_weight = -0.5;
+  EXPECT_NE(OcpFillError(gapped, gap, o).find("fill.ocp.prior_weight"), std::string::npos);
+  o = With(FillMethod::kOcp);
+  o.ocp.padding_seconds = 1.0;  // a window of 100 padding frames in 40 frames
+  EXPECT_NE(OcpFillError(gapped, gap, o).find("ocp.padding_seconds"), std::string::npos);
+  o = With(FillMethod::kOcp);
+  o.ocp.candidates = {"rigid", "ocp"};
+  EXPECT_NE(OcpFillError(gapped, gap, o).find("fill.ocp.candidates[1]"), std::string::npos);
+  o = With(FillMethod::kOcp);
+  o.ocp.network.partners = 0;
+  EXPECT_NE(OcpFillError(gapped, gap, o).find("fill.ocp.network.partners"), std::string::npos);
+  // The gapped marker is seen with the others in 29 frames, fewer than the network asks for: it
+  // has no partners (the candidates fill the gap, the network cannot carry it).
+  o = With(FillMethod::kOcp);
+  o.ocp.network.min_common_frames = 35;
+  EXPECT_NE(OcpFillError(gapped, gap, o).find("no partners"), std::string::npos)
+      << OcpFillError(gapped, gap, o);
+}
+
 TEST(FillGaps, AGapThatDoesNotMatchTheRecordingIsAnInputError) {
   const Recording truth = MakeLineRecording(2, 20, 100.0);
   Recording out;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "moreau/mocap/fill.h"
+#include "moreau/mocap/ocp_fill.h"
 #include "moreau/mocap/recording.h"
 
 namespace moreau::mocap::testing {
@@ -46,5 +48,21 @@ inline Gap Hide(Recording& rec, int marker, std::int64_t first, std::int64_t las
   for (std::int64_t f = first; f <= last; ++f) rec.ClearPoint(f, marker);
   return Gap{marker, first, last};
 }
+
+// The baseline fills of `gaps` by each of `methods` (fill.h), as candidates of FillGapsOcp.
+struct Baselines {
+  std::vector<Recording> recordings;
+  std::vector<CandidateFill> candidates;
+  Baselines(const Recording& in, const std::vector<Gap>& gaps,
+            const std::vector<std::string>& methods) {
+    recordings.reserve(methods.size());
+    for (const std::string& m : methods) {
+      FillOptions o;
+      o.method = ParseFillMethod(m);
+      FillGaps(in, gaps, o, &recordings.emplace_back());
+      candidates.push_back({m, &recordings.back()});
+    }
+  }
+};
 
 }  // namespace moreau::mocap::testing

@@ -32,6 +32,13 @@
 //           missing-marker weight); the fixed point is the least-squares fit of the retained
 //           components to the observed coordinates, exact for data of rank ≤ the components
 //           retained. Gaps at the start or end of the recording can be filled.
+//   ocp     optimal control of a spring network (ocp_fill.h, docs/mocap_ocp.md): the baseline
+//           fills named by ocp.candidates are computed for the same gaps, averaged with weights by
+//           their agreement with the partners' distance distributions (Tits et al. 2018), and the
+//           network, steered by its rest lengths, tracks that prior inside the gap and the
+//           observed samples around it. FillGaps solves gaps that overlap in time together
+//           (hidden neighbours are free nodes of one window); FillGap solves one gap. A gap no
+//           candidate fills keeps the first candidate's status.
 //
 // Adding a method: one FillMethod entry, one row in the name table (fill.cpp) and one FillGapX
 // function with the signature below.
@@ -46,13 +53,14 @@
 #include <nlohmann/json.hpp>
 
 #include "moreau/common/termination.h"
+#include "moreau/mocap/ocp_fill.h"
 #include "moreau/mocap/recording.h"
 
 namespace moreau::mocap {
 
-enum class FillMethod { kLinear, kSpline, kPchip, kRigid, kPca };
+enum class FillMethod { kLinear, kSpline, kPchip, kRigid, kPca, kOcp };
 
-// "linear", "spline", "pchip", "rigid", "pca".
+// "linear", "spline", "pchip", "rigid", "pca", "ocp".
 std::string_view ToString(FillMethod method);
 // Throws InputError naming the unknown method and the known ones.
 FillMethod ParseFillMethod(std::string_view name);
@@ -116,6 +124,7 @@ struct FillOptions {
   InterpolationFillOptions interpolation;
   RigidFillOptions rigid;
   PcaFillOptions pca;
+  OcpFillOptions ocp;  // the optimal-control fill (ocp_fill.h)
 
   // Throws InputError("fill.<field> must be … (got …)") for a value out of range.
   void Validate() const;
@@ -138,6 +147,8 @@ GapFill FillGapSpline(const Recording& in, const Gap& gap, const FillOptions& op
 GapFill FillGapPchip(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapRigid(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapPca(const Recording& in, const Gap& gap, const FillOptions& options);
+// Throws InputError when the gap's marker has no partner in the network (ocp_fill.h).
+GapFill FillGapOcp(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options);
 
 struct GapReport {

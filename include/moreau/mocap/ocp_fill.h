@@ -1,6 +1,13 @@
-// Gap filling by optimal control of a mass–spring–damper network (issue 9; the thesis'
-// regularised Hamiltonian, Symplectic Pontryagin scheme, Newton and continuation, in
-// include/moreau/control/). docs/mocap_ocp.md explains the method and every default.
+// Gap filling by candidate fills weighted by their agreement with the markers' distance
+// distributions (Tits et al. 2018: the prior), optionally refined by optimal control of a
+// mass–spring–damper network (issue 9; the thesis' regularised Hamiltonian, Symplectic
+// Pontryagin scheme, Newton and continuation, in include/moreau/control/).
+// docs/mocap_ocp.md explains the method, every default and the measurements behind them.
+//
+// The prior of a gap: the candidates' average with weights (E_c + 10⁻³)^(−weight_exponent),
+// E_c the mean squared z-score of the candidate's distances to the marker's spring partners seen
+// at the gap's frames, z = (d − mean) / max(spread, bound margin). With optimal_control off
+// (the default) the prior is the fill (status "prior"); with it on:
 //
 // Per group of gaps (gaps whose padded windows overlap in time and whose markers are the same
 // or joined by a spring are solved together) one window is solved:
@@ -17,8 +24,9 @@
 // frame (docs/mocap_ocp.md).
 // A window that fails to converge is retried with stiffness continuation from a smooth γ; if that
 // fails too, or a solved gap disagrees with the partners' distance distributions much more than
-// the best candidate (guard_ratio), the gap is filled by the best candidate (smallest
-// disagreement) and reported with status "fallback".
+// the prior (guard_ratio), the gap is filled by the prior and reported with status "fallback".
+// Through fill.h (FillMethod::kOcp, FillGaps / FillGap) the candidates are the baseline fills
+// named by `candidates`.
 #pragma once
 
 #include <cstdint>
@@ -40,7 +48,7 @@ struct OcpFillOptions {
   int min_padding_frames = 3;    // at least this many padding frames (>= 1)
   int anchor_springs = 0;        // per free node, springs to anchors: the most rigid ones (0: all)
   double observed_weight = 1.0;  // μ_x w on observed samples (per frame, lengths in ℓ; > 0)
-  double prior_weight = 0.05;    // w on the prior inside a gap (>= 0; 0: no prior)
+  double prior_weight = 10.0;    // w on the prior inside a gap (>= 0; 0: no prior)
   double gamma =
       0.01;  // target γ of the regularised Hamiltonian (per frame, like the weights; > 0)
   double gamma_start = 0.01;       // first solve at this γ, then continuation (>= gamma)
@@ -48,8 +56,22 @@ struct OcpFillOptions {
   double stiffness_start = 0.25;   // retry: continuation in κ, ξ from this scale (0, 1]
   double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
   double guard_ratio = 1.5;        // keep the solved fill only if its distance disagreement E is
-                                   // <= guard_ratio E_best + 1 (E_best: best candidate's) (>= 1)
-  control::NewtonOptions newton;   // every Newton solve (tolerance in solver units)
+                                   // <= guard_ratio E_prior + 1 (E_prior: the prior's) (>= 1)
+  // Through FillGaps (method "ocp"): the baseline fills (fill.h) computed for the same gaps and
+  // used as candidates; names of methods other than "ocp", at least one.
+  std::vector<std::string> candidates = {"rigid", "pca"};
+  // Exponent p of the candidate weights 1 / (E_c + 10⁻³)^p (>= 0; 0: plain average).
+  double weight_exponent = 2.0;
+  // Rest-length bounds of a window centred on the prior: the range of the spring's length along
+  // the prior over the window, widened by the network's margin rule and kept inside the bounds
+  // observed over the recording (false: the recording's bounds).
+  bool prior_bounds = false;
+  // true: the network tracks the prior and the observed samples (the optimal control problem);
+  // false: the gaps are filled with the prior (the weighted candidate average), status "prior".
+  // Off by default: on the measured recordings the solved fills are not clearly better than
+  // their prior and cost 5–400× the time (docs/mocap_ocp.md, "Measured").
+  bool optimal_control = false;
+  control::NewtonOptions newton;  // every Newton solve (tolerance in solver units)
 
   // Throws InputError("ocp.<field>: ...") for a value out of range.
   void Validate() const;
@@ -81,10 +103,11 @@ struct OcpGapReport {
   double disagreement = 0.0;  // mean squared z-score of the solved fill's partner distances
   double seconds = 0.0;       // wall-clock time of the window
   Termination termination = Termination::kConverged;
-  std::string status;           // "ocp" or "fallback"
+  std::string status;           // "ocp", "prior" (optimal_control off) or "fallback"
   std::string fallback_method;  // candidate used when status is "fallback"
   std::string message;
-  std::vector<double> candidate_weights;  // prior weight of each candidate (sum 1)
+  std::vector<double> candidate_weights;  // prior weight of each candidate (sum 1; 0 for one
+                                          // that does not fill the gap)
   nlohmann::json ToJson() const;
 };
 
@@ -107,13 +130,14 @@ struct OcpFillSummary {
 };
 
 // Fills `gaps` of `in` into `out` (a copy of `in` whose gap samples are set; other samples are
-// untouched). `candidates` are the prior/fallback fills; when empty, two internal ones are used
-// (linear interpolation and a rigid-body fill from the marker's springs, Kabsch to the frames
-// bounding the gap, blended across it). Throws InputError for invalid options, a gap outside the
-// recording or over an observed sample, a padding longer than the recording, a gap of a marker
-// without springs, or a candidate of another shape or without finite samples in a gap.
+// untouched). `candidates` are the prior/fallback fills (at least one; FillGaps with method
+// "ocp" passes the baseline fills named by options.candidates); a candidate without finite
+// samples in a gap is not used for that gap. Throws InputError for invalid options, no
+// candidate, a gap outside the recording or over an observed sample, a padding longer than the
+// recording, a gap of a marker without springs, a candidate of another shape, or a gap that no
+// candidate fills.
 OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
                            const OcpFillOptions& options, Recording* out,
-                           const std::vector<CandidateFill>& candidates = {});
+                           const std::vector<CandidateFill>& candidates);
 
 }  // namespace moreau::mocap
