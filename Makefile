@@ -53,9 +53,9 @@ demo: build
 	$(MOREAU) run examples/crowd.toml --out $(OUT)/crowd
 	$(MOREAU) run examples/packing3d.toml --out $(OUT)/packing3d
 	$(MOREAU) run examples/disks_1e4.toml --out $(OUT)/disks_1e4
-	$(MOREAU) evaluate-gaps $(MOCAP_DATA)/upper_body_25hz.c3d --gap-seconds 0.1,0.2,0.5,1.0 \
-	  --trials 20 --seed 1 --out $(OUT)/upper_body_evaluation
-	$(MOREAU) fill-gaps $(MOCAP_DATA)/Vicon.c3d --method pca --out $(OUT)/vicon_filled
+	$(MOREAU) evaluate-gaps $(MOCAP_DATA)/Qualisys.c3d --gap-seconds 0.1,0.2,0.5,1.0 \
+	  --trials 20 --seed 1 --out $(OUT)/qualisys_evaluation
+	$(MOREAU) fill-gaps $(MOCAP_DATA)/Vicon.c3d --out $(OUT)/vicon_filled
 	@echo "demo: figures are in $(OUT)/ (README.md says how to read them)"
 
 # Step sizes of the studies: h0 / 2^k.

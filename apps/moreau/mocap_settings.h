@@ -18,10 +18,9 @@
 
 namespace moreau::cli {
 
-// The method fill-gaps uses when none is named (fill.method): pca, the best of the established
-// methods on both ground-truth recordings (docs/mocap.md) and the only one that fills gaps at the
-// ends of a recording. The optimal-control fill, once it exists, becomes the default here.
-inline constexpr mocap::FillMethod kDefaultFillMethod = mocap::FillMethod::kPca;
+// The method fill-gaps uses when none is named (fill.method): ocp, the optimal-control fill, the
+// best on both ground-truth recordings at every gap length (docs/mocap.md).
+inline constexpr mocap::FillMethod kDefaultFillMethod = mocap::FillMethod::kOcp;
 
 // read.zero_is_missing, read.allow_truncated, read.units_if_unstated (ReadOptions).
 FieldTable<mocap::ReadOptions> ReadFields();

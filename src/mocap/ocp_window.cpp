@@ -171,7 +171,7 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
 // The window's tracking problem in solver units: lengths in ℓ, time in frames (a frame split into
 // `substeps` steps with ω Δt <= 0.5 and Δt <= max_step_frames), weights and γ per frame. Only
 // the ratio γ / weight matters (scaling both scales the cost), and in seconds both are per-sample
-// quantities times the rate, so the same γ serves every rate (docs/mocap_ocp.md).
+// quantities times the rate, so the same γ serves every rate (docs/mocap.md).
 struct WindowProblem {
   std::unique_ptr<control::TrackingProblem> target;
   int substeps = 1;

@@ -108,7 +108,7 @@ TEST(MocapOcpFill, MarkersHiddenTogetherAreSolvedInOneWindow) {
   OcpFillOptions o;
   o.optimal_control = true;
   // Springs within each 6-marker body only (with more partners, loose springs across the bodies
-  // pull the solved markers off the body by ~1 mm; docs/mocap_ocp.md, limits).
+  // pull the solved markers off the body by ~1 mm; docs/mocap.md, limits).
   o.network.partners = 4;
   const testing::Baselines baselines(in, gaps, o.candidates);
   const OcpFillSummary s = FillGapsOcp(in, gaps, o, &out, baselines.candidates);

@@ -32,7 +32,7 @@
 //           missing-marker weight); the fixed point is the least-squares fit of the retained
 //           components to the observed coordinates, exact for data of rank ≤ the components
 //           retained. Gaps at the start or end of the recording can be filled.
-//   ocp     optimal control of a spring network (ocp_fill.h, docs/mocap_ocp.md): the baseline
+//   ocp     optimal control of a spring network (ocp_fill.h, docs/mocap.md): the baseline
 //           fills named by ocp.candidates are computed for the same gaps, averaged with weights by
 //           their agreement with the partners' distance distributions (Tits et al. 2018), and the
 //           network, steered by its rest lengths, tracks that prior inside the gap and the

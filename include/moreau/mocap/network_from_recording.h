@@ -27,7 +27,7 @@ namespace moreau::mocap {
 struct MarkerNetworkOptions {
   // Springs each marker chooses to its most rigid partners (>= 1; 3 are needed in 3D for a
   // hidden marker to stay determined). They are also the distances that judge a candidate fill
-  // (ocp_fill.h): more of them, fewer wrong weights (docs/mocap_ocp.md).
+  // (ocp_fill.h): more of them, fewer wrong weights (docs/mocap.md).
   int partners = 10;
   int min_common_frames = 10;  // a pair seen together in fewer frames is never a spring (>= 2)
   double bound_margin = 0.1;   // m = bound_margin (d_max − d_min) + bound_floor d_mean (>= 0)

@@ -2,7 +2,7 @@
 // distributions (Tits et al. 2018: the prior), optionally refined by optimal control of a
 // mass–spring–damper network (issue 9; the thesis' regularised Hamiltonian, Symplectic
 // Pontryagin scheme, Newton and continuation, in include/moreau/control/).
-// docs/mocap_ocp.md explains the method, every default and the measurements behind them.
+// docs/mocap.md explains the method, every default and the measurements behind them.
 //
 // The prior of a gap: the candidates' average with weights (E_c + 10⁻³)^(−weight_exponent),
 // E_c the mean squared z-score of the candidate's distances to the marker's spring partners seen
@@ -21,7 +21,7 @@
 //   * the window spans the group's gaps plus `padding_seconds` on each side, so the cost grows
 //     with the gaps, not with the recording.
 // Units inside the solver: length in network.length_scale, time in frames, weights and γ per
-// frame (docs/mocap_ocp.md).
+// frame (docs/mocap.md).
 // A window that fails to converge is retried with stiffness continuation from a smooth γ; if that
 // fails too, or a solved gap disagrees with the partners' distance distributions much more than
 // the prior (guard_ratio), the gap is filled by the prior and reported with status "fallback".
@@ -68,9 +68,9 @@ struct OcpFillOptions {
   bool prior_bounds = false;
   // true: the network tracks the prior and the observed samples (the optimal control problem);
   // false: the gaps are filled with the prior (the weighted candidate average), status "prior".
-  // Off by default: on the measured recordings the solved fills are not clearly better than
-  // their prior and cost 5–400× the time (docs/mocap_ocp.md, "Measured").
-  bool optimal_control = false;
+  // On by default: "ocp" is the optimal-control fill. Off gives the Tits-weighted prior alone,
+  // about as accurate on the measured recordings at a fraction of the time (docs/mocap.md).
+  bool optimal_control = true;
   control::NewtonOptions newton;  // every Newton solve (tolerance in solver units)
 
   // Throws InputError("ocp.<field>: ...") for a value out of range.
@@ -103,7 +103,7 @@ struct OcpGapReport {
   double disagreement = 0.0;  // mean squared z-score of the solved fill's partner distances
   double seconds = 0.0;       // wall-clock time of the window
   Termination termination = Termination::kConverged;
-  std::string status;           // "ocp", "prior" (optimal_control off) or "fallback"
+  std::string status;           // "ocp", "prior" (optimal_control off, or the window kept its prior) or "fallback"
   std::string fallback_method;  // candidate used when status is "fallback"
   std::string message;
   std::vector<double> candidate_weights;  // prior weight of each candidate (sum 1; 0 for one
