@@ -95,6 +95,22 @@ void BM_OcpFillLongOptimalControl(benchmark::State& state) {
   Run(state, 10, 5000, 100.0, 50, true);
 }
 
+// Time against recording length (state.range(0) frames at 100 Hz, 40 markers) and gap count
+// (state.range(1) gaps of 0.2–0.5 s), optimal control on: it should grow with the gaps only.
+void BM_OcpFillScaling(benchmark::State& state) {
+  Run(state, 10, state.range(0), 100.0, static_cast<int>(state.range(1)), true);
+}
+
+BENCHMARK(BM_OcpFillScaling)
+    ->ArgNames({"frames", "gaps"})
+    ->Args({1000, 10})
+    ->Args({2000, 10})
+    ->Args({4000, 10})
+    ->Args({2000, 5})
+    ->Args({2000, 20})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 BENCHMARK(BM_OcpFillQualisysSized)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_OcpFillLong)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 BENCHMARK(BM_OcpFillQualisysSizedOptimalControl)->Unit(benchmark::kMillisecond)->UseRealTime();
