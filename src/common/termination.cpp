@@ -4,13 +4,13 @@
 #include <string>
 #include <utility>
 
-#include "moreau/common/error.h"
+#include "moreau/common/enum_names.h"
 
 namespace moreau {
 
 namespace {
 
-constexpr std::array<std::pair<Termination, std::string_view>, 8> kNames{{
+constexpr EnumNames<Termination, 8> kNames{{
     {Termination::kCompleted, "completed"},
     {Termination::kConverged, "converged"},
     {Termination::kMaxIterations, "max_iterations"},
@@ -23,18 +23,10 @@ constexpr std::array<std::pair<Termination, std::string_view>, 8> kNames{{
 
 }  // namespace
 
-std::string_view ToString(Termination termination) {
-  for (const auto& [value, name] : kNames) {
-    if (value == termination) return name;
-  }
-  MOREAU_ASSERT(false);
-}
+std::string_view ToString(Termination termination) { return EnumName(kNames, termination); }
 
 Termination ParseTermination(std::string_view name) {
-  for (const auto& [value, name_of] : kNames) {
-    if (name_of == name) return value;
-  }
-  throw InputError("unknown termination '" + std::string(name) + "'");
+  return ParseEnumName(kNames, name, "termination");
 }
 
 }  // namespace moreau

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "mocap/ocp_method.h"
+#include "moreau/common/enum_names.h"
 #include "moreau/common/error.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
@@ -34,7 +35,7 @@ constexpr std::array<MethodEntry, 6> kMethods{{
     {FillMethod::kOcp, "ocp", &FillGapOcp},
 }};
 
-constexpr std::array<std::pair<GapStatus, std::string_view>, 6> kStatuses{{
+constexpr EnumNames<GapStatus, 6> kStatuses{{
     {GapStatus::kFilled, "filled"},
     {GapStatus::kSkippedEdge, "skipped_edge"},
     {GapStatus::kTooLong, "too_long"},
@@ -89,18 +90,10 @@ std::vector<FillMethod> AllFillMethods() {
   return methods;
 }
 
-std::string_view ToString(GapStatus status) {
-  for (const auto& [value, name] : kStatuses) {
-    if (value == status) return name;
-  }
-  MOREAU_ASSERT(false);
-}
+std::string_view ToString(GapStatus status) { return EnumName(kStatuses, status); }
 
 GapStatus ParseGapStatus(std::string_view name) {
-  for (const auto& [value, name_of] : kStatuses) {
-    if (name_of == name) return value;
-  }
-  throw InputError(fmt::format("unknown gap status '{}'", name));
+  return ParseEnumName(kStatuses, name, "gap status");
 }
 
 void FillOptions::Validate() const {
