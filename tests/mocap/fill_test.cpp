@@ -10,26 +10,12 @@
 namespace moreau::mocap {
 namespace {
 
+using testing::GapMaxError;
+using testing::Hide;
 using testing::MakeCubicRecording;
 using testing::MakeLineRecording;
 using testing::MakeLowRankRecording;
 using testing::MakeRigidBodyRecording;
-
-// Clears frames first … last of `marker` and returns the gap.
-Gap Hide(Recording& r, int marker, std::int64_t first, std::int64_t last) {
-  for (std::int64_t f = first; f <= last; ++f) r.ClearPoint(f, marker);
-  return Gap{marker, first, last};
-}
-
-// Largest distance between the filled and true positions over a gap.
-double MaxError(const Recording& filled, const Recording& truth, const Gap& gap) {
-  double e = 0.0;
-  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
-    EXPECT_TRUE(filled.observed(f, gap.marker));
-    e = std::max(e, (filled.point(f, gap.marker) - truth.point(f, gap.marker)).norm());
-  }
-  return e;
-}
 
 FillOptions With(FillMethod method) {
   FillOptions options;
@@ -47,7 +33,7 @@ TEST(FillGaps, StraightLineAtConstantSpeedIsFilledExactlyByTheInterpolants) {
     ASSERT_EQ(summary.gaps.size(), 1u);
     EXPECT_EQ(summary.gaps[0].status, GapStatus::kFilled) << summary.gaps[0].message;
     EXPECT_EQ(summary.samples_filled, gap.length());
-    EXPECT_LT(MaxError(out, truth, gap), 1e-9) << ToString(method);
+    EXPECT_LT(GapMaxError(out, truth, gap), 1e-9) << ToString(method);
   }
 }
 
@@ -58,8 +44,8 @@ TEST(FillGaps, CubicInTimeIsFilledExactlyBySplineButNotByLinear) {
   Recording spline, linear;
   FillGaps(gapped, {gap}, With(FillMethod::kSpline), &spline);
   FillGaps(gapped, {gap}, With(FillMethod::kLinear), &linear);
-  EXPECT_LT(MaxError(spline, truth, gap), 1e-8);
-  EXPECT_GT(MaxError(linear, truth, gap), 1.0);
+  EXPECT_LT(GapMaxError(spline, truth, gap), 1e-8);
+  EXPECT_GT(GapMaxError(linear, truth, gap), 1.0);
 }
 
 TEST(FillGaps, TurningRigidBodyIsFilledExactlyByRigidEvenWithTwoMarkersMissing) {
@@ -70,11 +56,11 @@ TEST(FillGaps, TurningRigidBodyIsFilledExactlyByRigidEvenWithTwoMarkersMissing) 
   Recording out;
   const FillSummary summary = FillGaps(gapped, {a, b}, With(FillMethod::kRigid), &out);
   EXPECT_EQ(summary.gaps_filled, 2) << summary.message;
-  EXPECT_LT(MaxError(out, truth, a), 1e-8);
-  EXPECT_LT(MaxError(out, truth, b), 1e-8);
+  EXPECT_LT(GapMaxError(out, truth, a), 1e-8);
+  EXPECT_LT(GapMaxError(out, truth, b), 1e-8);
   // Linear interpolation cannot follow the rotation.
   FillGaps(gapped, {a, b}, With(FillMethod::kLinear), &out);
-  EXPECT_GT(MaxError(out, truth, a), 1.0);
+  EXPECT_GT(GapMaxError(out, truth, a), 1.0);
 }
 
 TEST(FillGaps, LowRankMotionIsFilledByPcaIncludingOverlappingAndEdgeGaps) {
@@ -86,7 +72,7 @@ TEST(FillGaps, LowRankMotionIsFilledByPcaIncludingOverlappingAndEdgeGaps) {
   Recording out;
   const FillSummary summary = FillGaps(gapped, {a, b, edge}, With(FillMethod::kPca), &out);
   EXPECT_EQ(summary.gaps_filled, 3) << summary.message;
-  for (const Gap& gap : {a, b, edge}) EXPECT_LT(MaxError(out, truth, gap), 1e-6);
+  for (const Gap& gap : {a, b, edge}) EXPECT_LT(GapMaxError(out, truth, gap), 1e-6);
 }
 
 TEST(FillGaps, GapsAtTheEdgesAreSkippedAndStayMissing) {

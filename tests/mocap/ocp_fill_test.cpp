@@ -13,14 +13,6 @@
 namespace moreau::mocap {
 namespace {
 
-double MaxError(const Recording& out, const Recording& truth, const Gap& g) {
-  double e = 0.0;
-  for (std::int64_t f = g.first; f <= g.last; ++f) {
-    e = std::max(e, (out.point(f, g.marker) - truth.point(f, g.marker)).norm());
-  }
-  return e;
-}
-
 TEST(MocapOcpFill, RigidBodyHiddenMarkerIsRecovered) {
   const Recording truth = testing::RigidBodies(1, 6, 160, 100.0);
   Recording in = truth;
@@ -39,7 +31,7 @@ TEST(MocapOcpFill, RigidBodyHiddenMarkerIsRecovered) {
   EXPECT_GE(r.anchors, 3);
   EXPECT_GT(r.newton_iterations, 0);
   EXPECT_LE(r.residual, OcpFillOptions{}.newton.residual_tolerance);
-  EXPECT_LT(MaxError(out, truth, gap), 1e-3);  // metres
+  EXPECT_LT(testing::GapMaxError(out, truth, gap), 1e-3);  // metres
   // Only the gap was written.
   for (std::int64_t f = 0; f < in.frames(); ++f) {
     for (int m = 0; m < in.markers(); ++m) {
@@ -70,7 +62,7 @@ TEST(MocapOcpFill, ThroughFillGapsARigidBodyHiddenMarkerIsRecovered) {
     EXPECT_EQ(summary.gaps[0].method, FillMethod::kOcp);
     const std::string said = optimal_control ? "optimal control" : "prior: rigid";
     EXPECT_EQ(summary.gaps[0].message.find(said), 0u) << summary.gaps[0].message;
-    EXPECT_LT(MaxError(out, truth, gap), 1e-3);  // metres
+    EXPECT_LT(testing::GapMaxError(out, truth, gap), 1e-3);  // metres
     const GapFill one = FillGap(in, gap, o);
     ASSERT_EQ(one.status, GapStatus::kFilled);
     for (std::int64_t f = gap.first; f <= gap.last; ++f) {
@@ -95,7 +87,7 @@ TEST(MocapOcpFill, ReachableReferenceIsReproduced) {
   ASSERT_TRUE(s.ok()) << s.gaps[0].message;
   EXPECT_EQ(s.methods, std::vector<std::string>{"truth"});
   EXPECT_DOUBLE_EQ(s.gaps[0].candidate_weights[0], 1.0);
-  EXPECT_LT(MaxError(out, truth, gap), 1e-4);
+  EXPECT_LT(testing::GapMaxError(out, truth, gap), 1e-4);
 }
 
 TEST(MocapOcpFill, MarkersHiddenTogetherAreSolvedInOneWindow) {
@@ -123,7 +115,8 @@ TEST(MocapOcpFill, MarkersHiddenTogetherAreSolvedInOneWindow) {
   EXPECT_EQ(s.gaps[2].window_last, 40);
   EXPECT_EQ(s.gaps[0].window_first, 45);
   EXPECT_EQ(s.gaps[0].window_last, 109);
-  for (const Gap& g : gaps) EXPECT_LT(MaxError(out, truth, g), 1e-3) << "marker " << g.marker;
+  for (const Gap& g : gaps)
+    EXPECT_LT(testing::GapMaxError(out, truth, g), 1e-3) << "marker " << g.marker;
 }
 
 TEST(MocapOcpFillSlow, WholeSegmentHiddenIsFilled) {
@@ -170,7 +163,8 @@ TEST(MocapOcpFill, FailedWindowFallsBackToThePrior) {
   EXPECT_EQ(s.gaps[0].status, "fallback");
   EXPECT_EQ(s.gaps[0].fallback_method, "prior");
   EXPECT_FALSE(s.gaps[0].message.empty());
-  EXPECT_LT(MaxError(out, truth, gap), 1e-9);  // the prior (rigid) is exact on a rigid body
+  EXPECT_LT(testing::GapMaxError(out, truth, gap),
+            1e-9);  // the prior (rigid) is exact on a rigid body
 }
 
 std::string FillError(const Recording& in, const std::vector<Gap>& gaps, const OcpFillOptions& o) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mocap/synthetic.h"
 #include "moreau/mocap/fill.h"
 #include "moreau/mocap/ocp_fill.h"
 #include "moreau/mocap/recording.h"
@@ -41,12 +42,6 @@ inline Recording RigidBodies(int bodies, int per_body, std::int64_t frames, doub
     }
   }
   return rec;
-}
-
-// Hides marker m over frames first … last and returns the gap.
-inline Gap Hide(Recording& rec, int marker, std::int64_t first, std::int64_t last) {
-  for (std::int64_t f = first; f <= last; ++f) rec.ClearPoint(f, marker);
-  return Gap{marker, first, last};
 }
 
 // The baseline fills of `gaps` by each of `methods` (fill.h), as candidates of FillGapsOcp.

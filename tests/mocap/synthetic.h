@@ -3,8 +3,10 @@
 // body (55 markers on 15 segments, walking-like joint motion).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -149,6 +151,23 @@ inline Recording MakeWalkingRecording(std::int64_t frames, double rate, std::uin
         const auto& [segment, local] = markers[static_cast<std::size_t>(m)];
         return Eigen::Vector3d(pose[static_cast<std::size_t>(segment)] * local);
       });
+}
+
+// Hides marker m over frames first … last and returns the gap.
+inline Gap Hide(Recording& rec, int marker, std::int64_t first, std::int64_t last) {
+  for (std::int64_t f = first; f <= last; ++f) rec.ClearPoint(f, marker);
+  return Gap{marker, first, last};
+}
+
+// Largest distance between the filled and true positions over a gap; +∞ when a frame of the gap
+// is still unobserved in `filled`.
+inline double GapMaxError(const Recording& filled, const Recording& truth, const Gap& gap) {
+  double e = 0.0;
+  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
+    if (!filled.observed(f, gap.marker)) return std::numeric_limits<double>::infinity();
+    e = std::max(e, (filled.point(f, gap.marker) - truth.point(f, gap.marker)).norm());
+  }
+  return e;
 }
 
 }  // namespace moreau::mocap::testing
