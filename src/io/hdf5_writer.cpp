@@ -140,9 +140,9 @@ class Hdf5TrajectoryWriter final : public TrajectoryWriter {
   bool closed_ = false;
   bool has_particle_datasets_ = false;
   int dimension_ = 0;
-  std::int64_t rows_ = 0;              // extent of the particle axis: the largest N so far
-  std::vector<internal::XdmfFrame> frames_;      // one per frame written
-  std::vector<std::int64_t> indices_;  // workspace: connectivity values
+  std::int64_t rows_ = 0;                    // extent of the particle axis: the largest N so far
+  std::vector<internal::XdmfFrame> frames_;  // one per frame written
+  std::vector<std::int64_t> indices_;        // workspace: connectivity values
 };
 
 Hdf5TrajectoryWriter::Hdf5TrajectoryWriter(const std::filesystem::path& path)

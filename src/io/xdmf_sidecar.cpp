@@ -22,11 +22,6 @@ void AppendFrameGrid(std::string& out, const std::string& h5, int k, std::size_t
   const std::string n = std::to_string(frame.count);
   out += fmt::format("      <Grid Name=\"frame_{:06d}\" GridType=\"Uniform\">\n", index);
   out += fmt::format("        <Time Value=\"{}\"/>\n", FormatDouble(frame.time));
-  if (frame.count == 0) {  // no datasets to name: an empty grid at this time
-    out += "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"0\"/>\n";
-    out += "      </Grid>\n";
-    return;
-  }
   out += fmt::format(
       "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
       "NodesPerElement=\"1\">\n",
@@ -59,7 +54,7 @@ std::string XdmfSidecarText(const std::string& h5_name, int dimension,
   out += "  <Domain>\n";
   out += "    <Grid Name=\"trajectory\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t f = 0; f < frames.size(); ++f) {
-    AppendFrameGrid(out, h5, dimension, f, frames[f]);
+    if (frames[f].count > 0) AppendFrameGrid(out, h5, dimension, f, frames[f]);
   }
   out += "    </Grid>\n";
   out += "  </Domain>\n";

@@ -20,7 +20,9 @@ std::string XdmfFrameGroup(std::size_t index);
 // Polyvertex topology with explicit connectivity, XY or XYZ geometry, node attributes radius and
 // id, each a plain HDF DataItem naming a dataset of the frame's group in `h5_name` (the HDF5
 // file's name relative to the sidecar). No HyperSlab items: ParaView 5.11's XDMF 3 readers crash
-// on them, while plain items open in the XDMF 2 and both XDMF 3 readers.
+// on them, while plain items open in the XDMF 2 and both XDMF 3 readers. Frames with N = 0 are
+// left out (the XDMF 2 reader crashes on every form of empty grid tried); the grid of frame f
+// keeps the name frame_FFFFFF.
 std::string XdmfSidecarText(const std::string& h5_name, int dimension,
                             const std::vector<XdmfFrame>& frames);
 
