@@ -126,6 +126,8 @@ class Hdf5TrajectoryWriter final : public TrajectoryWriter {
   void CreateView(hid_t group, const char* name, hid_t file_type, const char* source,
                   const std::vector<hsize_t>& source_dims, const std::vector<hsize_t>& start,
                   const std::vector<hsize_t>& count);
+  // The group `name` (absolute path), without modification times.
+  Handle CreateGroup(const std::string& name);
   void WriteAttribute(const char* name, hid_t file_type, hid_t memory_type, const void* value);
   void WriteStringAttribute(const char* name, const std::string& value);
   void CreateParticleDatasets(const ParticleFrame& frame);
@@ -251,6 +253,17 @@ void Hdf5TrajectoryWriter::CreateView(hid_t group, const char* name, hid_t file_
   Check(view.get(), what);
 }
 
+Handle Hdf5TrajectoryWriter::CreateGroup(const std::string& name) {
+  const std::string what = "creating " + name;
+  Handle properties(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
+  Check(properties.get(), what);
+  Check(H5Pset_obj_track_times(properties.get(), false), what);  // same run, same bytes
+  Handle group(H5Gcreate2(file_.get(), name.c_str(), H5P_DEFAULT, properties.get(), H5P_DEFAULT),
+               H5Gclose);
+  Check(group.get(), what);
+  return group;
+}
+
 void Hdf5TrajectoryWriter::WriteAttribute(const char* name, hid_t file_type, hid_t memory_type,
                                           const void* value) {
   const std::string what = fmt::format("attribute {}", name);
@@ -291,8 +304,7 @@ void Hdf5TrajectoryWriter::CreateParticleDatasets(const ParticleFrame& frame) {
                             H5T_NATIVE_DOUBLE, &kMissingValue);
   connectivity_ = CreateExtensible(file, "connectivity", H5T_STD_I64LE, {4096}, 0, H5T_NATIVE_INT64,
                                    &kMissingId);
-  Handle group(H5Gcreate2(file, "xdmf", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-  Check(group.get(), "creating /xdmf");
+  CreateGroup("/xdmf");
   WriteAttribute("dimension", H5T_STD_I32LE, H5T_NATIVE_INT, &frame.dimension);
   WriteAttribute("count", H5T_STD_I64LE, H5T_NATIVE_INT64, &rows_);
   dimension_ = frame.dimension;
@@ -313,9 +325,7 @@ void Hdf5TrajectoryWriter::GrowParticleAxis(std::int64_t count) {
 
 void Hdf5TrajectoryWriter::WriteFrameViews(std::size_t index, std::int64_t count) {
   const std::string name = internal::XdmfFrameGroup(index);
-  Handle group(H5Gcreate2(file_.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-               H5Gclose);
-  Check(group.get(), "creating " + name);
+  Handle group = CreateGroup(name);
   if (count == 0) return;
   const hsize_t frames = index + 1, f = index, rows = static_cast<hsize_t>(rows_);
   const auto n = static_cast<hsize_t>(count), k = static_cast<hsize_t>(dimension_);

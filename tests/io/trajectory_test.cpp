@@ -535,30 +535,26 @@ TEST(Hdf5Writer, NoFramesGivesEmptyTimeAxis) {
   EXPECT_EQ(CountOccurrences(xdmf, "<Grid Name=\"frame_"), 0u);
 }
 
+// Writes `frames` to STEM.h5 in a fresh directory, reads everything back, keeps the sample.
+void ExpectRoundTrip(const FrameSet& frames, const std::string& stem) {
+  TempDir dir;
+  const fs::path path = dir.path() / (stem + ".h5");
+  auto writer = MakeHdf5Writer(path);
+  WriteAll(*writer, frames);
+  writer->Close();
+  ExpectHdf5Matches(path, frames);
+  ExpectXdmfMatches(dir.path() / (stem + ".xdmf"), stem + ".h5", frames);
+  KeepSample(dir.path(), stem);
+}
+
 TEST(Hdf5Writer, ChangingParticleCountRoundTripsPaddedWithViews) {
   // Growing, dividing, dying and an empty frame: rows past a frame's count read as padding, the
   // views show exactly the frame's rows.
-  TempDir dir;
-  const FrameSet frames = RandomFramesWithCounts(2, {0, 3, 5, 5, 2, 0, 9, 4}, 15);
-  const fs::path path = dir.path() / "t.h5";
-  auto writer = MakeHdf5Writer(path);
-  WriteAll(*writer, frames);
-  writer->Close();
-  ExpectHdf5Matches(path, frames);
-  ExpectXdmfMatches(dir.path() / "t.xdmf", "t.h5", frames);
-  KeepSample(dir.path(), "t");
+  ExpectRoundTrip(RandomFramesWithCounts(2, {0, 3, 5, 5, 2, 0, 9, 4}, 15), "t");
 }
 
 TEST(Hdf5Writer, GrowingPastOneChunkOfParticlesRoundTrips3D) {
-  TempDir dir;
-  const FrameSet frames = RandomFramesWithCounts(3, {1, 40, 70, 200, 130}, 16);
-  const fs::path path = dir.path() / "grow.h5";
-  auto writer = MakeHdf5Writer(path);
-  WriteAll(*writer, frames);
-  writer->Close();
-  ExpectHdf5Matches(path, frames);
-  ExpectXdmfMatches(dir.path() / "grow.xdmf", "grow.h5", frames);
-  KeepSample(dir.path(), "grow");
+  ExpectRoundTrip(RandomFramesWithCounts(3, {1, 40, 70, 200, 130}, 16), "grow");
 }
 
 TEST(Hdf5Writer, ChangingDimensionThrows) {
