@@ -59,8 +59,20 @@ def run_example(name, out):
     return out, json.loads((out / "summary.json").read_text())
 
 
+@pytest.fixture(scope="session")
+def example_runs(tmp_path_factory):
+    """get(name) → (name, output folder, summary) of the shortened example, run once a session."""
+    runs = {}
+
+    def get(name):
+        if name not in runs:
+            out, summary = run_example(name, tmp_path_factory.mktemp(name) / "out")
+            runs[name] = (name, out, summary)
+        return runs[name]
+    return get
+
+
 @pytest.fixture(scope="session", params=sorted(SHORT_RUNS))
-def example_run(request, tmp_path_factory):
+def example_run(request, example_runs):
     """(name, output folder, summary) of one shortened example run."""
-    out, summary = run_example(request.param, tmp_path_factory.mktemp(request.param) / "out")
-    return request.param, out, summary
+    return example_runs(request.param)

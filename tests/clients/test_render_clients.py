@@ -5,14 +5,12 @@ import subprocess
 
 import matplotlib.image
 import numpy as np
-import pytest
 
 from conftest import ROOT, pvbatch
 
 
-@pytest.mark.parametrize("example_run", ["crowd"], indirect=True)
-def test_render_script_draws_the_crowd(example_run, tmp_path):
-    name, out, summary = example_run
+def test_render_script_draws_the_crowd(example_runs, tmp_path):
+    name, out, summary = example_runs("crowd")
     xvfb_run = shutil.which("xvfb-run")
     assert xvfb_run, "xvfb-run not found: run scripts/install-deps (Debian packages xvfb, xauth)"
     png = tmp_path / "crowd.png"

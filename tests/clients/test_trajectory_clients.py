@@ -110,9 +110,8 @@ def test_vtk_xml_reader_reads_each_vtu_file(example_run, trajectory):
         assert time[0] == trajectory["time"][i]
 
 
-@pytest.mark.parametrize("example_run", ["crowd"], indirect=True)  # the example with a room
-def test_numpy_reads_the_evacuation_series(example_run):
-    name, out, summary = example_run
+def test_numpy_reads_the_evacuation_series(example_runs):
+    name, out, summary = example_runs("crowd")  # the example with a room
     table = np.genfromtxt(out / "evacuation.csv", delimiter=",", names=True)
     assert table.dtype.names == ("t", "out")
     assert len(table) == summary["steps"] + 1  # every step, and the start
