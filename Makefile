@@ -9,7 +9,7 @@ PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON)
 
-.PHONY: all deps build test test-release test-asan demo bench format clean
+.PHONY: all deps build test test-release test-asan test-clients demo bench format clean
 
 all: build
 
@@ -20,8 +20,9 @@ build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
 
-# Every test in Release, then the unit tests again under AddressSanitizer + UBSan.
-test: test-release test-asan
+# Every test in Release, then the unit tests again under AddressSanitizer + UBSan, then the
+# client suite (the outputs opened with ParaView, VTK, h5py and numpy).
+test: test-release test-asan test-clients
 
 test-release: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
@@ -32,6 +33,11 @@ test-asan: deps
 	@cmake --build $(ASAN) -j $(JOBS) --target moreau_tests
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  $(ASAN)/moreau_tests --gtest_brief=1 --gtest_filter=-*Slow*
+
+# Outputs opened with the programs people use (tests/clients; needs scripts/install-deps).
+test-clients: build
+	@MOREAU_CLI=$(MOREAU) MOREAU_TESTS=$(BUILD)/moreau_tests MOREAU_ROOT=$(CURDIR) \
+	  $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
 
 # The flagship examples: studies and figures under out/.
 demo: build

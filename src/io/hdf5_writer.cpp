@@ -5,26 +5,32 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "io/io_util.h"
+#include "io/xdmf_sidecar.h"
 #include "moreau/common/error.h"
 #include "moreau/io/trajectory.h"
 
 namespace moreau::io {
 namespace {
 
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;
 constexpr char kFormatName[] = "moreau-trajectory";
-// Target size of one chunk, and the most frames one chunk holds (so that short runs of few
-// particles do not allocate a large first chunk).
+// Target size of one chunk, the most frames one chunk holds (so that short runs of few particles
+// do not allocate a large first chunk), and the fewest particles one chunk spans (so that a count
+// growing from a few particles does not make one chunk per particle).
 constexpr hsize_t kChunkBytes = hsize_t{1} << 20;
 constexpr hsize_t kMaxFramesPerChunk = 64;
+constexpr hsize_t kMinParticlesPerChunk = 64;
+// Rows past a frame's count read as these.
+constexpr double kMissingValue = std::numeric_limits<double>::quiet_NaN();
+constexpr std::int64_t kMissingId = -1;
 
-// An HDF5 identifier closed by its own close function; move-only.
 class Handle {
  public:
   using Closer = herr_t (*)(hid_t);
@@ -76,10 +82,11 @@ std::string Hdf5ErrorText() {
   return text.empty() ? std::string("unknown HDF5 error") : text;
 }
 
-// Chunk shape {frames, particles} for per-frame records of `count` particles of
-// `bytes_per_particle` bytes each: about kChunkBytes, whole frames while they fit.
+// Chunk shape {frames, particles} for per-frame records of `count` particles (at least
+// kMinParticlesPerChunk) of `bytes_per_particle` bytes each: about kChunkBytes, whole frames while
+// they fit.
 std::array<hsize_t, 2> ChunkShape(std::int64_t count, hsize_t bytes_per_particle) {
-  const hsize_t n = std::max<hsize_t>(1, static_cast<hsize_t>(count));
+  const hsize_t n = std::max<hsize_t>(kMinParticlesPerChunk, static_cast<hsize_t>(count));
   const hsize_t frame_bytes = n * bytes_per_particle;
   if (frame_bytes >= kChunkBytes) {
     return {1, std::max<hsize_t>(1, kChunkBytes / bytes_per_particle)};
@@ -105,25 +112,39 @@ class Hdf5TrajectoryWriter final : public TrajectoryWriter {
  private:
   // Throws std::runtime_error naming the file and `what` when `status` < 0.
   void Check(std::int64_t status, const std::string& what) const;
-  Handle CreateExtensible(const char* name, hid_t file_type, std::vector<hsize_t> frame_shape,
-                          const std::array<hsize_t, 2>& chunk);
-  // Grows `dataset` to frames_ + 1 frames and writes one frame of `frame_shape` from `data`.
-  void AppendFrame(const Handle& dataset, const char* name, hid_t memory_type,
-                   const std::vector<hsize_t>& frame_shape, const void* data);
+  // A chunked dataset of extent 0 along every axis but the last `fixed_tail` ones; every other
+  // axis is unlimited. `fill` (of `memory_type`) is what unwritten elements read as.
+  Handle CreateExtensible(hid_t location, const char* name, hid_t file_type,
+                          const std::vector<hsize_t>& chunk, std::size_t fixed_tail,
+                          hid_t memory_type, const void* fill);
+  // Sets the extent of `dataset` to `dims` and writes `data` (shape `count`) at `start`.
+  void WriteBlock(const Handle& dataset, const char* name, hid_t memory_type,
+                  const std::vector<hsize_t>& dims, const std::vector<hsize_t>& start,
+                  const std::vector<hsize_t>& count, const void* data);
+  // A virtual dataset `name` in `group` of shape `count` that shows the block of `source` (extent
+  // `source_dims`) at `start`.
+  void CreateView(hid_t group, const char* name, hid_t file_type, const char* source,
+                  const std::vector<hsize_t>& source_dims, const std::vector<hsize_t>& start,
+                  const std::vector<hsize_t>& count);
+  // The group `name` (absolute path), without modification times.
+  Handle CreateGroup(const std::string& name);
   void WriteAttribute(const char* name, hid_t file_type, hid_t memory_type, const void* value);
   void WriteStringAttribute(const char* name, const std::string& value);
   void CreateParticleDatasets(const ParticleFrame& frame);
-  std::string XdmfText() const;
+  // Widens the particle axis to `count` rows (connectivity 0 … count−1 included).
+  void GrowParticleAxis(std::int64_t count);
+  void WriteFrameViews(std::size_t index, std::int64_t count);
 
   std::filesystem::path path_;
   std::filesystem::path xdmf_path_;
   Handle file_;
-  Handle time_, step_, positions_, ids_, radii_;
+  Handle time_, step_, count_, positions_, ids_, radii_, connectivity_;
   bool closed_ = false;
   bool has_particle_datasets_ = false;
   int dimension_ = 0;
-  std::int64_t count_ = 0;
-  std::vector<double> times_;  // one per frame written
+  std::int64_t rows_ = 0;                    // extent of the particle axis: the largest N so far
+  std::vector<internal::XdmfFrame> frames_;  // one per frame written
+  std::vector<std::int64_t> indices_;        // workspace: connectivity values
 };
 
 Hdf5TrajectoryWriter::Hdf5TrajectoryWriter(const std::filesystem::path& path)
@@ -142,8 +163,11 @@ Hdf5TrajectoryWriter::Hdf5TrajectoryWriter(const std::filesystem::path& path)
     throw InputError(fmt::format("cannot create {}: {}", path_.string(), Hdf5ErrorText()));
   }
   file_ = Handle(file, H5Fclose);
-  time_ = CreateExtensible("time", H5T_IEEE_F64LE, {}, {256, 0});
-  step_ = CreateExtensible("step", H5T_STD_I64LE, {}, {256, 0});
+  const double no_time = kMissingValue;
+  const std::int64_t no_count = 0;
+  time_ = CreateExtensible(file, "time", H5T_IEEE_F64LE, {256}, 0, H5T_NATIVE_DOUBLE, &no_time);
+  step_ = CreateExtensible(file, "step", H5T_STD_I64LE, {256}, 0, H5T_NATIVE_INT64, &kMissingId);
+  count_ = CreateExtensible(file, "count", H5T_STD_I64LE, {256}, 0, H5T_NATIVE_INT64, &no_count);
   WriteStringAttribute("format", kFormatName);
   WriteAttribute("format_version", H5T_STD_I32LE, H5T_NATIVE_INT, &kFormatVersion);
 }
@@ -155,67 +179,105 @@ void Hdf5TrajectoryWriter::Check(std::int64_t status, const std::string& what) c
   }
 }
 
-Handle Hdf5TrajectoryWriter::CreateExtensible(const char* name, hid_t file_type,
-                                              std::vector<hsize_t> frame_shape,
-                                              const std::array<hsize_t, 2>& chunk) {
-  // dims = {0 frames, frame_shape...}; a zero-sized particle axis is made extensible too, as a
-  // fixed zero extent cannot hold a chunk.
-  std::vector<hsize_t> dims{0}, max_dims{H5S_UNLIMITED}, chunk_dims{chunk[0]};
-  for (std::size_t a = 0; a < frame_shape.size(); ++a) {
-    dims.push_back(frame_shape[a]);
-    max_dims.push_back(frame_shape[a] == 0 ? H5S_UNLIMITED : frame_shape[a]);
-    chunk_dims.push_back(a == 0 ? chunk[1] : std::max<hsize_t>(1, frame_shape[a]));
-  }
-  const int rank = static_cast<int>(dims.size());
+Handle Hdf5TrajectoryWriter::CreateExtensible(hid_t location, const char* name, hid_t file_type,
+                                              const std::vector<hsize_t>& chunk,
+                                              std::size_t fixed_tail, hid_t memory_type,
+                                              const void* fill) {
+  const std::size_t rank = chunk.size();
+  std::vector<hsize_t> dims(rank, 0), max_dims(rank, H5S_UNLIMITED);
+  for (std::size_t a = rank - fixed_tail; a < rank; ++a) dims[a] = max_dims[a] = chunk[a];
   const std::string what = fmt::format("creating /{}", name);
-  Handle space(H5Screate_simple(rank, dims.data(), max_dims.data()), H5Sclose);
+  Handle space(H5Screate_simple(static_cast<int>(rank), dims.data(), max_dims.data()), H5Sclose);
   Check(space.get(), what);
   Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   Check(properties.get(), what);
-  Check(H5Pset_chunk(properties.get(), rank, chunk_dims.data()), what);
+  Check(H5Pset_chunk(properties.get(), static_cast<int>(rank), chunk.data()), what);
+  Check(H5Pset_fill_value(properties.get(), memory_type, fill), what);
   // No modification times in the file: the same run gives the same bytes.
   Check(H5Pset_obj_track_times(properties.get(), false), what);
-  Handle dataset(H5Dcreate2(file_.get(), name, file_type, space.get(), H5P_DEFAULT,
-                            properties.get(), H5P_DEFAULT),
+  Handle dataset(H5Dcreate2(location, name, file_type, space.get(), H5P_DEFAULT, properties.get(),
+                            H5P_DEFAULT),
                  H5Dclose);
   Check(dataset.get(), what);
   return dataset;
 }
 
-void Hdf5TrajectoryWriter::AppendFrame(const Handle& dataset, const char* name, hid_t memory_type,
-                                       const std::vector<hsize_t>& frame_shape, const void* data) {
-  const std::string what = fmt::format("appending to /{}", name);
-  const hsize_t frame = times_.size();
-  std::vector<hsize_t> dims{frame + 1}, start{frame}, count{1};
-  hsize_t elements = 1;
-  for (const hsize_t extent : frame_shape) {
-    dims.push_back(extent);
-    start.push_back(0);
-    count.push_back(extent);
-    elements *= extent;
-  }
+void Hdf5TrajectoryWriter::WriteBlock(const Handle& dataset, const char* name, hid_t memory_type,
+                                      const std::vector<hsize_t>& dims,
+                                      const std::vector<hsize_t>& start,
+                                      const std::vector<hsize_t>& count, const void* data) {
+  const std::string what = fmt::format("writing /{}", name);
   Check(H5Dset_extent(dataset.get(), dims.data()), what);
+  hsize_t elements = 1;
+  for (const hsize_t extent : count) elements *= extent;
   if (elements == 0) return;
-  const int rank = static_cast<int>(dims.size());
   Handle file_space(H5Dget_space(dataset.get()), H5Sclose);
   Check(file_space.get(), what);
   Check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
                             nullptr),
         what);
-  Handle memory_space(H5Screate_simple(rank, count.data(), nullptr), H5Sclose);
+  Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr),
+                      H5Sclose);
   Check(memory_space.get(), what);
   Check(
       H5Dwrite(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data),
       what);
 }
 
+void Hdf5TrajectoryWriter::CreateView(hid_t group, const char* name, hid_t file_type,
+                                      const char* source, const std::vector<hsize_t>& source_dims,
+                                      const std::vector<hsize_t>& start,
+                                      const std::vector<hsize_t>& count) {
+  const std::string what = fmt::format("view of /{}", source);
+  Handle source_space(
+      H5Screate_simple(static_cast<int>(source_dims.size()), source_dims.data(), nullptr),
+      H5Sclose);
+  Check(source_space.get(), what);
+  Check(H5Sselect_hyperslab(source_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
+                            nullptr),
+        what);
+  // The view drops the axes of extent 1 at the front of the block (the frame axis).
+  const std::vector<hsize_t> shape(count.size() > 1 ? count.begin() + 1 : count.begin(),
+                                   count.end());
+  Handle view_space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr),
+                    H5Sclose);
+  Check(view_space.get(), what);
+  Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  Check(properties.get(), what);
+  Check(H5Pset_obj_track_times(properties.get(), false), what);
+  // "." is this file, so the views move with it.
+  Check(H5Pset_virtual(properties.get(), view_space.get(), ".", source, source_space.get()), what);
+  Handle view(H5Dcreate2(group, name, file_type, view_space.get(), H5P_DEFAULT, properties.get(),
+                         H5P_DEFAULT),
+              H5Dclose);
+  Check(view.get(), what);
+}
+
+Handle Hdf5TrajectoryWriter::CreateGroup(const std::string& name) {
+  const std::string what = "creating " + name;
+  Handle properties(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
+  Check(properties.get(), what);
+  Check(H5Pset_obj_track_times(properties.get(), false), what);  // same run, same bytes
+  Handle group(H5Gcreate2(file_.get(), name.c_str(), H5P_DEFAULT, properties.get(), H5P_DEFAULT),
+               H5Gclose);
+  Check(group.get(), what);
+  return group;
+}
+
 void Hdf5TrajectoryWriter::WriteAttribute(const char* name, hid_t file_type, hid_t memory_type,
                                           const void* value) {
   const std::string what = fmt::format("attribute {}", name);
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Check(space.get(), what);
-  Handle attribute(H5Acreate2(file_.get(), name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                   H5Aclose);
+  const htri_t exists = H5Aexists(file_.get(), name);
+  Check(exists, what);
+  Handle attribute;
+  if (exists > 0) {
+    attribute = Handle(H5Aopen(file_.get(), name, H5P_DEFAULT), H5Aclose);
+  } else {
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+    Check(space.get(), what);
+    attribute = Handle(
+        H5Acreate2(file_.get(), name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  }
   Check(attribute.get(), what);
   Check(H5Awrite(attribute.get(), memory_type, value), what);
 }
@@ -230,44 +292,79 @@ void Hdf5TrajectoryWriter::WriteStringAttribute(const char* name, const std::str
 }
 
 void Hdf5TrajectoryWriter::CreateParticleDatasets(const ParticleFrame& frame) {
-  const auto n = static_cast<hsize_t>(frame.count);
   const auto k = static_cast<hsize_t>(frame.dimension);
-  positions_ =
-      CreateExtensible("positions", H5T_IEEE_F64LE, {n, k}, ChunkShape(frame.count, 8 * k));
-  ids_ = CreateExtensible("ids", H5T_STD_I64LE, {n}, ChunkShape(frame.count, 8));
-  radii_ = CreateExtensible("radii", H5T_IEEE_F64LE, {n}, ChunkShape(frame.count, 8));
+  const auto [frames_xk, rows_xk] = ChunkShape(frame.count, 8 * k);
+  const auto [frames_x1, rows_x1] = ChunkShape(frame.count, 8);
+  const hid_t file = file_.get();
+  positions_ = CreateExtensible(file, "positions", H5T_IEEE_F64LE, {frames_xk, rows_xk, k}, 1,
+                                H5T_NATIVE_DOUBLE, &kMissingValue);
+  ids_ = CreateExtensible(file, "ids", H5T_STD_I64LE, {frames_x1, rows_x1}, 0, H5T_NATIVE_INT64,
+                          &kMissingId);
+  radii_ = CreateExtensible(file, "radii", H5T_IEEE_F64LE, {frames_x1, rows_x1}, 0,
+                            H5T_NATIVE_DOUBLE, &kMissingValue);
+  connectivity_ = CreateExtensible(file, "connectivity", H5T_STD_I64LE, {4096}, 0, H5T_NATIVE_INT64,
+                                   &kMissingId);
+  CreateGroup("/xdmf");
   WriteAttribute("dimension", H5T_STD_I32LE, H5T_NATIVE_INT, &frame.dimension);
-  WriteAttribute("count", H5T_STD_I64LE, H5T_NATIVE_INT64, &frame.count);
+  WriteAttribute("count", H5T_STD_I64LE, H5T_NATIVE_INT64, &rows_);
   dimension_ = frame.dimension;
-  count_ = frame.count;
   has_particle_datasets_ = true;
+}
+
+void Hdf5TrajectoryWriter::GrowParticleAxis(std::int64_t count) {
+  indices_.resize(static_cast<std::size_t>(count - rows_));
+  for (std::size_t i = 0; i < indices_.size(); ++i) {
+    indices_[i] = rows_ + static_cast<std::int64_t>(i);
+  }
+  const auto n = static_cast<hsize_t>(count);
+  WriteBlock(connectivity_, "connectivity", H5T_NATIVE_INT64, {n}, {static_cast<hsize_t>(rows_)},
+             {indices_.size()}, indices_.data());
+  rows_ = count;
+  WriteAttribute("count", H5T_STD_I64LE, H5T_NATIVE_INT64, &rows_);
+}
+
+void Hdf5TrajectoryWriter::WriteFrameViews(std::size_t index, std::int64_t count) {
+  const std::string name = internal::XdmfFrameGroup(index);
+  Handle group = CreateGroup(name);
+  if (count == 0) return;
+  const hsize_t frames = index + 1, f = index, rows = static_cast<hsize_t>(rows_);
+  const auto n = static_cast<hsize_t>(count), k = static_cast<hsize_t>(dimension_);
+  const hid_t g = group.get();
+  CreateView(g, "positions", H5T_IEEE_F64LE, "/positions", {frames, rows, k}, {f, 0, 0}, {1, n, k});
+  CreateView(g, "radii", H5T_IEEE_F64LE, "/radii", {frames, rows}, {f, 0}, {1, n});
+  CreateView(g, "ids", H5T_STD_I64LE, "/ids", {frames, rows}, {f, 0}, {1, n});
+  CreateView(g, "connectivity", H5T_STD_I64LE, "/connectivity", {rows}, {0}, {n});
 }
 
 void Hdf5TrajectoryWriter::Write(const ParticleFrame& frame) {
   if (closed_) throw std::logic_error(fmt::format("{}: Write after Close", path_.string()));
   internal::ValidateFrame(frame, path_);
-  if (!times_.empty() && frame.time < times_.back()) {
+  if (!frames_.empty() && frame.time < frames_.back().time) {
     throw InputError(fmt::format("{}: frame at step {} has time {} before the previous frame's {}",
-                                 path_.string(), frame.step, frame.time, times_.back()));
+                                 path_.string(), frame.step, frame.time, frames_.back().time));
   }
   if (!has_particle_datasets_) {
     CreateParticleDatasets(frame);
-  } else if (frame.count != count_ || frame.dimension != dimension_) {
+  } else if (frame.dimension != dimension_) {
     throw InputError(fmt::format(
-        "{}: frame at step {} has {} particles in dimension {}, but the trajectory was started "
-        "with {} in dimension {} (an HDF5 trajectory keeps N and k fixed)",
-        path_.string(), frame.step, frame.count, frame.dimension, count_, dimension_));
+        "{}: frame at step {} has dimension {}, but the trajectory was started in dimension {} "
+        "(an HDF5 trajectory keeps k fixed)",
+        path_.string(), frame.step, frame.dimension, dimension_));
   }
-  const auto n = static_cast<hsize_t>(count_);
-  const auto k = static_cast<hsize_t>(dimension_);
-  AppendFrame(time_, "time", H5T_NATIVE_DOUBLE, {}, &frame.time);
-  AppendFrame(step_, "step", H5T_NATIVE_INT64, {}, &frame.step);
-  AppendFrame(positions_, "positions", H5T_NATIVE_DOUBLE, {n, k}, frame.positions);
-  AppendFrame(ids_, "ids", H5T_NATIVE_INT64, {n}, frame.ids);
-  AppendFrame(radii_, "radii", H5T_NATIVE_DOUBLE, {n}, frame.radii);
+  if (frame.count > rows_) GrowParticleAxis(frame.count);
+  const hsize_t f = frames_.size(), frames = f + 1, rows = static_cast<hsize_t>(rows_);
+  const auto n = static_cast<hsize_t>(frame.count), k = static_cast<hsize_t>(dimension_);
+  WriteBlock(time_, "time", H5T_NATIVE_DOUBLE, {frames}, {f}, {1}, &frame.time);
+  WriteBlock(step_, "step", H5T_NATIVE_INT64, {frames}, {f}, {1}, &frame.step);
+  WriteBlock(count_, "count", H5T_NATIVE_INT64, {frames}, {f}, {1}, &frame.count);
+  WriteBlock(positions_, "positions", H5T_NATIVE_DOUBLE, {frames, rows, k}, {f, 0, 0}, {1, n, k},
+             frame.positions);
+  WriteBlock(ids_, "ids", H5T_NATIVE_INT64, {frames, rows}, {f, 0}, {1, n}, frame.ids);
+  WriteBlock(radii_, "radii", H5T_NATIVE_DOUBLE, {frames, rows}, {f, 0}, {1, n}, frame.radii);
+  WriteFrameViews(frames_.size(), frame.count);
   // Keep the file readable up to this frame even if the run stops without Close().
   Check(H5Fflush(file_.get(), H5F_SCOPE_LOCAL), "flush");
-  times_.push_back(frame.time);
+  frames_.push_back({frame.time, frame.count});
 }
 
 void Hdf5TrajectoryWriter::Close() {
@@ -275,72 +372,12 @@ void Hdf5TrajectoryWriter::Close() {
   closed_ = true;
   // Close everything even if one close fails, then report the first failure.
   bool ok = true;
-  for (Handle* h : {&time_, &step_, &positions_, &ids_, &radii_, &file_}) ok = h->Reset() && ok;
-  Check(ok ? 0 : -1, "closing the file");
-  internal::WriteWholeFile(xdmf_path_, XdmfText());
-}
-
-std::string Hdf5TrajectoryWriter::XdmfText() const {
-  const std::string h5 = internal::XmlEscape(path_.filename().string());
-  const std::size_t frames = times_.size();
-  const std::int64_t n = count_;
-  const int k = dimension_;
-  std::string out;
-  out += "<?xml version=\"1.0\" ?>\n";
-  out += "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";
-  out += "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n";
-  out += "  <Domain>\n";
-  out += "    <Grid Name=\"trajectory\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (std::size_t f = 0; f < frames; ++f) {
-    out += fmt::format("      <Grid Name=\"frame_{:06d}\" GridType=\"Uniform\">\n", f);
-    out += fmt::format("        <Time Value=\"{}\"/>\n", internal::FormatDouble(times_[f]));
-    out += fmt::format(
-        "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
-        "NodesPerElement=\"1\"/>\n",
-        n);
-    out += fmt::format("        <Geometry GeometryType=\"{}\">\n", k == 2 ? "XY" : "XYZ");
-    out += fmt::format(
-        "          <DataItem ItemType=\"HyperSlab\" Dimensions=\"{} {}\" "
-        "Type=\"HyperSlab\">\n",
-        n, k);
-    out += fmt::format(
-        "            <DataItem Dimensions=\"3 3\" NumberType=\"Int\" "
-        "Format=\"XML\">{} 0 0 1 1 1 1 {} {}</DataItem>\n",
-        f, n, k);
-    out += fmt::format(
-        "            <DataItem Dimensions=\"{} {} {}\" NumberType=\"Float\" "
-        "Precision=\"8\" Format=\"HDF\">{}:/positions</DataItem>\n",
-        frames, n, k, h5);
-    out += "          </DataItem>\n";
-    out += "        </Geometry>\n";
-    const std::array<std::array<const char*, 3>, 2> attributes{
-        {{"radius", "Float", "radii"}, {"id", "Int", "ids"}}};
-    for (const auto& [name, number_type, dataset] : attributes) {
-      out += fmt::format(
-          "        <Attribute Name=\"{}\" AttributeType=\"Scalar\" "
-          "Center=\"Node\">\n",
-          name);
-      out += fmt::format(
-          "          <DataItem ItemType=\"HyperSlab\" Dimensions=\"{}\" "
-          "Type=\"HyperSlab\">\n",
-          n);
-      out += fmt::format(
-          "            <DataItem Dimensions=\"3 2\" NumberType=\"Int\" "
-          "Format=\"XML\">{} 0 1 1 1 {}</DataItem>\n",
-          f, n);
-      out += fmt::format(
-          "            <DataItem Dimensions=\"{} {}\" NumberType=\"{}\" "
-          "Precision=\"8\" Format=\"HDF\">{}:/{}</DataItem>\n",
-          frames, n, number_type, h5, dataset);
-      out += "          </DataItem>\n";
-      out += "        </Attribute>\n";
-    }
-    out += "      </Grid>\n";
+  for (Handle* h : {&time_, &step_, &count_, &positions_, &ids_, &radii_, &connectivity_, &file_}) {
+    ok = h->Reset() && ok;
   }
-  out += "    </Grid>\n";
-  out += "  </Domain>\n";
-  out += "</Xdmf>\n";
-  return out;
+  Check(ok ? 0 : -1, "closing the file");
+  internal::WriteWholeFile(
+      xdmf_path_, internal::XdmfSidecarText(path_.filename().string(), dimension_, frames_));
 }
 
 }  // namespace

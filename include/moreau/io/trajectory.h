@@ -7,8 +7,7 @@
 //
 //   InputError          bad output path (missing directory, file that cannot be created), or a
 //                       frame that does not fit the run (dimension not 2 or 3, null arrays, the
-//                       particle count or dimension changing in an HDF5 trajectory, time going
-//                       backwards)
+//                       dimension changing in an HDF5 trajectory, time going backwards)
 //   std::runtime_error  a write that fails part-way (disk full, HDF5 error)
 #pragma once
 
@@ -47,11 +46,16 @@ class TrajectoryWriter {
 
 // HDF5 trajectory at `path` (e.g. out/trajectory.h5), created (truncated) now, plus an XDMF 3
 // sidecar next to it with the extension replaced by .xdmf (out/trajectory.xdmf), written at
-// Close(). Datasets, all chunked and extensible along the frame axis F:
-//   /time (F) float64, /step (F) int64, /positions (F×N×k) float64, /ids (F×N) int64,
-//   /radii (F×N) float64;
-// root attributes: format = "moreau-trajectory", format_version = 1, dimension = k, count = N.
-// N and k are fixed by the first frame; a later frame with another N or k throws InputError.
+// Close(). Format version 2; F frames, N_f particles in frame f, R = max_f N_f rows, dimension k
+// (fixed by the first frame; another k throws InputError). Datasets, all chunked and extensible:
+//   /time (F) float64, /step (F) int64, /count (F) int64 = N_f,
+//   /positions (F×R×k) float64, /ids (F×R) int64, /radii (F×R) float64: frame f in rows
+//     0 … N_f−1; rows N_f … R−1 read as NaN (positions, radii) and −1 (ids);
+//   /connectivity (R) int64 = 0, 1, …, R−1;
+//   /xdmf/frame_FFFFFF/{positions, radii, ids, connectivity}: virtual datasets (HDF5 ≥ 1.10)
+//     showing frame f's N_f rows, the items the sidecar names (absent when N_f = 0);
+// root attributes: format = "moreau-trajectory", format_version = 2, dimension = k, count = R.
+// With a fixed N the arrays are F×N×k, F×N as in format version 1.
 // The file is flushed after every frame, so it stays readable up to the last frame written even
 // if the run stops without Close().
 // Throws InputError if the parent directory does not exist, if `path` ends in .xdmf, or if the

@@ -1,0 +1,56 @@
+"""Opens outputs with ParaView's own readers; run by `pvbatch` (its embedded Python), not pytest.
+
+    pvbatch --force-offscreen-rendering paraview_read.py OUT_DIR READER:FILE [READER:FILE ...]
+
+READER is XDMFReader (XDMF 2), Xdmf3ReaderS, Xdmf3ReaderT or PVDReader. For each job k it writes
+OUT_DIR/k.npz: `times` (the reader's time steps), and per time step i `points_i` (N×3), `radius_i`,
+`id_i` and `cells_i` (the number of cells), read back through servermanager.Fetch. A reader that
+crashes ParaView ends the process: the caller sees the exit status and stderr.
+"""
+import sys
+
+import numpy as np
+from paraview import servermanager
+from paraview import simple
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+
+def open_reader(kind, path):
+    if kind == "XDMFReader":
+        return simple.XDMFReader(FileNames=[path])
+    if kind == "PVDReader":
+        return simple.PVDReader(FileName=path)
+    return getattr(simple, kind)(FileName=[path])
+
+
+def read_all_steps(kind, path):
+    reader = open_reader(kind, path)
+    reader.UpdatePipelineInformation()
+    times = [float(t) for t in reader.TimestepValues]
+    arrays = {"times": np.array(times)}
+    for i, t in enumerate(times):
+        reader.UpdatePipeline(t)
+        data = servermanager.Fetch(reader)
+        if data.IsA("vtkMultiBlockDataSet"):  # the XDMF 2 reader may wrap a grid in a block
+            data = data.GetBlock(0)
+        points = data.GetPoints()
+        # Copies: the reader may free its arrays when it moves to the next time step.
+        arrays[f"points_{i}"] = (np.array(vtk_to_numpy(points.GetData())) if points is not None
+                                 else np.zeros((0, 3)))
+        for name in ("radius", "id"):
+            array = data.GetPointData().GetArray(name)
+            arrays[f"{name}_{i}"] = np.array(vtk_to_numpy(array)) if array is not None else np.zeros(0)
+        arrays[f"cells_{i}"] = np.array(data.GetNumberOfCells())
+    simple.Delete(reader)
+    return arrays
+
+
+def main():
+    out_dir, jobs = sys.argv[1], sys.argv[2:]
+    for k, job in enumerate(jobs):
+        kind, path = job.split(":", 1)
+        print(f"paraview_read: {kind} {path}", flush=True)
+        np.savez(f"{out_dir}/{k}.npz", **read_all_steps(kind, path))
+
+
+main()
