@@ -19,8 +19,9 @@ def clean(signature, part):
     """A pybind11 signature as stub syntax: own types unqualified, others as part.Name."""
     s = re.sub(rf"moreau\._moreau\.{part}\.", "", signature)
     s = re.sub(r"moreau\._moreau\.(\w+)\.", r"\1.", s)
-    s = re.sub(r"numpy\.ndarray\[[^\]]*(\[[^\]]*\])?[^\]]*\]", "numpy.ndarray", s)
+    s = re.sub(r"numpy\.ndarray\[[^\[\]]*(\[[^\]]*\])?[^\[\]]*\]", "numpy.ndarray", s)
     s = re.sub(r"(\w)\[\d+\]", r"\1", s)  # std::array<double, 3> reads List[float[3]]
+    s = re.sub(r"moreau::(?:\w+::)*(\w+)", r"\1", s)  # a type bound after its first use
     return s.replace("os.PathLike", "os.PathLike[str]")
 
 
@@ -50,7 +51,7 @@ def stub(part):
         if isinstance(value, type):
             bases = [b.__name__ for b in value.__bases__ if b.__module__.startswith("moreau")]
             lines.append(f"class {name}{'(' + ', '.join(bases) + ')' if bases else ''}:")
-            names.append((name, signature(value, name)[0].split("\n")[0]))
+            names.append((name, [m for m, _ in members(value) if not m.startswith("_")]))
             for member, attribute in members(value):
                 if isinstance(attribute, property):
                     text = clean(signature(attribute.fget, member)[0], part)
@@ -61,11 +62,12 @@ def stub(part):
                                   f"    def {member}(self, value: {kind}) -> None: ..."]
                 else:
                     text = clean(signature(attribute, member)[0], part)
-                    lines.append(f"    def {text}: ...")
+                    if text.startswith(member + "("):  # else: no constructor bound
+                        lines.append(f"    def {text}: ...")
             lines.append("")
         elif callable(value):
             lines.append(f"def {clean(signature(value, name)[0], part)}: ...")
-            names.append((name, signature(value, name)[1]))
+            names.append((name, None))
     text = "\n".join(lines) + "\n"
     ast.parse(text)
     return text, names
@@ -76,8 +78,9 @@ def main():
         text, names = stub(part)
         if "--markdown" in sys.argv:
             print(f"\n### moreau.{part}\n")
-            for name, _ in names:
-                print(f"- `{name}`")
+            for name, attributes in names:
+                listed = ": " + ", ".join(f"`{a}`" for a in attributes) if attributes else ""
+                print(f"- `{name}`{'()' if attributes is None else ''}{listed}")
         else:
             (ROOT / "python" / "moreau" / f"{part}.pyi").write_text(text)
 

@@ -37,8 +37,10 @@ def chemotaxis_and_swirl(x):
 
 
 T = 6.0
+# PNGS: sweeps until the projections stop moving, so the packed colony keeps its cells apart.
 x, summary = moreau.pbd.simulate(chemotaxis_and_swirl, moreau.pbd.ParticleConstraints(model),
-                                 x0.ravel(), T, h=0.01)
+                                 x0.ravel(), T, h=0.01, method="pngs", reltol=1e-6,
+                                 abstol=1e-9, max_sweeps=200)
 print(summary.brief_report())
 
 fig, axes = plt.subplots(1, 2, figsize=(10, 5))

@@ -54,7 +54,7 @@ for ax, (t, p) in zip(axes[1:], sorted(snapshots.items())):
         ax.add_patch(plt.Circle((cx, cy), r, color="tab:blue"))
     for s in room.walls():
         ax.plot([s.a[0], s.b[0]], [s.a[1], s.b[1]], "k-")
-    ax.set_xlim(-0.5, 14.0)
+    ax.set_xlim(-0.5, 16.0)
     ax.set_ylim(-0.5, 10.5)
     ax.set_aspect("equal")
     ax.set_title(f"t = {t:g} s")

@@ -132,39 +132,6 @@ void BindModel(py::module_& m) {
 }
 
 void BindRoomAndForces(py::module_& m) {
-  py::class_<Room>(m, "Room", "A room [0, width] × [0, height] with a door in the right wall.")
-      .def(py::init([](const py::kwargs& kw) {
-        auto r = std::make_unique<Room>();
-        SetOptions(py::cast(r.get(), py::return_value_policy::reference), kw);
-        r->Validate();
-        return r;
-      }))
-      .def_readwrite("width", &Room::width)
-      .def_readwrite("height", &Room::height)
-      .def_readwrite("door_width", &Room::door_width)
-      .def("walls", &Room::Walls)
-      .def("walk_to_the_door", &Room::WalkToTheDoor, py::arg("speed"));
-  m.def(
-      "add_room", [](const Room& room, ParticleModel& model) { AddRoom(room, &model); },
-      py::arg("room"), py::arg("model"), "Appends the room's walls to model.segments.");
-  py::class_<EvacuationCount>(m, "EvacuationCount")
-      .def(py::init<const Room&, int>(), py::arg("room"), py::arg("count"))
-      .def(
-          "update",
-          [](EvacuationCount& c, const Positions& x) { return c.Update(PositionSpan(x)); },
-          py::arg("positions"), "People out so far, from (N, 2) positions in id order.")
-      .def(
-          "update_stored",
-          [](EvacuationCount& c,
-             const py::array_t<int, py::array::c_style | py::array::forcecast>& ids,
-             const Positions& x) {
-            return c.Update(std::span<const int>(ids.data(), static_cast<std::size_t>(ids.size())),
-                            PositionSpan(x));
-          },
-          py::arg("ids"), py::arg("positions"),
-          "The same from Engine.stored_ids and Engine.stored_positions (views, no copy).")
-      .def_property_readonly("out", &EvacuationCount::out);
-
 #define MOREAU_KW_INIT(T)                                                  \
   py::init([](const py::kwargs& kw) {                                      \
     auto o = std::make_unique<T>();                                        \
@@ -199,6 +166,39 @@ void BindRoomAndForces(py::module_& m) {
       .def_readwrite("diffusion", &Forces::diffusion)
       .def("validate", &Forces::Validate);
 #undef MOREAU_KW_INIT
+  py::class_<Room>(m, "Room", "A room [0, width] × [0, height] with a door in the right wall.")
+      .def(py::init([](const py::kwargs& kw) {
+        auto r = std::make_unique<Room>();
+        SetOptions(py::cast(r.get(), py::return_value_policy::reference), kw);
+        r->Validate();
+        return r;
+      }))
+      .def_readwrite("width", &Room::width)
+      .def_readwrite("height", &Room::height)
+      .def_readwrite("door_width", &Room::door_width)
+      .def("walls", &Room::Walls)
+      .def("walk_to_the_door", &Room::WalkToTheDoor, py::arg("speed"));
+  m.def(
+      "add_room", [](const Room& room, ParticleModel& model) { AddRoom(room, &model); },
+      py::arg("room"), py::arg("model"), "Appends the room's walls to model.segments.");
+  py::class_<EvacuationCount>(m, "EvacuationCount")
+      .def(py::init<const Room&, int>(), py::arg("room"), py::arg("count"))
+      .def(
+          "update",
+          [](EvacuationCount& c, const Positions& x) { return c.Update(PositionSpan(x)); },
+          py::arg("positions"), "People out so far, from (N, 2) positions in id order.")
+      .def(
+          "update_stored",
+          [](EvacuationCount& c,
+             const py::array_t<int, py::array::c_style | py::array::forcecast>& ids,
+             const Positions& x) {
+            return c.Update(std::span<const int>(ids.data(), static_cast<std::size_t>(ids.size())),
+                            PositionSpan(x));
+          },
+          py::arg("ids"), py::arg("positions"),
+          "The same from Engine.stored_ids and Engine.stored_positions (views, no copy).")
+      .def_property_readonly("out", &EvacuationCount::out);
+
   m.def(
       "gaussian_noise",
       [](std::uint64_t seed, std::int64_t id, std::int64_t step, int k) {

@@ -24,3 +24,9 @@ def test_stubs_cover_every_bound_name():
         missing = {n for n in public_names(part)
                    if f"class {n}" not in stub and f"def {n}(" not in stub}
         assert not missing, (part, missing)
+
+
+def test_the_first_example_runs():
+    text = (ROOT / "docs/python.md").read_text()
+    example = text.split("```python\n", 1)[1].split("```", 1)[0]
+    exec(compile(example, "docs/python.md", "exec"), {})
