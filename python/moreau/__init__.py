@@ -14,10 +14,10 @@ state). Long C++ work runs with the GIL released; Ctrl-C raises KeyboardInterrup
 
 import sys as _sys
 
-from moreau._moreau import NumericalError, control, mocap, particles, pbd
+from moreau._moreau import NumericalError, control, hash_doubles, mocap, particles, pbd
 
 __version__ = "0.1.0"
-__all__ = ["NumericalError", "control", "mocap", "particles", "pbd"]
+__all__ = ["NumericalError", "control", "hash_doubles", "mocap", "particles", "pbd"]
 
 for _name in ("control", "mocap", "particles", "pbd"):
     _sys.modules[f"{__name__}.{_name}"] = globals()[_name]

@@ -5,6 +5,8 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -26,6 +28,25 @@ py::object JsonToPython(const nlohmann::json& j);
 // Sets the attributes named by the keyword arguments on `self` (an options object). An unknown
 // name raises ValueError "TYPE: unknown option 'NAME'"; a value of the wrong type TypeError.
 void SetOptions(py::object self, const py::kwargs& kwargs);
+
+// A new T (an options struct, a model, a case) from keyword arguments named like its fields, then
+// T::Validate() when T has one: the constructor `T(**kwargs)` of every options type.
+template <typename T>
+std::unique_ptr<T> FromKwargs(const py::kwargs& kwargs) {
+  auto object = std::make_unique<T>();
+  SetOptions(py::cast(object.get(), py::return_value_policy::reference), kwargs);
+  if constexpr (requires(const T& t) { t.Validate(); }) object->Validate();
+  return object;
+}
+
+// `base` (or the defaults) with the keyword arguments set: the `options=None, **kwargs` of the
+// functions that run something. Validation is left to the C++ function called.
+template <typename T>
+T WithKwargs(const std::optional<T>& base, const py::kwargs& kwargs) {
+  T object = base.value_or(T{});
+  SetOptions(py::cast(&object, py::return_value_policy::reference), kwargs);
+  return object;
+}
 
 // Raises moreau.NumericalError(message) with the given attributes (summary, state, …).
 [[noreturn]] void RaiseNumericalError(const std::string& message, const py::dict& attributes);

@@ -22,13 +22,6 @@ namespace {
 
 using namespace moreau::control;
 
-template <typename T>
-std::unique_ptr<T> FromKwargs(const py::kwargs& kw) {
-  auto o = std::make_unique<T>();
-  SetOptions(py::cast(o.get(), py::return_value_policy::reference), kw);
-  return o;
-}
-
 void BindNetwork(py::module_& m) {
   py::class_<NetworkNode>(m, "NetworkNode", "A free (mass) or fixed (anchor) node.")
       .def(py::init(&FromKwargs<NetworkNode>))
@@ -134,11 +127,7 @@ void BindOptions(py::module_& m) {
       .def_readwrite("min_step", &NewtonOptions::min_step)
       .def_readwrite("divergence_threshold", &NewtonOptions::divergence_threshold);
   py::class_<ContinuationOptions>(m, "ContinuationOptions", "Keys of [continuation].")
-      .def(py::init([](const py::kwargs& kw) {
-        auto o = FromKwargs<ContinuationOptions>(kw);
-        o->Validate();
-        return o;
-      }))
+      .def(py::init(&FromKwargs<ContinuationOptions>))
       .def_readwrite("path_start", &ContinuationOptions::path_start)
       .def_readwrite("path_increase", &ContinuationOptions::path_increase)
       .def_readwrite("stiffness_start", &ContinuationOptions::stiffness_start)
@@ -218,8 +207,7 @@ void RegisterControl(py::module_& m) {
       "solve",
       [](const py::object& problem, int steps, std::optional<ContinuationOptions> options,
          const py::kwargs& kw) {
-        ContinuationOptions o = options.value_or(ContinuationOptions{});
-        SetOptions(py::cast(&o, py::return_value_policy::reference), kw);
+        ContinuationOptions o = WithKwargs(options, kw);
         return Solve(problem, steps, o);
       },
       py::arg("problem"), py::arg("steps"), py::arg("options") = py::none(),

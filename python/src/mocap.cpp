@@ -21,13 +21,6 @@ namespace {
 
 using namespace moreau::mocap;
 
-template <typename T>
-std::unique_ptr<T> FromKwargs(const py::kwargs& kw) {
-  auto o = std::make_unique<T>();
-  SetOptions(py::cast(o.get(), py::return_value_policy::reference), kw);
-  return o;
-}
-
 // A recording from an (F, M, 3) array; NaN samples are missing.
 Recording FromArray(std::vector<std::string> labels,
                     const py::array_t<double, py::array::c_style | py::array::forcecast>& x,
@@ -98,8 +91,7 @@ void BindRecording(py::module_& m) {
   m.def(
       "read_recording",
       [](const std::filesystem::path& path, const py::kwargs& kw) {
-        ReadOptions options;
-        SetOptions(py::cast(&options, py::return_value_policy::reference), kw);
+        const ReadOptions options = WithKwargs(std::optional<ReadOptions>(), kw);
         options.Validate();
         std::vector<std::string> warnings;
         const py::gil_scoped_release release;
@@ -149,11 +141,7 @@ void BindFillOptions(py::module_& m) {
       .def_readwrite("candidates", &OcpFillOptions::candidates)
       .def_readwrite("optimal_control", &OcpFillOptions::optimal_control);
   py::class_<FillOptions>(m, "FillOptions", "Keys of [fill]: method, max_gap_seconds, …")
-      .def(py::init([](const py::kwargs& kw) {
-        auto o = FromKwargs<FillOptions>(kw);
-        o->Validate();
-        return o;
-      }))
+      .def(py::init(&FromKwargs<FillOptions>))
       .def_property(
           "method", [](const FillOptions& o) { return std::string(ToString(o.method)); },
           [](FillOptions& o, const std::string& s) { o.method = ParseFillMethod(s); })
@@ -172,8 +160,7 @@ void BindFillAndEvaluate(py::module_& m) {
       "fill_gaps",
       [](const Recording& in, std::optional<std::vector<Gap>> gaps,
          std::optional<FillOptions> options, const py::kwargs& kw) {
-        FillOptions o = options.value_or(FillOptions{});
-        SetOptions(py::cast(&o, py::return_value_policy::reference), kw);
+        FillOptions o = WithKwargs(options, kw);
         Recording out;
         FillSummary summary;
         {
@@ -186,11 +173,7 @@ void BindFillAndEvaluate(py::module_& m) {
       "(filled copy, FillSummary); gaps default to find_gaps(recording). Keyword arguments are "
       "FillOptions fields (method=\"spline\", max_gap_seconds=…).");
   py::class_<EvaluationOptions>(m, "EvaluationOptions", "Keys of [evaluation].")
-      .def(py::init([](const py::kwargs& kw) {
-        auto o = FromKwargs<EvaluationOptions>(kw);
-        o->Validate();
-        return o;
-      }))
+      .def(py::init(&FromKwargs<EvaluationOptions>))
       .def_property(
           "methods",
           [](const EvaluationOptions& o) {
@@ -211,8 +194,7 @@ void BindFillAndEvaluate(py::module_& m) {
   m.def(
       "evaluate",
       [](const Recording& truth, std::optional<EvaluationOptions> options, const py::kwargs& kw) {
-        EvaluationOptions o = options.value_or(EvaluationOptions{});
-        SetOptions(py::cast(&o, py::return_value_policy::reference), kw);
+        EvaluationOptions o = WithKwargs(options, kw);
         const py::gil_scoped_release release;
         return EvaluateFillMethods(truth, o);
       },

@@ -1,10 +1,12 @@
 // The module moreau._moreau: errors, the shared helpers and the submodules.
 #include <string>
 
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include "bindings.h"
 #include "moreau/common/error.h"
+#include "moreau/common/hash.h"
 
 namespace moreau::python {
 
@@ -58,6 +60,15 @@ PYBIND11_MODULE(_moreau, m) {
       PyErr_SetString(numerical_error_type.ptr(), e.what());
     }
   });
+
+  m.def(
+      "hash_doubles",
+      [](const py::array_t<double, py::array::c_style | py::array::forcecast>& values) {
+        return moreau::HashDoublesHex({values.data(), static_cast<std::size_t>(values.size())});
+      },
+      py::arg("values"),
+      "FNV-1a of the bytes of the values in C order, 16 hex digits: the positions_hash of "
+      "summary.json for the final positions (id order).");
 
   py::module_ particles = m.def_submodule("particles", "The particle engine at scale.");
   RegisterParticles(particles);

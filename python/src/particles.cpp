@@ -44,29 +44,15 @@ py::array ReadOnlyView(const T* data, std::vector<py::ssize_t> shape, py::handle
 
 void BindModel(py::module_& m) {
   py::class_<Wall> wall(m, "Wall", "Half-space ⟨normal, X⟩ ≥ offset + r_i for particle centres.");
-  wall.def(py::init([](const py::kwargs& kw) {
-        auto w = std::make_unique<Wall>();
-        SetOptions(py::cast(w.get(), py::return_value_policy::reference), kw);
-        return w;
-      }))
+  wall.def(py::init(&FromKwargs<Wall>))
       .def_readwrite("normal", &Wall::normal)
       .def_readwrite("offset", &Wall::offset);
   py::class_<SphereObstacle> sphere(m, "SphereObstacle", "‖X_i − center‖ ≥ radius + r_i.");
-  sphere
-      .def(py::init([](const py::kwargs& kw) {
-        auto s = std::make_unique<SphereObstacle>();
-        SetOptions(py::cast(s.get(), py::return_value_policy::reference), kw);
-        return s;
-      }))
+  sphere.def(py::init(&FromKwargs<SphereObstacle>))
       .def_readwrite("center", &SphereObstacle::center)
       .def_readwrite("radius", &SphereObstacle::radius);
   py::class_<SegmentObstacle> segment(m, "SegmentObstacle", "dist(X_i, [a, b]) ≥ r_i (2D).");
-  segment
-      .def(py::init([](const py::kwargs& kw) {
-        auto s = std::make_unique<SegmentObstacle>();
-        SetOptions(py::cast(s.get(), py::return_value_policy::reference), kw);
-        return s;
-      }))
+  segment.def(py::init(&FromKwargs<SegmentObstacle>))
       .def_readwrite("a", &SegmentObstacle::a)
       .def_readwrite("b", &SegmentObstacle::b);
 
@@ -74,13 +60,7 @@ void BindModel(py::module_& m) {
       m, "ParticleModel",
       "N particles in R^k: radii, mobilities, walls, obstacles, "
       "periodic axes. Keyword arguments name the fields; validated.");
-  particle_model
-      .def(py::init([](const py::kwargs& kw) {
-        auto p = std::make_unique<ParticleModel>();
-        SetOptions(py::cast(p.get(), py::return_value_policy::reference), kw);
-        p->Validate();
-        return p;
-      }))
+  particle_model.def(py::init(&FromKwargs<ParticleModel>))
       .def_readwrite("dimension", &ParticleModel::dimension)
       .def_readwrite("radius", &ParticleModel::radius)
       .def_readwrite("mobility", &ParticleModel::mobility)
@@ -132,47 +112,30 @@ void BindModel(py::module_& m) {
 }
 
 void BindRoomAndForces(py::module_& m) {
-#define MOREAU_KW_INIT(T)                                                  \
-  py::init([](const py::kwargs& kw) {                                      \
-    auto o = std::make_unique<T>();                                        \
-    SetOptions(py::cast(o.get(), py::return_value_policy::reference), kw); \
-    return o;                                                              \
-  })
   py::class_<HarmonicTrap>(m, "HarmonicTrap", "F = −gamma (X − center).")
-      .def(MOREAU_KW_INIT(HarmonicTrap))
+      .def(py::init(&FromKwargs<HarmonicTrap>))
       .def_readwrite("gamma", &HarmonicTrap::gamma)
       .def_readwrite("center", &HarmonicTrap::center);
   py::class_<SelfPropulsion>(m, "SelfPropulsion", "Walking at speed toward a point or segment.")
-      .def(MOREAU_KW_INIT(SelfPropulsion))
+      .def(py::init(&FromKwargs<SelfPropulsion>))
       .def_readwrite("speed", &SelfPropulsion::speed)
       .def_readwrite("target", &SelfPropulsion::target)
       .def_readwrite("target_end", &SelfPropulsion::target_end)
       .def_readwrite("exit_direction", &SelfPropulsion::exit_direction);
   py::class_<PairAttraction>(m, "PairAttraction", "Short-range attraction between surfaces.")
-      .def(MOREAU_KW_INIT(PairAttraction))
+      .def(py::init(&FromKwargs<PairAttraction>))
       .def_readwrite("stiffness", &PairAttraction::stiffness)
       .def_readwrite("range", &PairAttraction::range);
   py::class_<Forces>(m, "Forces", "The engine's drift and noise (keys of [forces]).")
-      .def(py::init([](const py::kwargs& kw) {
-        auto f = std::make_unique<Forces>();
-        SetOptions(py::cast(f.get(), py::return_value_policy::reference), kw);
-        f->Validate();
-        return f;
-      }))
+      .def(py::init(&FromKwargs<Forces>))
       .def_readwrite("trap", &Forces::trap)
       .def_readwrite("constant_force", &Forces::constant_force)
       .def_readwrite("propulsion", &Forces::propulsion)
       .def_readwrite("attraction", &Forces::attraction)
       .def_readwrite("diffusion", &Forces::diffusion)
       .def("validate", &Forces::Validate);
-#undef MOREAU_KW_INIT
   py::class_<Room>(m, "Room", "A room [0, width] × [0, height] with a door in the right wall.")
-      .def(py::init([](const py::kwargs& kw) {
-        auto r = std::make_unique<Room>();
-        SetOptions(py::cast(r.get(), py::return_value_policy::reference), kw);
-        r->Validate();
-        return r;
-      }))
+      .def(py::init(&FromKwargs<Room>))
       .def_readwrite("width", &Room::width)
       .def_readwrite("height", &Room::height)
       .def_readwrite("door_width", &Room::door_width)
@@ -212,12 +175,7 @@ void BindRoomAndForces(py::module_& m) {
 
 void BindEngineOptions(py::module_& m) {
   py::class_<EngineOptions>(m, "EngineOptions", "Keys of [solver] for the particle engine.")
-      .def(py::init([](const py::kwargs& kw) {
-        auto o = std::make_unique<EngineOptions>();
-        SetOptions(py::cast(o.get(), py::return_value_policy::reference), kw);
-        o->Validate();
-        return o;
-      }))
+      .def(py::init(&FromKwargs<EngineOptions>))
       .def_readwrite("h", &EngineOptions::h)
       .def_readwrite("seed", &EngineOptions::seed)
       .def_property(
@@ -305,8 +263,7 @@ void BindEngine(py::module_& m) {
       .def(py::init([](const ParticleModel& model, const Positions& positions,
                        std::optional<Forces> forces, std::optional<EngineOptions> options,
                        const py::kwargs& kw) {
-             EngineOptions o = options.value_or(EngineOptions{});
-             SetOptions(py::cast(&o, py::return_value_policy::reference), kw);
+             EngineOptions o = WithKwargs(options, kw);
              const std::span<const double> x = PositionSpan(positions);
              const py::gil_scoped_release release;
              return std::make_unique<Engine>(model, forces.value_or(Forces{}), o, x);

@@ -178,12 +178,7 @@ void BindDrifts(py::module_& m) {
 
 void BindStepper(py::module_& m) {
   py::class_<StepperOptions>(m, "StepperOptions", "Keys of [solver]: method, h, abstol, …")
-      .def(py::init([](const py::kwargs& kw) {
-        auto o = std::make_unique<StepperOptions>();
-        SetOptions(py::cast(o.get(), py::return_value_policy::reference), kw);
-        o->Validate();
-        return o;
-      }))
+      .def(py::init(&FromKwargs<StepperOptions>))
       .def_property(
           "method", [](const StepperOptions& o) { return std::string(MethodName(o.method)); },
           [](StepperOptions& o, const std::string& name) { o.method = ParseMethod(name); })
@@ -203,8 +198,7 @@ void BindStepper(py::module_& m) {
       [](const py::object& drift_object, std::shared_ptr<Constraints> constraints, const Vector& x0,
          double T, std::optional<StepperOptions> options_in, const py::object& observer,
          std::int64_t every, const py::kwargs& kw) {
-        StepperOptions options = options_in.value_or(StepperOptions{});
-        SetOptions(py::cast(&options, py::return_value_policy::reference), kw);
+        StepperOptions options = WithKwargs(options_in, kw);
         if (every < 1) throw InputError("every must be ≥ 1 (got " + std::to_string(every) + ")");
         const std::shared_ptr<const Drift> drift = AsDrift(drift_object);
         const bool has_observer = !observer.is_none();
@@ -240,12 +234,7 @@ void BindStepper(py::module_& m) {
 
 void BindCases(py::module_& m) {
   py::class_<SlidingCase>(m, "SlidingCase", "The sliding case of paper 000, section 4.2.")
-      .def(py::init([](const py::kwargs& kw) {
-        auto c = std::make_unique<SlidingCase>();
-        SetOptions(py::cast(c.get(), py::return_value_policy::reference), kw);
-        c->Validate();
-        return c;
-      }))
+      .def(py::init(&FromKwargs<SlidingCase>))
       .def_readwrite("dimension", &SlidingCase::dimension)
       .def_readwrite("C", &SlidingCase::C)
       .def_readwrite("alpha", &SlidingCase::alpha)
@@ -262,12 +251,7 @@ void BindCases(py::module_& m) {
       .def("exact_solution", &SlidingCase::ExactSolution, py::arg("t"))
       .def("exact_velocity", &SlidingCase::ExactVelocity, py::arg("t"));
   py::class_<DisksCase>(m, "DisksCase", "The disks case of paper 000, section 4.3.")
-      .def(py::init([](const py::kwargs& kw) {
-        auto c = std::make_unique<DisksCase>();
-        SetOptions(py::cast(c.get(), py::return_value_policy::reference), kw);
-        c->Validate();
-        return c;
-      }))
+      .def(py::init(&FromKwargs<DisksCase>))
       .def_readwrite("count", &DisksCase::count)
       .def_readwrite("radius", &DisksCase::radius)
       .def_readwrite("gamma", &DisksCase::gamma)
@@ -373,8 +357,7 @@ void BindStudy(py::module_& m) {
       [](const py::object& case_object, const std::vector<std::string>& methods,
          const std::vector<double>& h, std::optional<StepperOptions> options,
          std::optional<StepperOptions> reference, std::optional<Vector> x0, const py::kwargs& kw) {
-        StepperOptions base = options.value_or(StepperOptions{});
-        SetOptions(py::cast(&base, py::return_value_policy::reference), kw);
+        StepperOptions base = WithKwargs(options, kw);
         base.Validate();
         return Study(case_object, methods, h, base, reference, x0);
       },
