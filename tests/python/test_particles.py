@@ -171,27 +171,30 @@ def test_room_and_evacuation():
     assert count.out == 1
 
 
-SMALL = """
+# A periodic 3D layer with gravity and attraction: the same run in the file and in Python.
+LAYER = """
 [problem]
 kind = "particles"
-dimension = 2
-count = 50
-radius = 0.5
-T = 1.0
-seed = 2
+dimension = 3
+count = 80
+radius = 0.3
+T = 0.5
+seed = 4
 
 [domain]
-lo = [0.0, 0.0]
-hi = [20.0, 20.0]
+lo = [0.0, 0.0, 0.0]
+hi = [6.0, 6.0, 6.0]
+periodic = [true, true, false]
 box_walls = true
 
 [forces]
-trap_gamma = 1.0
-trap_center = [10.0, 10.0]
-diffusion = 0.01
+constant = [0.0, 0.0, -1.0]
+attraction_stiffness = 2.0
+attraction_range = 0.1
+diffusion = 0.005
 
 [solver]
-h = 0.01
+h = 0.005
 
 [output]
 hdf5 = false
@@ -201,19 +204,21 @@ snapshots = false
 
 
 def test_engine_run_equals_moreau_run(tmp_path):
-    scenario = tmp_path / "small.toml"
-    scenario.write_text(SMALL)
+    scenario = tmp_path / "layer.toml"
+    scenario.write_text(LAYER)
     run_cli("run", scenario, "--out", tmp_path / "out")
     cli = json.loads((tmp_path / "out/summary.json").read_text())
-    # The same model, start and options as the scenario (docs/particles.md "Scenario keys").
-    model = particles.ParticleModel(dimension=2, radius=np.full(50, 0.5),
-                                    domain_lo=[0, 0, 0], domain_hi=[20, 20, 1])
-    model.add_box_walls([0, 0, 0], [20, 20, 1])
-    x0 = particles.random_sequential_addition(model, [0, 0, 0], [20, 20, 1], seed=2)
-    forces = particles.Forces(trap=particles.HarmonicTrap(gamma=1.0, center=[10, 10, 0]),
-                              diffusion=0.01)
-    engine = particles.Engine(model, x0, forces, h=0.01, seed=2)
-    summary = engine.run(1.0)
+    # The model, start and options the scenario makes (docs/particles.md "Scenario keys").
+    lo, hi = [0.0, 0.0, 0.0], [6.0, 6.0, 6.0]
+    model = particles.ParticleModel(dimension=3, radius=np.full(80, 0.3), domain_lo=lo,
+                                    domain_hi=hi, periodic=[True, True, False])
+    model.add_box_walls(lo, hi)
+    x0 = particles.random_sequential_addition(model, lo, hi, seed=4)
+    forces = particles.Forces(constant_force=[0.0, 0.0, -1.0], diffusion=0.005,
+                              attraction=particles.PairAttraction(stiffness=2.0, range=0.1))
+    engine = particles.Engine(model, x0, forces, h=0.005, seed=4)
+    summary = engine.run(0.5)
+    assert len(model.walls) == 2  # z only: x and y are periodic
     assert moreau.hash_doubles(engine.positions()) == cli["positions_hash"]
     for key in ("steps", "neighbour_list_builds", "verlet_retries", "projections",
                 "constraint_evaluations", "max_overlap", "last_overlap"):
