@@ -9,7 +9,7 @@ PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON)
 
-.PHONY: all deps build test test-release test-asan test-clients demo bench format clean
+.PHONY: all deps build python test test-release test-asan test-clients demo bench format clean
 
 all: build
 
@@ -20,8 +20,15 @@ build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
 
-# Every test in Release, then the unit tests again under AddressSanitizer + UBSan, then the
-# client suite (the outputs opened with ParaView, VTK, h5py and numpy).
+# The Python package in $(BUILD)/python (use it with PYTHONPATH=$(BUILD)/python, or install it:
+# docs/python.md). `build` builds it too when pybind11 is installed.
+python: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
+	@cmake --build $(BUILD) -j $(JOBS) --target moreau_python
+
+# Every test in Release (tests/python through ctest), then the unit tests again under
+# AddressSanitizer + UBSan, then the client suite (the outputs opened with ParaView, VTK, h5py
+# and numpy).
 test: test-release test-asan test-clients
 
 test-release: build
@@ -62,6 +69,7 @@ demo: build
 	$(MOREAU) evaluate-gaps $(MOCAP_DATA)/Qualisys.c3d --gap-seconds 0.1,0.2,0.5,1.0 \
 	  --trials 20 --seed 1 --out $(OUT)/qualisys_evaluation
 	$(MOREAU) fill-gaps $(MOCAP_DATA)/Vicon.c3d --out $(OUT)/vicon_filled
+	PYTHONPATH=$(BUILD)/python $(PYTHON) examples/python/cell_colony.py $(OUT)/python_cell_colony
 	@echo "demo: figures are in $(OUT)/ (README.md says how to read them)"
 
 # Step sizes of the studies: h0 / 2^k.

@@ -1,0 +1,214 @@
+// moreau.mocap: recordings (read, write, arrays), gaps, fills and the evaluation protocol.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include "bindings.h"
+#include "moreau/common/error.h"
+#include "moreau/mocap/evaluate.h"
+#include "moreau/mocap/fill.h"
+#include "moreau/mocap/recording.h"
+#include "moreau/mocap/recording_io.h"
+
+namespace moreau::python {
+namespace {
+
+using namespace moreau::mocap;
+
+// A recording from an (F, M, 3) array; NaN samples are missing.
+Recording FromArray(std::vector<std::string> labels,
+                    const py::array_t<double, py::array::c_style | py::array::forcecast>& x,
+                    double rate, const std::string& units) {
+  const auto markers = static_cast<py::ssize_t>(labels.size());
+  if (x.ndim() != 3 || x.shape(1) != markers || x.shape(2) != 3) {
+    throw InputError("positions must have shape (frames, " + std::to_string(markers) + ", 3)");
+  }
+  Recording r(std::move(labels), x.shape(0), rate, units);
+  const auto a = x.unchecked<3>();
+  for (py::ssize_t f = 0; f < x.shape(0); ++f) {
+    for (py::ssize_t m = 0; m < markers; ++m) {
+      const Eigen::Vector3d p(a(f, m, 0), a(f, m, 1), a(f, m, 2));
+      if (p.allFinite()) r.SetPoint(f, static_cast<int>(m), p);
+    }
+  }
+  return r;
+}
+
+void BindRecording(py::module_& m) {
+  py::class_<Recording>(m, "Recording", "M labelled markers at F frames, with holes (NaN).")
+      .def(py::init(&FromArray), py::arg("labels"), py::arg("positions"), py::arg("rate"),
+           py::arg("units") = "mm", "From an (F, M, 3) array; NaN marks a missing sample.")
+      .def_property_readonly("markers", &Recording::markers)
+      .def_property_readonly("frames", &Recording::frames)
+      .def_property_readonly("rate", &Recording::rate)
+      .def_property_readonly("units", &Recording::units)
+      .def_property_readonly("labels", &Recording::labels)
+      .def_property_readonly("first_frame", &Recording::first_frame)
+      .def_property_readonly(
+          "positions",
+          [](py::object self) {
+            const Recording& r = self.cast<const Recording&>();
+            py::array view(py::dtype::of<double>(),
+                           {r.frames(), py::ssize_t{r.markers()}, py::ssize_t{3}}, {},
+                           r.positions().data(), self);
+            view.attr("setflags")(py::arg("write") = false);
+            return view;
+          },
+          "(F, M, 3) read-only view of the positions (NaN where missing), no copy.")
+      .def_property_readonly(
+          "observed",
+          [](const Recording& r) {
+            py::array_t<bool> out({r.frames(), py::ssize_t{r.markers()}});
+            auto o = out.mutable_unchecked<2>();
+            for (std::int64_t f = 0; f < r.frames(); ++f) {
+              for (int k = 0; k < r.markers(); ++k) o(f, k) = r.observed(f, k);
+            }
+            return out;
+          },
+          "(F, M) bool: a copy (the mask is stored as bytes).")
+      .def("find_marker", &Recording::FindMarker, py::arg("label"))
+      .def("convert_units", &Recording::ConvertUnits, py::arg("units"));
+  py::class_<Gap>(m, "Gap", "A run of missing frames [first, last] of one marker.")
+      .def(py::init([](int marker, std::int64_t first, std::int64_t last) {
+             return Gap{marker, first, last};
+           }),
+           py::arg("marker"), py::arg("first"), py::arg("last"))
+      .def_readwrite("marker", &Gap::marker)
+      .def_readwrite("first", &Gap::first)
+      .def_readwrite("last", &Gap::last)
+      .def_property_readonly("length", &Gap::length)
+      .def("__repr__", [](const Gap& g) {
+        return "Gap(marker=" + std::to_string(g.marker) + ", first=" + std::to_string(g.first) +
+               ", last=" + std::to_string(g.last) + ")";
+      });
+  m.def("find_gaps", &FindGaps, py::arg("recording"));
+  m.def(
+      "read_recording",
+      [](const std::filesystem::path& path, const py::kwargs& kw) {
+        const ReadOptions options = WithKwargs(std::optional<ReadOptions>(), kw);
+        options.Validate();
+        std::vector<std::string> warnings;
+        const py::gil_scoped_release release;
+        Recording r = ReadRecording(path, options, &warnings);
+        return std::make_pair(std::move(r), warnings);
+      },
+      py::arg("path"),
+      "(recording, warnings) from a .c3d, .trc or .csv file. Keyword arguments are ReadOptions "
+      "fields (zero_is_missing, allow_truncated, units, units_if_unstated, rate_if_unstated).");
+  py::class_<ReadOptions>(m, "ReadOptions")
+      .def(py::init(&FromKwargs<ReadOptions>))
+      .def_readwrite("zero_is_missing", &ReadOptions::zero_is_missing)
+      .def_readwrite("allow_truncated", &ReadOptions::allow_truncated)
+      .def_readwrite("units", &ReadOptions::units)
+      .def_readwrite("units_if_unstated", &ReadOptions::units_if_unstated)
+      .def_readwrite("rate_if_unstated", &ReadOptions::rate_if_unstated);
+  m.def(
+      "write_recording",
+      [](const Recording& r, const std::filesystem::path& path) {
+        const py::gil_scoped_release release;
+        WriteRecording(r, path);
+      },
+      py::arg("recording"), py::arg("path"), "Writes .c3d, .trc or .csv (by extension).");
+}
+
+void BindFillOptions(py::module_& m) {
+  py::class_<InterpolationFillOptions>(m, "InterpolationFillOptions")
+      .def(py::init(&FromKwargs<InterpolationFillOptions>))
+      .def_readwrite("samples_per_side", &InterpolationFillOptions::samples_per_side);
+  py::class_<RigidFillOptions>(m, "RigidFillOptions")
+      .def(py::init(&FromKwargs<RigidFillOptions>))
+      .def_readwrite("donors", &RigidFillOptions::donors)
+      .def_readwrite("min_common_frames", &RigidFillOptions::min_common_frames);
+  py::class_<PcaFillOptions>(m, "PcaFillOptions")
+      .def(py::init(&FromKwargs<PcaFillOptions>))
+      .def_readwrite("explained_fraction", &PcaFillOptions::explained_fraction)
+      .def_readwrite("weight_scale_m", &PcaFillOptions::weight_scale_m)
+      .def_readwrite("missing_marker_weight", &PcaFillOptions::missing_marker_weight)
+      .def_readwrite("distal_threshold", &PcaFillOptions::distal_threshold)
+      .def_readwrite("min_complete_frames", &PcaFillOptions::min_complete_frames)
+      .def_readwrite("max_iterations", &PcaFillOptions::max_iterations)
+      .def_readwrite("tolerance", &PcaFillOptions::tolerance);
+  py::class_<OcpFillOptions>(m, "OcpFillOptions", "The optimal-control fill (ocp_fill.h).")
+      .def(py::init(&FromKwargs<OcpFillOptions>))
+      .def_readwrite("padding_seconds", &OcpFillOptions::padding_seconds)
+      .def_readwrite("prior_weight", &OcpFillOptions::prior_weight)
+      .def_readwrite("candidates", &OcpFillOptions::candidates)
+      .def_readwrite("optimal_control", &OcpFillOptions::optimal_control);
+  py::class_<FillOptions>(m, "FillOptions", "Keys of [fill]: method, max_gap_seconds, …")
+      .def(py::init(&FromKwargs<FillOptions>))
+      .def_property(
+          "method", [](const FillOptions& o) { return std::string(ToString(o.method)); },
+          [](FillOptions& o, const std::string& s) { o.method = ParseFillMethod(s); })
+      .def_readwrite("max_gap_seconds", &FillOptions::max_gap_seconds)
+      .def_readwrite("interpolation", &FillOptions::interpolation)
+      .def_readwrite("rigid", &FillOptions::rigid)
+      .def_readwrite("pca", &FillOptions::pca)
+      .def_readwrite("ocp", &FillOptions::ocp)
+      .def("validate", &FillOptions::Validate)
+      .def("to_dict", [](const FillOptions& o) { return JsonToPython(o.ToJson()); });
+  BindSummary<FillSummary>(m, "FillSummary", "The gaps filled and why the others were not.");
+}
+
+void BindFillAndEvaluate(py::module_& m) {
+  m.def(
+      "fill_gaps",
+      [](const Recording& in, std::optional<std::vector<Gap>> gaps,
+         std::optional<FillOptions> options, const py::kwargs& kw) {
+        FillOptions o = WithKwargs(options, kw);
+        Recording out;
+        FillSummary summary;
+        {
+          const py::gil_scoped_release release;
+          summary = FillGaps(in, gaps ? *gaps : FindGaps(in), o, &out);
+        }
+        return std::make_pair(std::move(out), summary);
+      },
+      py::arg("recording"), py::arg("gaps") = py::none(), py::arg("options") = py::none(),
+      "(filled copy, FillSummary); gaps default to find_gaps(recording). Keyword arguments are "
+      "FillOptions fields (method=\"spline\", max_gap_seconds=…).");
+  py::class_<EvaluationOptions>(m, "EvaluationOptions", "Keys of [evaluation].")
+      .def(py::init(&FromKwargs<EvaluationOptions>))
+      .def_property(
+          "methods",
+          [](const EvaluationOptions& o) {
+            std::vector<std::string> names;
+            for (FillMethod f : o.methods) names.emplace_back(ToString(f));
+            return names;
+          },
+          [](EvaluationOptions& o, const std::vector<std::string>& names) {
+            o.methods.clear();
+            for (const std::string& n : names) o.methods.push_back(ParseFillMethod(n));
+          })
+      .def_readwrite("gap_seconds", &EvaluationOptions::gap_seconds)
+      .def_readwrite("trials", &EvaluationOptions::trials)
+      .def_readwrite("seed", &EvaluationOptions::seed)
+      .def_readwrite("threads", &EvaluationOptions::threads)
+      .def_readwrite("fill", &EvaluationOptions::fill);
+  BindSummary<EvaluationSummary>(m, "EvaluationSummary", "Errors per method and gap length.");
+  m.def(
+      "evaluate",
+      [](const Recording& truth, std::optional<EvaluationOptions> options, const py::kwargs& kw) {
+        EvaluationOptions o = WithKwargs(options, kw);
+        const py::gil_scoped_release release;
+        return EvaluateFillMethods(truth, o);
+      },
+      py::arg("truth"), py::arg("options") = py::none(),
+      "Hides gaps in a complete recording, fills them with every method and measures the error. "
+      "Keyword arguments are EvaluationOptions fields.");
+}
+
+}  // namespace
+
+void RegisterMocap(py::module_& m) {
+  BindRecording(m);
+  BindFillOptions(m);
+  BindFillAndEvaluate(m);
+}
+
+}  // namespace moreau::python
