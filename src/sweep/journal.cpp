@@ -9,11 +9,17 @@
 namespace moreau::sweep {
 
 Journal::Journal(std::filesystem::path path) : path_(std::move(path)) {
+  bool ends_mid_line = false;  // a line cut short by a kill: the next entry starts a new line
+  if (std::ifstream in(path_, std::ios::binary | std::ios::ate); in && in.tellg() > 0) {
+    in.seekg(-1, std::ios::end);
+    ends_mid_line = in.get() != '\n';
+  }
   file_ = std::fopen(path_.c_str(), "ab");
   if (file_ == nullptr) {
     throw InputError(
         fmt::format("{}: cannot open the sweep journal for appending", path_.string()));
   }
+  if (ends_mid_line) std::fputc('\n', file_);
 }
 
 Journal::~Journal() {

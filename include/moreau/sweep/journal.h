@@ -17,7 +17,8 @@ namespace moreau::sweep {
 
 class Journal {
  public:
-  // Opens PATH for appending (created when absent). Throws InputError when it cannot.
+  // Opens PATH for appending (created when absent; a last line cut short is ended first, so
+  // the next entry starts a line of its own). Throws InputError when it cannot.
   explicit Journal(std::filesystem::path path);
   ~Journal();
   Journal(const Journal&) = delete;
