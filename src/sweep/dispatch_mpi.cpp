@@ -19,6 +19,9 @@ namespace {
 
 constexpr int kEntryTag = 1;  // worker → rank 0: the entry of the last run ("" at first)
 constexpr int kRunTag = 2;    // rank 0 → worker: the next run number, −1 when none is left
+// How long a waiting rank sleeps between two looks for a message: short against a run, long
+// enough that waiting costs no core the runs need.
+constexpr std::chrono::microseconds kPollInterval{200};
 
 bool LaunchedByMpi() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
@@ -33,7 +36,11 @@ void Work(const RunTask& task) {
   while (true) {
     MPI_Send(entry.data(), static_cast<int>(entry.size()), MPI_CHAR, 0, kEntryTag, MPI_COMM_WORLD);
     std::int64_t index = -1;
-    MPI_Recv(&index, 1, MPI_INT64_T, 0, kRunTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    MPI_Request request = MPI_REQUEST_NULL;
+    MPI_Irecv(&index, 1, MPI_INT64_T, 0, kRunTag, MPI_COMM_WORLD, &request);
+    for (int done = 0; MPI_Test(&request, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && !done;) {
+      std::this_thread::sleep_for(kPollInterval);  // rather than MPI_Recv's busy wait
+    }
     if (index < 0) return;
     entry = task(index).dump();
   }
@@ -47,7 +54,7 @@ void Serve(RunQueue& queue, int workers, const RunFinished& finished) {
     MPI_Status status;
     MPI_Iprobe(MPI_ANY_SOURCE, kEntryTag, MPI_COMM_WORLD, &ready, &status);
     if (ready == 0) {
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      std::this_thread::sleep_for(kPollInterval);
       continue;
     }
     int size = 0;

@@ -44,6 +44,16 @@ class Hid {
   herr_t (*close_)(hid_t);
 };
 
+// A new type of variable-length UTF-8 strings (negative when HDF5 fails).
+hid_t NewUtf8TextType() {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  if (type >= 0 && (H5Tset_size(type, H5T_VARIABLE) < 0 || H5Tset_cset(type, H5T_CSET_UTF8) < 0)) {
+    H5Tclose(type);
+    return -1;
+  }
+  return type;
+}
+
 enum class ColumnType { kInteger, kNumber, kText };
 
 ColumnType TypeOf(const ResultsTable& table, std::size_t c) {
@@ -63,9 +73,7 @@ void WriteColumn(hid_t group, const ResultsTable& table, std::size_t c,
   Hid properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, path);
   H5Pset_obj_track_times(properties.get(), false);
   const ColumnType type = TypeOf(table, c);
-  Hid text_type(H5Tcopy(H5T_C_S1), H5Tclose, path);
-  H5Tset_size(text_type.get(), H5T_VARIABLE);
-  H5Tset_cset(text_type.get(), H5T_CSET_UTF8);
+  const Hid text_type(NewUtf8TextType(), H5Tclose, path);
   const hid_t file_type = type == ColumnType::kInteger  ? H5T_STD_I64LE
                           : type == ColumnType::kNumber ? H5T_IEEE_F64LE
                                                         : text_type.get();
@@ -102,9 +110,7 @@ void WriteColumn(hid_t group, const ResultsTable& table, std::size_t c,
 void WriteColumnNames(hid_t group, const ResultsTable& table, const std::filesystem::path& path) {
   const hsize_t n = table.columns.size();
   Hid space(H5Screate_simple(1, &n, nullptr), H5Sclose, path);
-  Hid text_type(H5Tcopy(H5T_C_S1), H5Tclose, path);
-  H5Tset_size(text_type.get(), H5T_VARIABLE);
-  H5Tset_cset(text_type.get(), H5T_CSET_UTF8);
+  const Hid text_type(NewUtf8TextType(), H5Tclose, path);
   Hid attribute(
       H5Acreate2(group, "columns", text_type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
       H5Aclose, path);
