@@ -1,9 +1,13 @@
 #include "moreau/sweep/dispatch.h"
 
+#include <cstdlib>
 #include <exception>
 #include <mutex>
 #include <thread>
 
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
 #include "sweep/run_queue.h"
 
 namespace moreau::sweep {
@@ -45,7 +49,18 @@ void RunQueue::Close() {
 }
 
 #ifndef MOREAU_WITH_MPI
-MpiSession::MpiSession() = default;
+MpiSession::MpiSession() {
+  // Started as one of several ranks, every copy would do every run: refuse.
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* size = std::getenv(name);
+    if (size != nullptr && std::atoi(size) > 1) {
+      throw InputError(
+          fmt::format("{} = {}: this moreau was built without MPI (CMake option "
+                      "MOREAU_MPI=OFF); run it without mpirun, or build it with MPI",
+                      name, size));
+    }
+  }
+}
 MpiSession::~MpiSession() = default;
 bool MpiSession::BuiltWithMpi() { return false; }
 

@@ -27,6 +27,7 @@ using RunFinished = std::function<void(const nlohmann::json& entry)>;
 // moreau was built with MPI (CMake option MOREAU_MPI); otherwise one rank and no MPI at all.
 class MpiSession {
  public:
+  // Without MPI, throws InputError when the launcher says there are several ranks.
   MpiSession();
   ~MpiSession();  // MPI_Finalize, or MPI_Abort while an exception leaves the scope
   MpiSession(const MpiSession&) = delete;
