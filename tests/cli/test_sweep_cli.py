@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from conftest import CLI, run_cli
+from conftest import CLI, ROOT, run_cli
 
 MPIRUN = shutil.which("mpirun")
 needs_mpirun = pytest.mark.skipif(MPIRUN is None,
@@ -182,3 +182,21 @@ def test_bad_sweep_file_is_rejected_before_anything_is_written(sweep_file, tmp_p
     assert len(lines) == 1 and str(sweep) in lines[0] and key in lines[0] and reason in lines[0], \
         r.stderr
     assert not out.exists()
+
+
+def test_control_and_paper_case_sweeps(tmp_path):
+    control = tmp_path / "control.toml"
+    control.write_text(f'command = "control"\nscenario = "{ROOT}/examples/control/oscillator_1d.toml"\n'
+                       'collect = ["value", "steps"]\n[axes]\ndiscretization.steps = [100, 200]\n')
+    r = run_cli("sweep", control, "--out", tmp_path / "control")
+    assert r.returncode == 0, r.stderr
+    table = rows(tmp_path / "control")
+    assert [row["status"] for row in table] == ["converged"] * 2
+    assert [row["steps"] for row in table] == ["100", "200"]
+    sliding = tmp_path / "sliding.toml"
+    sliding.write_text(f'command = "run"\nscenario = "{ROOT}/examples/sliding.toml"\n'
+                       'collect = ["error"]\n[axes]\nsolver.h = [0.01, 0.005]\n')
+    r = run_cli("sweep", sliding, "--out", tmp_path / "sliding")
+    assert r.returncode == 0, r.stderr
+    errors = [float(row["error"]) for row in rows(tmp_path / "sliding")]
+    assert 0 < errors[1] < errors[0]  # PBD converges as h shrinks
