@@ -21,6 +21,7 @@ void AddControlCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
 void AddFillGapsCommand(CLI::App& app);
 void AddEvaluateGapsCommand(CLI::App& app);
+void AddSweepCommand(CLI::App& app);
 
 // The arguments of every scenario command: SCENARIO.toml [--set key=value ...] [--out DIR].
 struct ScenarioArgs {

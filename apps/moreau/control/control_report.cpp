@@ -104,10 +104,9 @@ std::string ConvergenceCsv(const control::RefinementStudySummary& study, double 
   return fmt::to_string(b);
 }
 
-int ReportControlRun(const ControlScenario& scenario, const ControlRunResult& r,
-                     const std::string& scenario_file, const std::string& out_dir) {
-  const control::ContinuationSummary& cs = r.continuation;
-  nlohmann::json j = cs.ToJson();
+nlohmann::json ControlRunJson(const ControlScenario& scenario, const ControlRunResult& r,
+                              const std::string& scenario_file) {
+  nlohmann::json j = r.continuation.ToJson();
   j["total_seconds"] = r.total_seconds;  // the whole command: solve and evaluation
   j["value"] = FiniteOrNull(r.value);
   j["residual_norm"] = FiniteOrNull(r.residual_norm);
@@ -117,6 +116,13 @@ int ReportControlRun(const ControlScenario& scenario, const ControlRunResult& r,
   j["delta"] = r.delta;
   j["settings"] = EchoControlScenario(scenario);
   j["scenario_file"] = scenario_file;
+  return j;
+}
+
+int ReportControlRun(const ControlScenario& scenario, const ControlRunResult& r,
+                     const std::string& scenario_file, const std::string& out_dir) {
+  const control::ContinuationSummary& cs = r.continuation;
+  const nlohmann::json j = ControlRunJson(scenario, r, scenario_file);
 
   const PontryaginDiscretization disc(MakeProblemFamily(scenario)(1.0), scenario.steps);
   OutputDir out(out_dir);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "control/control_run.h"
 #include "control/control_scenario.h"
@@ -24,6 +25,11 @@ std::string ControlsCsv(const control::PontryaginDiscretization& disc,
 // One row per N: value, differences, residual, Newton iterations, seconds, and the bounds.
 std::string ConvergenceCsv(const control::RefinementStudySummary& study, double horizon,
                            const std::optional<control::ValueErrorConstants>& theorem);
+
+// summary.json of a run: the continuation summary, value, residual, tracking RMS, steps, dt,
+// δ, the settings and the scenario file.
+nlohmann::json ControlRunJson(const ControlScenario& scenario, const ControlRunResult& result,
+                              const std::string& scenario_file);
 
 // Write DIR and print; return the exit code (0, or 3 when the solve or a level failed).
 int ReportControlRun(const ControlScenario& scenario, const ControlRunResult& result,

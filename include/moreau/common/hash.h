@@ -6,8 +6,12 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 
 namespace moreau {
+
+// 64-bit FNV-1a over the bytes of `bytes`, in order.
+std::uint64_t HashBytes(std::string_view bytes);
 
 // 64-bit FNV-1a over the little-endian bytes of the values, in order.
 std::uint64_t HashDoubles(std::span<const double> values);

@@ -1,0 +1,38 @@
+// What `moreau sweep` writes once every run is in the journal: results.csv and results.h5 (one
+// row per run, in grid order, whatever the number of ranks), summary.json, and the lines printed.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "moreau/sweep/results_table.h"
+#include "sweep/sweep_scenario.h"
+
+namespace moreau::cli {
+
+// How the sweep went (this invocation).
+struct SweepCounts {
+  std::int64_t runs = 0;     // in the grid
+  std::int64_t skipped = 0;  // found in the journal, not run again
+  int ranks = 1;
+  int jobs = 1;                // threads per rank
+  double run_seconds = 0.0;    // the runs of this invocation, summed over ranks and threads
+  double total_seconds = 0.0;  // wall clock of this invocation
+};
+
+// Columns: run (grid position), hash, each axis key, the seed key (with seeds), status, each
+// collected quantity, message. Throws InputError when a run of the grid is not in `journal`.
+sweep::ResultsTable SweepTable(const SweepScenario& sweep,
+                               const std::map<std::string, nlohmann::json>& journal);
+
+// Writes results.csv, results.h5 and summary.json into DIR and prints the brief report.
+// Returns 0 (failed runs are rows of the table, not a failure of the sweep).
+int ReportSweep(const SweepScenario& sweep, const sweep::ResultsTable& table,
+                const SweepCounts& counts, const std::string& sweep_file,
+                const std::filesystem::path& dir);
+
+}  // namespace moreau::cli

@@ -1,0 +1,74 @@
+#include "moreau/sweep/dispatch.h"
+
+#include <cstdlib>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+#include "sweep/run_queue.h"
+
+namespace moreau::sweep {
+
+void RunQueueWorkers(RunQueue& queue, int jobs, const RunTask& task, const RunFinished& finished) {
+  std::exception_ptr error;
+  const auto work = [&] {
+    for (std::int64_t index = queue.Pop(); index >= 0; index = queue.Pop()) {
+      const nlohmann::json entry = task(index);
+      const std::lock_guard lock(queue.finished_mutex);
+      if (error) return;
+      try {
+        finished(entry);
+      } catch (...) {
+        error = std::current_exception();
+        queue.Close();
+        return;
+      }
+    }
+  };
+  if (jobs <= 1) {
+    work();
+  } else {
+    std::vector<std::jthread> threads;
+    for (int j = 0; j < jobs; ++j) threads.emplace_back(work);
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+std::int64_t RunQueue::Pop() {
+  const std::lock_guard lock(mutex_);
+  if (next_ >= todo_.size()) return -1;
+  return todo_[next_++];
+}
+
+void RunQueue::Close() {
+  const std::lock_guard lock(mutex_);
+  next_ = todo_.size();
+}
+
+#ifndef MOREAU_WITH_MPI
+MpiSession::MpiSession() {
+  // Started as one of several ranks, every copy would do every run: refuse.
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* size = std::getenv(name);
+    if (size != nullptr && std::atoi(size) > 1) {
+      throw InputError(
+          fmt::format("{} = {}: this moreau was built without MPI (CMake option "
+                      "MOREAU_MPI=OFF); run it without mpirun, or build it with MPI",
+                      name, size));
+    }
+  }
+}
+MpiSession::~MpiSession() = default;
+bool MpiSession::BuiltWithMpi() { return false; }
+
+void Dispatch(const MpiSession& /*session*/, const std::vector<std::int64_t>& todo, int jobs,
+              const RunTask& task, const RunFinished& finished) {
+  RunQueue queue(todo);
+  RunQueueWorkers(queue, jobs, task, finished);
+}
+#endif
+
+}  // namespace moreau::sweep

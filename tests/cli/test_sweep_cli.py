@@ -1,0 +1,202 @@
+"""`moreau sweep`: the same table whatever the number of MPI ranks or threads, restart after a
+kill, failing runs as rows, bad sweep files rejected."""
+import csv
+import json
+import shutil
+import signal
+import subprocess
+import time
+
+import pytest
+
+from conftest import CLI, ROOT, run_cli
+
+MPIRUN = shutil.which("mpirun")
+needs_mpirun = pytest.mark.skipif(MPIRUN is None,
+                                  reason="mpirun is absent (Debian: openmpi-bin): MPI not tested")
+
+BASE = """
+[problem]
+kind = "particles"
+dimension = 2
+count = 12
+radius = 0.2
+T = {T}
+seed = 1
+[room]
+width = 4.0
+height = 4.0
+door_width = 1.0
+[domain]
+lo = [0.3, 0.3]
+hi = [3.7, 3.7]
+[forces]
+propulsion_speed = 1.5
+diffusion = 0.01
+[solver]
+h = 0.01
+"""
+
+# 2 door widths × 3 speeds (one invalid: 3 failed rows) × 2 seeds = 12 runs.
+SWEEP = """
+command = "run"
+scenario = "base.toml"
+seeds = 2
+collect = ["evacuated", "evacuation_time", "msd", "positions_hash", "steps", "settings.room.door_width"]
+[axes]
+room.door_width = [0.8, 1.6]
+forces.propulsion_speed = [1.0, 3.0, -1.0]
+"""
+
+
+@pytest.fixture
+def sweep_file(tmp_path):
+    def write(T=1.0, sweep=SWEEP):
+        (tmp_path / "base.toml").write_text(BASE.format(T=T))
+        path = tmp_path / "sweep.toml"
+        path.write_text(sweep)
+        return path
+    return write
+
+
+def mpi_sweep(ranks, *args):
+    return subprocess.run([MPIRUN, "--allow-run-as-root", "--oversubscribe", "-n", str(ranks), CLI,
+                           "sweep", *map(str, args)], capture_output=True, text=True, timeout=600)
+
+
+def rows(out):
+    with open(out / "results.csv", newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_table_has_one_row_per_run_in_grid_order_with_failed_runs_reported(sweep_file, tmp_path):
+    out = tmp_path / "out"
+    r = run_cli("sweep", sweep_file(), "--out", out)
+    assert r.returncode == 0, r.stderr
+    table = rows(out)
+    assert [int(row["run"]) for row in table] == list(range(12))
+    assert len({row["hash"] for row in table}) == 12
+    expected = [(w, v, s) for w in ("0.8", "1.6") for v in ("1.0", "3.0", "-1.0") for s in ("1", "2")]
+    assert [(row["room.door_width"], row["forces.propulsion_speed"], row["problem.seed"])
+            for row in table] == expected
+    failed = [row for row in table if row["forces.propulsion_speed"] == "-1.0"]
+    assert len(failed) == 4
+    for row in failed:  # the failing runs are rows with their status and message
+        assert row["status"] == "input_error"
+        assert "propulsion" in row["message"] and row["evacuated"] == ""
+    for row in table:
+        if row not in failed:
+            assert row["status"] == "completed" and row["message"] == ""
+            assert 0 <= int(row["evacuated"]) <= 12 and float(row["msd"]) > 0
+            assert int(row["steps"]) == 100
+            assert row["settings.room.door_width"] == row["room.door_width"]  # dotted keys
+    assert r.stderr.count("input_error") == 4  # each failure named on stderr as it happens
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["runs"] == 12 and summary["runs_failed"] == 4 and summary["runs_skipped"] == 0
+    assert (out / "results.h5").stat().st_size > 0
+    assert not (out / "runs").exists()  # per-run folders only on request
+
+
+def test_threads_give_the_same_bytes(sweep_file, tmp_path):
+    sweep = sweep_file()
+    one, two = tmp_path / "one", tmp_path / "two"
+    assert run_cli("sweep", sweep, "--out", one).returncode == 0
+    assert run_cli("sweep", sweep, "--out", two, "--jobs", "3").returncode == 0
+    for name in ("results.csv", "results.h5"):
+        assert (one / name).read_bytes() == (two / name).read_bytes(), name
+
+
+@needs_mpirun
+def test_one_two_three_ranks_and_no_mpi_give_the_same_bytes(sweep_file, tmp_path):
+    sweep = sweep_file()
+    plain = tmp_path / "plain"
+    assert run_cli("sweep", sweep, "--out", plain).returncode == 0
+    for ranks in (1, 2, 3):
+        out = tmp_path / f"ranks{ranks}"
+        r = mpi_sweep(ranks, sweep, "--out", out)
+        assert r.returncode == 0, r.stderr
+        assert json.loads((out / "summary.json").read_text())["ranks"] == ranks
+        for name in ("results.csv", "results.h5"):
+            assert (out / name).read_bytes() == (plain / name).read_bytes(), (ranks, name)
+
+
+def test_killed_sweep_restarts_where_it_stopped_and_ends_with_the_same_table(sweep_file,
+                                                                             tmp_path):
+    sweep = sweep_file(T=4.0)
+    reference = tmp_path / "reference"
+    assert run_cli("sweep", sweep, "--out", reference).returncode == 0
+    out = tmp_path / "killed"
+    journal = out / "journal.jsonl"
+    p = subprocess.Popen([CLI, "sweep", str(sweep), "--out", str(out)],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and p.poll() is None:
+        if journal.exists() and journal.read_text().count("\n") >= 5:
+            break
+        time.sleep(0.005)
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    finished = journal.read_text().count("\n")
+    assert 5 <= finished < 12, finished  # killed mid-way
+    assert not (out / "results.csv").exists()
+    if MPIRUN is not None:  # the rest on two ranks
+        r = mpi_sweep(2, sweep, "--out", out)
+    else:
+        r = run_cli("sweep", sweep, "--out", out)
+    assert r.returncode == 0, r.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["runs_skipped"] == finished
+    assert (out / "results.csv").read_bytes() == (reference / "results.csv").read_bytes()
+    again = run_cli("sweep", sweep, "--out", out)  # nothing left to run
+    assert again.returncode == 0
+    assert json.loads((out / "summary.json").read_text())["runs_skipped"] == 12
+
+
+def test_run_folders_on_request(sweep_file, tmp_path):
+    sweep = sweep_file(sweep=SWEEP + "\n".join(["", "[set]", "problem.count = 8"]) + "\n")
+    sweep.write_text('run_folders = true\n' + sweep.read_text())
+    out = tmp_path / "out"
+    assert run_cli("sweep", sweep, "--out", out).returncode == 0
+    for row in rows(out):
+        summary = out / "runs" / row["hash"] / "summary.json"
+        assert summary.exists() == (row["status"] == "completed"), row
+        if summary.exists():
+            assert json.loads(summary.read_text())["particles"] == 8
+
+
+@pytest.mark.parametrize("text, key, reason", [
+    ('command = "run"\nscenario = "base.toml"\ncombine = "zip"\n[axes]\na.b = [1, 2]\nc = [1]\n',
+     "axes", "same number of values"),
+    ('command = "walk"\nscenario = "base.toml"\n', "command", "unknown command"),
+    ('command = "run"\nscenario = "missing.toml"\n', "scenario", "cannot read"),
+    ('command = "run"\nscenario = "base.toml"\nseeds = 0\n', "seeds", "≥ 1"),
+    ('command = "run"\nscenario = "base.toml"\nsed = 3\n', "sed", "unknown key"),
+])
+def test_bad_sweep_file_is_rejected_before_anything_is_written(sweep_file, tmp_path, text, key,
+                                                               reason):
+    sweep = sweep_file(sweep=text)
+    out = tmp_path / "out"
+    r = run_cli("sweep", sweep, "--out", out)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and str(sweep) in lines[0] and key in lines[0] and reason in lines[0], \
+        r.stderr
+    assert not out.exists()
+
+
+def test_control_and_paper_case_sweeps(tmp_path):
+    control = tmp_path / "control.toml"
+    control.write_text(f'command = "control"\nscenario = "{ROOT}/examples/control/oscillator_1d.toml"\n'
+                       'collect = ["value", "steps"]\n[axes]\ndiscretization.steps = [100, 200]\n')
+    r = run_cli("sweep", control, "--out", tmp_path / "control")
+    assert r.returncode == 0, r.stderr
+    table = rows(tmp_path / "control")
+    assert [row["status"] for row in table] == ["converged"] * 2
+    assert [row["steps"] for row in table] == ["100", "200"]
+    sliding = tmp_path / "sliding.toml"
+    sliding.write_text(f'command = "run"\nscenario = "{ROOT}/examples/sliding.toml"\n'
+                       'collect = ["error"]\n[axes]\nsolver.h = [0.01, 0.005]\n')
+    r = run_cli("sweep", sliding, "--out", tmp_path / "sliding")
+    assert r.returncode == 0, r.stderr
+    errors = [float(row["error"]) for row in rows(tmp_path / "sliding")]
+    assert 0 < errors[1] < errors[0]  # PBD converges as h shrinks
