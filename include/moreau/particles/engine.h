@@ -171,6 +171,21 @@ class Engine {
   // any neighbour list can cover (20 redos in one step, or a skin at the periodic limit).
   bool Step();
 
+  // A changing population (population.h): replaces the particle set between steps. model: the
+  // new set (its dimension must stay; its radii, mobilities, stable_ids and fixed sets are
+  // used), positions: k·N in its index order, active_velocity: k·N velocities added to the
+  // drift u_i (an agent's motility along its polarity), or empty. The step count, time and
+  // counters carry on; the neighbour list is rebuilt at the new positions (one build, counted).
+  // No initial-state check: overlaps (the daughters of a division) are left to the projections
+  // of the next steps or to Relax. Throws InputError for a bad model, sizes or non-finite
+  // positions (the engine is then unusable).
+  void Repopulate(ParticleModel model, std::span<const double> positions,
+                  std::span<const double> active_velocity = {});
+  // Projection sweeps at the current positions (no drift, no noise, the step count unchanged)
+  // until the largest pair overlap is ≤ tolerance (≥ 0, else InputError) or max_sweeps were
+  // done; returns the number of sweeps.
+  int Relax(double tolerance, int max_sweeps);
+
   // Runs n = T/h steps (T/h a whole number to within 1e−9, else InputError), calling the
   // observer, if given, at step 0 and after every step. Stops early at a numerical failure (a
   // non-finite position, or Step's NumericalError) with termination kNonFinite, the message
