@@ -264,8 +264,8 @@ bool Engine::Impl::Step() {
 void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const double> active) {
   const auto t0 = Clock::now();
   if (model.dimension != k) {
-    throw InputError(fmt::format("repopulate: the dimension must stay {} (got {})", k,
-                                 model.dimension));
+    throw InputError(
+        fmt::format("repopulate: the dimension must stay {} (got {})", k, model.dimension));
   }
   model.Validate();
   CheckParticleMemory(k, model.count(), options.memory_limit_bytes);
@@ -276,9 +276,9 @@ void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const
                                  positions.size(), n, k));
   }
   if (!active.empty() && active.size() != entries) {
-    throw InputError(fmt::format(
-        "repopulate: active velocities have {} entries for {} particles in {}D", active.size(), n,
-        k));
+    throw InputError(
+        fmt::format("repopulate: active velocities have {} entries for {} particles in {}D",
+                    active.size(), n, k));
   }
   for (double v : positions) {
     if (!std::isfinite(v)) throw InputError("repopulate: positions must be finite");
@@ -429,6 +429,36 @@ std::vector<std::pair<int, int>> Engine::CandidatePairs() const {
   }
   std::sort(pairs.begin(), pairs.end());
   return pairs;
+}
+
+std::vector<int> Engine::ContactCounts(double factor) const {
+  if (!(factor >= 1.0 && factor <= 1.5)) {
+    throw InputError(fmt::format("contact factor must be in [1, 1.5] (got {})", factor));
+  }
+  const Impl& m = *impl_;
+  std::vector<int> counts(static_cast<std::size_t>(m.n), 0);
+  const int* row_start = m.list.row_start();
+  const int* nbr = m.list.neighbours();
+  const double* x = m.store->current.data();
+  const double* r = m.store->radius.data();
+  const int* id = m.store->id.data();
+  internal::DispatchDimensionPeriodic(m.k, m.box.any, [&](auto k, auto p) {
+    for (int s = 0; s < m.n; ++s) {
+      for (int q = row_start[s]; q < row_start[s + 1]; ++q) {
+        const int t = nbr[q];
+        double u[3];
+        m.list.Displacement<k, p>(x, s, t, q, u);
+        double d2 = 0.0;
+        for (int a = 0; a < k; ++a) d2 += u[a] * u[a];
+        const double reach = factor * (r[s] + r[t]);
+        if (d2 <= reach * reach) {
+          ++counts[static_cast<std::size_t>(id[s])];
+          ++counts[static_cast<std::size_t>(id[t])];
+        }
+      }
+    }
+  });
+  return counts;
 }
 
 int FixOverlaps(const ParticleModel& model, std::span<double> positions,

@@ -116,7 +116,6 @@ void ParticleModel::Validate() const {
   }
 }
 
-
 namespace {
 
 using internal::UnitWall;
@@ -183,7 +182,8 @@ void CheckPairOverlaps(const ParticleModel& model, const std::vector<double>& x,
       const int j = nbr[p];
       double u[3];
       Displacement(model, xi, &x[static_cast<std::size_t>(k * j)], u);
-      const double c = model.radius[static_cast<std::size_t>(i)] + model.radius[static_cast<std::size_t>(j)];
+      const double c =
+          model.radius[static_cast<std::size_t>(i)] + model.radius[static_cast<std::size_t>(j)];
       const double overlap = c - Norm(k, u);
       if (overlap > tol * c) {
         throw InputError(fmt::format(

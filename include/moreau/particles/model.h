@@ -1,7 +1,8 @@
 // The particle model at scale: what the problem is (immutable once validated).
 //
-// N particles in R^k, k ∈ {1, 2, 3} (the engine runs k ∈ {2, 3}), with per-particle radius r_i > 0 and mobility μ_i > 0, subject
-// to (the sets S_j of x' ∈ f(x) − N(S, x), all with exact orthogonal projections):
+// N particles in R^k, k ∈ {1, 2, 3} (the engine runs k ∈ {2, 3}), with per-particle radius r_i > 0
+// and mobility μ_i > 0, subject to (the sets S_j of x' ∈ f(x) − N(S, x), all with exact orthogonal
+// projections):
 //   - pair non-overlap        ‖X_i − X_j‖ ≥ r_i + r_j (minimum image on periodic axes);
 //   - walls (half-spaces)     ⟨n, X_i⟩ ≥ offset + r_i;
 //   - sphere obstacles        ‖X_i − c‖ ≥ R + r_i (disks in 2D, spheres in 3D);
