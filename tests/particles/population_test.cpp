@@ -69,12 +69,12 @@ TEST(Population, DivisionAndDeathAreBitIdenticalOnOneAndTwoThreads) {
   Colony c = GrowingColony();
   c.options.threads = 1;
   Population one = Make(c);
-  const PopulationSummary s1 = one.Run(12.0);
+  const PopulationSummary s1 = one.Run(8.0);
   c.options.threads = 2;
   Population two = Make(c);
-  const PopulationSummary s2 = two.Run(12.0);
+  const PopulationSummary s2 = two.Run(8.0);
   ASSERT_TRUE(s1.ok()) << s1.message;
-  EXPECT_GT(s1.births, 50);
+  EXPECT_GT(s1.births, 20);
   EXPECT_GT(s1.deaths, 0);
   EXPECT_EQ(s1.births, s2.births);
   EXPECT_EQ(s1.deaths, s2.deaths);

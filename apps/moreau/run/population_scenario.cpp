@@ -101,7 +101,7 @@ void AddRuleFields(FieldTable<S>& t) {
       .Integer("relax_max_sweeps", &P::relax_max_sweeps, Range::AtLeast(1), "sweeps at most")
       .Integer("max_count", &P::max_count, Range::NonNegative(), "stop at this count (0: none)");
   t.Mount(
-      "population", [](S& s) -> P& { return s.population.rules; }, sub);
+      "population", [](auto& s) -> auto& { return s.population.rules; }, sub);
 }
 
 }  // namespace
@@ -111,10 +111,10 @@ void AddPopulationFields(FieldTable<S>& t) {
            "agent types: an agent-based model (docs/abm.md)");
   AddRuleFields(t);
   t.Integer(
-       "population.record_every", [](S & s) -> auto& { return s.population.record_every; },
+       "population.record_every", [](auto& s) -> auto& { return s.population.record_every; },
        Range::AtLeast(1), "rule steps between rows of population.csv")
       .OptionalNumber(
-          "population.exit_offset", [](S & s) -> auto& { return s.population.exit_offset; },
+          "population.exit_offset", [](auto& s) -> auto& { return s.population.exit_offset; },
           Range::Any(), "agents with ⟨exit_normal, X⟩ > exit_offset are removed");
   t.Custom(
        "population.exit_normal", "k numbers",
