@@ -2,7 +2,7 @@
 // fixed-population engine step at the same N.
 //
 // Workload: cells of birth radius 0.5 that grow at dr/dt = 0.002 and divide at rate λ = 0.01 (or
-// at r = 0.7071), random division axis, small noise (D = 1e−4), h = 0.02, rules every 5 steps
+// at r = 0.7071), random division axis, small noise (D = 1e−4), h = 0.02, rules every 20 steps
 // (docs/abm.md); no contact inhibition and one PBD sweep per step, so the count grows
 // exponentially (doubling every ~3500 steps; slow enough that one sweep per step keeps the
 // colony from piling up). Timed:
@@ -49,7 +49,7 @@ void BM_GrowingColony(benchmark::State& state) {
     cell.division_rate = 0.01;
     PopulationRules rules;
     rules.types = {cell};
-    rules.interval = 5;
+    rules.interval = 20;
     rules.seed = 3;
     const std::vector<int> types{0};
     const std::vector<double> x0{0.0, 0.0};

@@ -297,7 +297,9 @@ void Population::ApplyRules() {
     for (const AgentType& t : rules_.types) rmin = std::min(rmin, t.radius);
     summary_.relax_sweeps += engine_.Relax(rules_.relax_tolerance * rmin, rules_.relax_max_sweeps);
   }
-  last_positions_ = engine_.Positions();
+  bool follows_velocity = false;
+  for (const AgentType& t : rules_.types) follows_velocity |= t.velocity_alignment > 0.0;
+  if (follows_velocity) last_positions_ = engine_.Positions();
   summary_.rules_seconds += Seconds(t0, Clock::now());
   if (rules_.max_count > 0 && count() >= rules_.max_count) {
     Stop(Termination::kCompleted, fmt::format("the count reached {} (max_count {}) at step {}",
