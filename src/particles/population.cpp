@@ -196,6 +196,61 @@ void Population::Stop(Termination termination, std::string message) {
   summary_.message = std::move(message);
 }
 
+// The removal and death rules: true (counted, the id released) when agent a leaves now.
+bool Population::Leaves(const Agent& a, const double* xi, std::int64_t step) {
+  const AgentType& type = rules_.types[static_cast<std::size_t>(a.type)];
+  const double dt = static_cast<double>(rules_.interval) * engine_.options().h;
+  bool removed = false;
+  if (rules_.exit) {
+    double along = 0.0;
+    for (int c = 0; c < geometry_.dimension; ++c) {
+      along += rules_.exit->normal[static_cast<std::size_t>(c)] * xi[c];
+    }
+    removed = along > rules_.exit->offset;
+  }
+  const bool dies =
+      !removed && type.death_rate > 0.0 &&
+      Uniform(rules_.seed, Stream::kDeath, a.id, step) < -std::expm1(-type.death_rate * dt);
+  if (!removed && !dies) return false;
+  ++(removed ? summary_.removals : summary_.deaths);
+  ids_.erase(a.id);
+  return true;
+}
+
+// The division rule of population.h: agent a (state after growth and polarity) at xi splits
+// into itself and a new daughter, appended to *next with their positions to *y.
+void Population::Divide(Agent a, const double* xi, std::int64_t step, std::vector<Agent>* next,
+                        std::vector<double>* y) {
+  const int k = geometry_.dimension;
+  const auto uk = static_cast<std::size_t>(k);
+  const AgentType& type = rules_.types[static_cast<std::size_t>(a.type)];
+  double e[3] = {0, 0, 0};
+  if (rules_.axis == DivisionAxis::kPolarity) {
+    for (int c = 0; c < k; ++c) e[c] = a.polarity[static_cast<std::size_t>(c)];
+  }
+  if (rules_.axis == DivisionAxis::kRandom || !Normalise(k, e)) {
+    GaussianNoise(StreamSeed(rules_.seed, Stream::kAxis), a.id, step, k, e);
+    if (!Normalise(k, e)) e[0] = 1.0;
+  }
+  ++a.divisions;
+  ++a.generation;
+  a.age = 0.0;
+  a.radius = type.radius;
+  Agent daughter = a;
+  daughter.id = ChildId(a.id, a.divisions);
+  daughter.divisions = 0;
+  if (!ids_.insert(daughter.id).second) {
+    throw NumericalError(
+        fmt::format("step {}: the daughter id {} of agent {} is in use (a hash "
+                    "collision)",
+                    step, daughter.id, a.id));
+  }
+  for (const auto& [agent, sign] : {std::pair{a, 1.0}, std::pair{daughter, -1.0}}) {
+    next->push_back(agent);
+    for (std::size_t c = 0; c < uk; ++c) y->push_back(xi[c] + sign * type.radius * e[c]);
+  }
+}
+
 // growth → removal → death → polarity → division, agent by agent (population.h); then the
 // engine takes the new roster.
 void Population::ApplyRules() {
@@ -226,21 +281,7 @@ void Population::ApplyRules() {
         type.max_contacts > 0.0 && static_cast<double>(contacts[i]) >= type.max_contacts;
     if (!inhibited) a.radius += type.growth_rate * dt;
     a.age += dt;
-    if (rules_.exit) {
-      double along = 0.0;
-      for (std::size_t c = 0; c < uk; ++c) along += rules_.exit->normal[c] * xi[c];
-      if (along > rules_.exit->offset) {
-        ++summary_.removals;
-        ids_.erase(a.id);
-        continue;
-      }
-    }
-    if (type.death_rate > 0.0 &&
-        Uniform(rules_.seed, Stream::kDeath, a.id, step) < -std::expm1(-type.death_rate * dt)) {
-      ++summary_.deaths;
-      ids_.erase(a.id);
-      continue;
-    }
+    if (Leaves(a, xi, step)) continue;
     UpdatePolarity(i, x, mean, &a);
     const bool divides =
         !inhibited &&
@@ -253,31 +294,7 @@ void Population::ApplyRules() {
       y.insert(y.end(), xi, xi + uk);
       continue;
     }
-    double e[3] = {0, 0, 0};
-    if (rules_.axis == DivisionAxis::kPolarity) {
-      for (int c = 0; c < k; ++c) e[c] = a.polarity[static_cast<std::size_t>(c)];
-    }
-    if (rules_.axis == DivisionAxis::kRandom || !Normalise(k, e)) {
-      GaussianNoise(StreamSeed(rules_.seed, Stream::kAxis), a.id, step, k, e);
-      if (!Normalise(k, e)) e[0] = 1.0;
-    }
-    ++a.divisions;
-    ++a.generation;
-    a.age = 0.0;
-    a.radius = type.radius;
-    Agent daughter = a;
-    daughter.id = ChildId(a.id, a.divisions);
-    daughter.divisions = 0;
-    if (!ids_.insert(daughter.id).second) {
-      throw NumericalError(
-          fmt::format("step {}: the daughter id {} of agent {} is in use (a hash "
-                      "collision)",
-                      step, daughter.id, a.id));
-    }
-    for (const auto& [agent, sign] : {std::pair{a, 1.0}, std::pair{daughter, -1.0}}) {
-      next.push_back(agent);
-      for (std::size_t c = 0; c < uk; ++c) y.push_back(xi[c] + sign * type.radius * e[c]);
-    }
+    Divide(a, xi, step, &next, &y);
     ++births;
   }
   summary_.births += births;

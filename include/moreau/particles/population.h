@@ -186,6 +186,9 @@ class Population {
   std::vector<double> MeanNeighbourPolarity(std::span<const double> x) const;
   void UpdatePolarity(std::size_t i, std::span<const double> x, std::span<const double> mean,
                       Agent* agent) const;
+  bool Leaves(const Agent& a, const double* xi, std::int64_t step);
+  void Divide(Agent a, const double* xi, std::int64_t step, std::vector<Agent>* next,
+              std::vector<double>* y);
   void Stop(Termination termination, std::string message);
 
   ParticleModel geometry_;
