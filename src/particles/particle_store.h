@@ -19,8 +19,8 @@ struct ParticleStore {
   std::vector<double> predicted;  // k per slot: Y, then the sweep's result
   std::vector<double> radius;
   std::vector<double> mobility;
-  std::vector<int> id;       // particle id of each slot
-  std::vector<int> slot_of;  // slot of each particle id
+  std::vector<int> id;                  // particle id of each slot
+  std::vector<int> slot_of;             // slot of each particle id
   std::vector<std::int64_t> noise_key;  // per slot, the model's stable id; empty: the id
   std::vector<double> active;           // k per slot, an active velocity v_i; empty: none
 
