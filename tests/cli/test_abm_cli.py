@@ -84,6 +84,8 @@ def test_crowd_leaves_through_the_exit(tmp_path):
     rows = list(csv.DictReader(open(out / "population.csv")))
     assert int(rows[-1]["removals"]) == 40 - int(rows[-1]["count"])
     assert int(rows[-1]["removals"]) > 0
+    # Everybody is out well before T = 60 s of the full example; with 40 people, by 20 s.
+    assert rows[-1]["count"] == "0" and rows[-1]["removals"] == "40"
 
 
 BAD = [

@@ -116,16 +116,21 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
       scenario.output.stride > 0 ? scenario.output.stride : std::max<std::int64_t>(1, steps / 100));
   std::string csv = CsvHeader(rules);
   std::int64_t observed = 0;
+  std::int64_t recorded_step = -1;
   ProgressBar progress("run", steps);
   const particles::PopulationSummary summary =
       population.Run(scenario.T, [&](const particles::Population& p) {
-        if (observed++ % scenario.population.record_every == 0) csv += CsvRow(p.Observe());
+        if (observed++ % scenario.population.record_every == 0) {
+          csv += CsvRow(p.Observe());
+          recorded_step = p.engine().step();
+        }
         frames.Write(p, false);
         progress.Update(p.engine().step());
         return true;
       });
   progress.Finish();
-  if ((observed - 1) % scenario.population.record_every != 0 || !summary.ok()) {
+  // The final state (the last step, or the step at which the last agent left) when not yet in.
+  if (recorded_step != population.engine().step() || population.count() == 0) {
     csv += CsvRow(population.Observe());
   }
   frames.Write(population, false);
