@@ -11,21 +11,20 @@
 //               of agents touching i);  age_i ← age_i + Δt;
 //   removal     removed when its centre is past the exit plane, ⟨n, X_i⟩ > c (a crowd's exit);
 //   death       dies with probability 1 − exp(−δ Δt);
-//   division    (only while c_i < c_max) divides when r_i ≥ r_div (r_div > 0), or age_i ≥ τ_c (τ_c
-//   > 0), or with
-//               probability 1 − exp(−λ Δt) (λ > 0). The mother keeps its id; both daughters get
-//               radius r_0 (the type's radius), age 0, generation + 1, and are placed at
-//               X_i ± r_0 e along a unit axis e (uniformly random, or the polarity): they touch
-//               each other, and their overlaps with neighbours are resolved by the projections
-//               (or at once by Engine::Relax when `relax` is set). The new daughter's id is
-//               ChildId(mother's id, mother's division count after this division), a pure
-//               function, so ids never depend on the order of events;
 //   polarity    p_i ← normalise(p_i + Δt [J (m_i − p_i) + β (v̂_i − p_i)] + √(2Δt/τ_p) P⊥ η_i),
 //               m_i the mean polarity of the agents touching i (Vicsek-like alignment),
 //               v̂_i the unit displacement of i over the last rule step (alignment with the
 //               velocity), η_i ~ N(0, I) projected perpendicular to p_i (rotational diffusion,
 //               persistence time τ_p; τ_p = 0: none). Alignment reads the previous polarities
 //               (a Jacobi update), so the result is independent of the order;
+//   division    (only while c_i < c_max) when r_i ≥ r_div (r_div > 0), or age_i ≥ τ_c
+//               (τ_c > 0), or with probability 1 − exp(−λ Δt) (λ > 0). The mother keeps its
+//               id; both daughters get radius r_0 (the type's radius), age 0, generation + 1,
+//               and are placed at X_i ± r_0 e along a unit axis e (uniformly random, or the
+//               polarity): they touch each other, and their overlaps with neighbours are
+//               resolved by the projections (or at once by Engine::Relax when `relax` is set).
+//               The new daughter's id is ChildId(mother's id, mother's division count after
+//               this division), a pure function, so ids never depend on the order of events;
 //   motility    the engine adds the active velocity v0 p_i to agent i's drift until the next rule
 //               step (engine.h, Repopulate).
 // Adhesion between touching agents is the engine's pair attraction (forces.h, PairAttraction).
