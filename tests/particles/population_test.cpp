@@ -65,7 +65,7 @@ bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-TEST(Population, DivisionAndDeathAreBitIdenticalOnOneAndTwoThreads) {
+TEST(Population, DivisionAndDeathAreBitIdenticalOnOneAndTwoThreadsSlow) {
   Colony c = GrowingColony();
   c.options.threads = 1;
   Population one = Make(c);
