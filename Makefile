@@ -57,6 +57,7 @@ demo: build
 	  --h $(DISKS_H) --out $(OUT)/disks
 	$(MOREAU) run examples/disks.toml --out $(OUT)/disks_run
 	$(MOREAU) run examples/sliding.toml --out $(OUT)/sliding_run
+	$(MOREAU) run examples/abm/monolayer.toml --out $(OUT)/abm_monolayer
 	$(MOREAU) control examples/control/oscillator_1d.toml --out $(OUT)/oscillator_1d
 	$(MOREAU) control examples/control/oscillator_1d.toml --out $(OUT)/oscillator_1d_study \
 	  --study-steps 500,1000,1500,2000,2500,3000,3500,4000

@@ -63,8 +63,10 @@ struct Engine::Impl {
   void ConfigureSkin();
   void Rebuild(std::vector<double>* at, std::int64_t at_step);
   void Predict(double* max_move, std::int64_t* bad_id);
-  void SweepUntilAccepted(double moved);
+  void SweepUntilAccepted(double moved, int sweeps, bool relax);
   bool Step();
+  void Repopulate(std::span<const double> positions, std::span<const double> active);
+  int Relax(double tolerance, int max_sweeps);
   void Fail(std::int64_t bad);
   double MaxOverlap() const {
     return internal::MaxPairOverlap(list, store->current.data(), store->radius.data(), n, threads);
@@ -159,6 +161,8 @@ void Engine::Impl::Rebuild(std::vector<double>* at, std::int64_t at_step) {
 
 void Engine::Impl::Predict(double* max_move, std::int64_t* bad_id) {
   prediction->Predict(store->current.data(), store->predicted.data(), store->id.data(),
+                      store->noise_key.empty() ? nullptr : store->noise_key.data(),
+                      store->active.empty() ? nullptr : store->active.data(),
                       store->mobility.data(), step, threads, max_move, bad_id);
 }
 
@@ -174,21 +178,22 @@ void Engine::Impl::Fail(std::int64_t bad) {
 
 // The sweeps of one step, redone from the step's start with a fresh list (and a wider skin if
 // that was fresh already) while the no-missed-contact bound is reached. moved: the bound on the
-// distance of the predicted positions from the build positions.
-void Engine::Impl::SweepUntilAccepted(double moved) {
+// distance of the predicted positions from the build positions. relax: the sweeps start from the
+// current positions (Relax) instead of a prediction.
+void Engine::Impl::SweepUntilAccepted(double moved, int sweeps, bool relax) {
   for (int attempt = 0;; ++attempt) {
     const auto ts = Clock::now();
     std::int64_t proj = 0;
     // The sum over sweeps of the longest path bounds every particle's path in this step.
     double max_path = 0.0;
-    for (int s = 0; s < options.sweeps; ++s) {
+    for (int s = 0; s < sweeps; ++s) {
       max_path += sweep->Sweep(store->predicted.data(), store->radius.data(), list, colouring,
                                cells, lexicographic, threads, &proj);
     }
     stats.sweep_seconds += Seconds(ts, Clock::now());
     const std::int64_t fixed = static_cast<std::int64_t>(n) * sweep->fixed_sets();
-    stats.constraint_evaluations += options.sweeps * (list.pairs() + fixed);
-    stats.constraint_sets += options.sweeps * (static_cast<std::int64_t>(n) * (n - 1) / 2 + fixed);
+    stats.constraint_evaluations += sweeps * (list.pairs() + fixed);
+    stats.constraint_sets += sweeps * (static_cast<std::int64_t>(n) * (n - 1) / 2 + fixed);
     stats.projections += proj;
     if (list.Accept(moved + max_path)) return;
     ++stats.verlet_retries;
@@ -205,7 +210,11 @@ void Engine::Impl::SweepUntilAccepted(double moved) {
     const auto tp = Clock::now();
     double unused = 0.0;
     std::int64_t bad = -1;
-    Predict(&unused, &bad);
+    if (relax) {
+      store->predicted = store->current;
+    } else {
+      Predict(&unused, &bad);
+    }
     stats.force_seconds += Seconds(tp, Clock::now());
     Rebuild(&store->predicted, step + 1);
     moved = 0.0;
@@ -235,7 +244,7 @@ bool Engine::Impl::Step() {
     Rebuild(&store->predicted, step + 1);
     moved = 0.0;
   }
-  SweepUntilAccepted(moved);
+  SweepUntilAccepted(moved, options.sweeps, false);
   store->current.swap(store->predicted);
   ++step;
   stats.steps = step;
@@ -248,6 +257,68 @@ bool Engine::Impl::Step() {
   }
   stats.total_seconds += Seconds(t0, Clock::now());
   return true;
+}
+
+// A new particle set between steps: the parts are set up again for it (the step count, the
+// counters and the nominal skin's rules carry on) and the list is built at the new positions.
+void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const double> active) {
+  const auto t0 = Clock::now();
+  if (model.dimension != k) {
+    throw InputError(
+        fmt::format("repopulate: the dimension must stay {} (got {})", k, model.dimension));
+  }
+  model.Validate();
+  CheckParticleMemory(k, model.count(), options.memory_limit_bytes);
+  n = model.count();
+  const auto entries = static_cast<std::size_t>(k) * static_cast<std::size_t>(n);
+  if (positions.size() != entries) {
+    throw InputError(fmt::format("repopulate: positions have {} entries for {} particles in {}D",
+                                 positions.size(), n, k));
+  }
+  if (!active.empty() && active.size() != entries) {
+    throw InputError(
+        fmt::format("repopulate: active velocities have {} entries for {} particles in {}D",
+                    active.size(), n, k));
+  }
+  for (double v : positions) {
+    if (!std::isfinite(v)) throw InputError("repopulate: positions must be finite");
+  }
+  if (options.threads <= 0 && !lexicographic) {
+    threads = std::clamp(n / 20000, 1, std::max(1, omp_get_max_threads()));
+  }
+  rmax = model.max_radius();
+  ConfigureSkin();
+  const bool uniform_radius = std::all_of(model.radius.begin(), model.radius.end(),
+                                          [&](double r) { return r == model.radius.front(); });
+  const bool uniform_mobility =
+      model.mobility.empty() ||
+      std::all_of(model.mobility.begin(), model.mobility.end(), [](double m) { return m == 1.0; });
+  store.emplace(model, positions, active);
+  prediction.emplace(forces, box, n, options.h, options.seed, uniform_mobility);
+  sweep.emplace(model, uniform_radius);
+  Rebuild(&store->current, step);
+  stats.total_seconds += Seconds(t0, Clock::now());
+}
+
+// Sweeps at fixed positions (no drift, no noise) until every pair overlap is ≤ tolerance.
+int Engine::Impl::Relax(double tolerance, int max_sweeps) {
+  const auto t0 = Clock::now();
+  int done = 0;
+  while (done < max_sweeps && MaxOverlap() > tolerance) {
+    store->predicted = store->current;
+    list.MarkPredicted();
+    double moved = list.BoundAfterPrediction(0.0, store->predicted.data(), threads);
+    if (list.NeedsBuild(moved)) {
+      list.RelaxSkin();
+      Rebuild(&store->predicted, step);
+      moved = 0.0;
+    }
+    SweepUntilAccepted(moved, 1, true);
+    store->current.swap(store->predicted);
+    ++done;
+  }
+  stats.total_seconds += Seconds(t0, Clock::now());
+  return done;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -270,6 +341,19 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 
 bool Engine::Step() { return impl_->Step(); }
+
+void Engine::Repopulate(ParticleModel model, std::span<const double> positions,
+                        std::span<const double> active_velocity) {
+  impl_->model = std::move(model);
+  impl_->Repopulate(positions, active_velocity);
+}
+
+int Engine::Relax(double tolerance, int max_sweeps) {
+  if (!(tolerance >= 0.0)) {
+    throw InputError(fmt::format("relax tolerance must be ≥ 0 (got {})", tolerance));
+  }
+  return impl_->Relax(tolerance, max_sweeps);
+}
 
 EngineSummary Engine::Run(double T, const EngineObserver& observer) {
   const std::int64_t steps = StepCount(T, impl_->options.h);
@@ -345,6 +429,36 @@ std::vector<std::pair<int, int>> Engine::CandidatePairs() const {
   }
   std::sort(pairs.begin(), pairs.end());
   return pairs;
+}
+
+std::vector<int> Engine::ContactCounts(double factor) const {
+  if (!(factor >= 1.0 && factor <= 1.5)) {
+    throw InputError(fmt::format("contact factor must be in [1, 1.5] (got {})", factor));
+  }
+  const Impl& m = *impl_;
+  std::vector<int> counts(static_cast<std::size_t>(m.n), 0);
+  const int* row_start = m.list.row_start();
+  const int* nbr = m.list.neighbours();
+  const double* x = m.store->current.data();
+  const double* r = m.store->radius.data();
+  const int* id = m.store->id.data();
+  internal::DispatchDimensionPeriodic(m.k, m.box.any, [&](auto k, auto p) {
+    for (int s = 0; s < m.n; ++s) {
+      for (int q = row_start[s]; q < row_start[s + 1]; ++q) {
+        const int t = nbr[q];
+        double u[3];
+        m.list.Displacement<k, p>(x, s, t, q, u);
+        double d2 = 0.0;
+        for (int a = 0; a < k; ++a) d2 += u[a] * u[a];
+        const double reach = factor * (r[s] + r[t]);
+        if (d2 <= reach * reach) {
+          ++counts[static_cast<std::size_t>(id[s])];
+          ++counts[static_cast<std::size_t>(id[t])];
+        }
+      }
+    }
+  });
+  return counts;
 }
 
 int FixOverlaps(const ParticleModel& model, std::span<double> positions,

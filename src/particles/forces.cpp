@@ -59,7 +59,9 @@ void GaussianNoise(std::uint64_t seed, std::int64_t id, std::int64_t step, int k
   const auto ustep = static_cast<std::uint64_t>(step);
   for (int block = 0; 2 * block < k; ++block) {
     const auto w =
-        Philox4x32({static_cast<std::uint32_t>(id), static_cast<std::uint32_t>(block),
+        Philox4x32({static_cast<std::uint32_t>(id),
+                    static_cast<std::uint32_t>(block) |
+                        static_cast<std::uint32_t>(static_cast<std::uint64_t>(id) >> 32 << 2),
                     static_cast<std::uint32_t>(ustep), static_cast<std::uint32_t>(ustep >> 32)},
                    key);
     // Two uniforms in (0, 1) from 53 bits each (the +0.5 keeps them off 0 and 1).

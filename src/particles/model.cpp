@@ -47,6 +47,16 @@ void ParticleModel::Validate() const {
     throw InputError(
         fmt::format("mobility has {} entries for {} particles", mobility.size(), radius.size()));
   }
+  if (!stable_ids.empty() && stable_ids.size() != radius.size()) {
+    throw InputError(fmt::format("stable_ids has {} entries for {} particles", stable_ids.size(),
+                                 radius.size()));
+  }
+  for (std::size_t i = 0; i < stable_ids.size(); ++i) {
+    if (stable_ids[i] < 0 || stable_ids[i] >= (std::int64_t{1} << 62)) {
+      throw InputError(
+          fmt::format("stable id of particle {} must be in [0, 2^62) (got {})", i, stable_ids[i]));
+    }
+  }
   for (std::size_t i = 0; i < mobility.size(); ++i) {
     if (!(mobility[i] > 0.0) || !std::isfinite(mobility[i])) {
       throw InputError(fmt::format("mobility of particle {} must be > 0 (got {})", i, mobility[i]));
@@ -105,7 +115,6 @@ void ParticleModel::Validate() const {
     }
   }
 }
-
 
 namespace {
 
@@ -173,7 +182,8 @@ void CheckPairOverlaps(const ParticleModel& model, const std::vector<double>& x,
       const int j = nbr[p];
       double u[3];
       Displacement(model, xi, &x[static_cast<std::size_t>(k * j)], u);
-      const double c = model.radius[static_cast<std::size_t>(i)] + model.radius[static_cast<std::size_t>(j)];
+      const double c =
+          model.radius[static_cast<std::size_t>(i)] + model.radius[static_cast<std::size_t>(j)];
       const double overlap = c - Norm(k, u);
       if (overlap > tol * c) {
         throw InputError(fmt::format(

@@ -7,8 +7,11 @@
 
 namespace moreau::particles::internal {
 
-ParticleStore::ParticleStore(const ParticleModel& model, std::span<const double> positions)
+ParticleStore::ParticleStore(const ParticleModel& model, std::span<const double> positions,
+                             std::span<const double> active_velocity)
     : k(model.dimension), n(model.count()) {
+  noise_key = model.stable_ids;
+  active.assign(active_velocity.begin(), active_velocity.end());
   current.assign(positions.begin(), positions.end());
   predicted.assign(current.size(), 0.0);
   radius = model.radius;
@@ -24,6 +27,16 @@ void ParticleStore::Reorder(const std::vector<int>& perm, int threads) {
   GatherRows(perm, k, threads, &predicted, &scratch_k_);
   GatherRows(perm, 1, threads, &radius, &scratch1_);
   GatherRows(perm, 1, threads, &mobility, &scratch1_);
+  GatherRows(perm, k, threads, &active, &scratch_k_);
+  if (!noise_key.empty()) {
+    scratch_key_.resize(noise_key.size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int s = 0; s < n; ++s) {
+      scratch_key_[static_cast<std::size_t>(s)] =
+          noise_key[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])];
+    }
+    noise_key.swap(scratch_key_);
+  }
   scratch_id_.resize(id.size());
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int s = 0; s < n; ++s) {

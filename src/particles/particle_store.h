@@ -3,6 +3,7 @@
 // builds (coloured sweep order); ids travel with them, so results can be read in id order.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -18,12 +19,16 @@ struct ParticleStore {
   std::vector<double> predicted;  // k per slot: Y, then the sweep's result
   std::vector<double> radius;
   std::vector<double> mobility;
-  std::vector<int> id;       // particle id of each slot
-  std::vector<int> slot_of;  // slot of each particle id
+  std::vector<int> id;                  // particle id of each slot
+  std::vector<int> slot_of;             // slot of each particle id
+  std::vector<std::int64_t> noise_key;  // per slot, the model's stable id; empty: the id
+  std::vector<double> active;           // k per slot, an active velocity v_i; empty: none
 
-  // Slots in id order, positions from `positions` (k·N, id order).
-  ParticleStore(const ParticleModel& model, std::span<const double> positions);
-  // New slot s holds old slot perm[s] (positions, radius, mobility, ids).
+  // Slots in id order, positions from `positions` (k·N, id order), active velocities from
+  // `active` (k·N, id order, or empty).
+  ParticleStore(const ParticleModel& model, std::span<const double> positions,
+                std::span<const double> active = {});
+  // New slot s holds old slot perm[s] (positions, radius, mobility, ids, keys, velocities).
   void Reorder(const std::vector<int>& perm, int threads);
   // The current positions in id order, wrapped into the periodic domain; out: size k·N.
   void CopyPositionsById(const PeriodicBox& box, std::span<double> out, int threads) const;
@@ -31,6 +36,7 @@ struct ParticleStore {
  private:
   std::vector<double> scratch1_, scratch_k_;
   std::vector<int> scratch_id_;
+  std::vector<std::int64_t> scratch_key_;
 };
 
 }  // namespace moreau::particles::internal

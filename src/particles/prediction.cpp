@@ -149,9 +149,9 @@ template <int K>
 }  // namespace
 
 template <int K, bool P, bool Noise>
-void Prediction::PredictImpl(const double* x, double* y, const int* id, const double* mobility,
-                             std::int64_t step, int threads, double* max_move,
-                             std::int64_t* bad_id) const {
+void Prediction::PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
+                             const double* active, const double* mobility, std::int64_t step,
+                             int threads, double* max_move, std::int64_t* bad_id) const {
   // Plain local scalars, not members or a struct: they stay in registers or the loop's operands
   // (a member or a struct copy could alias y or crowd out the running maximum).
   const DriftParameters& d = parameters_;
@@ -199,11 +199,14 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const do
     double v[K];
     for (int a = 0; a < K; ++a) v[a] = mu * F[a];
     if (propulsion) AddPropulsion<K>(d, xw, v);
+    if (active != nullptr) {
+      for (int a = 0; a < K; ++a) v[a] += active[K * s + a];
+    }
     double yy[K];
     for (int a = 0; a < K; ++a) yy[a] = x[K * s + a] + h * v[a];
     if constexpr (Noise) {
       double xi[3];
-      GaussianNoise(seed, id[s], step, K, xi);
+      GaussianNoise(seed, key != nullptr ? key[s] : id[s], step, K, xi);
       for (int a = 0; a < K; ++a) yy[a] += sigma * xi[a];
     }
     double d2 = 0.0;
@@ -224,15 +227,15 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const do
   *bad_id = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
 }
 
-void Prediction::Predict(const double* x, double* y, const int* id, const double* mobility,
-                         std::int64_t step, int threads, double* max_move,
-                         std::int64_t* bad_id) const {
+void Prediction::Predict(const double* x, double* y, const int* id, const std::int64_t* key,
+                         const double* active, const double* mobility, std::int64_t step,
+                         int threads, double* max_move, std::int64_t* bad_id) const {
   // Without noise the loop makes no call, so its running maximum stays in a register.
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
     if (parameters_.sigma > 0.0) {
-      PredictImpl<k, p, true>(x, y, id, mobility, step, threads, max_move, bad_id);
+      PredictImpl<k, p, true>(x, y, id, key, active, mobility, step, threads, max_move, bad_id);
     } else {
-      PredictImpl<k, p, false>(x, y, id, mobility, step, threads, max_move, bad_id);
+      PredictImpl<k, p, false>(x, y, id, key, active, mobility, step, threads, max_move, bad_id);
     }
   });
 }

@@ -47,8 +47,11 @@ class Prediction {
                   int threads);
   // y = the predicted positions of x for the step from t_step to t_{step+1}. *max_move: the
   // largest ‖Y_i − X_i‖ over finite rows; *bad_id: the smallest id with a non-finite Y_i, or −1.
-  void Predict(const double* x, double* y, const int* id, const double* mobility, std::int64_t step,
-               int threads, double* max_move, std::int64_t* bad_id) const;
+  // key: per slot the noise key (null: the id); active: k per slot, a velocity added to the
+  // drift (null: none).
+  void Predict(const double* x, double* y, const int* id, const std::int64_t* key,
+               const double* active, const double* mobility, std::int64_t step, int threads,
+               double* max_move, std::int64_t* bad_id) const;
   // The force buffer follows a reordering of the slots (new slot s holds old slot perm[s]).
   void Reorder(const std::vector<int>& perm, int threads);
 
@@ -58,8 +61,9 @@ class Prediction {
                       const Colouring& colouring, const CellList& cells, bool lexicographic,
                       int threads);
   template <int K, bool P, bool Noise>
-  void PredictImpl(const double* x, double* y, const int* id, const double* mobility,
-                   std::int64_t step, int threads, double* max_move, std::int64_t* bad_id) const;
+  void PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
+                   const double* active, const double* mobility, std::int64_t step, int threads,
+                   double* max_move, std::int64_t* bad_id) const;
 
   DriftParameters parameters_;
   PeriodicBox box_;

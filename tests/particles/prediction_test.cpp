@@ -35,7 +35,7 @@ TEST(ParticlePrediction, DriftMatchesTheFormulas) {
   double y[6];
   double max_move = 0.0;
   std::int64_t bad = 0;
-  prediction.Predict(x, y, id, mobility, 0, 1, &max_move, &bad);
+  prediction.Predict(x, y, id, nullptr, nullptr, mobility, 0, 1, &max_move, &bad);
   EXPECT_EQ(bad, -1);
   const double towards[3][2] = {{1.0, 0.0}, {3.0 / 5.0, -4.0 / 5.0}, {1.0, 0.0}};
   double worst = 0.0;
@@ -67,7 +67,7 @@ TEST(ParticlePrediction, NoiseIsKeyedByIdAndStep) {
   double y[6];
   double max_move = 0.0;
   std::int64_t bad = 0;
-  prediction.Predict(x, y, id, nullptr, 12, 1, &max_move, &bad);
+  prediction.Predict(x, y, id, nullptr, nullptr, nullptr, 12, 1, &max_move, &bad);
   const double sigma = std::sqrt(2.0 * 0.3 * h);
   for (int s = 0; s < 2; ++s) {
     double xi[3];
@@ -75,7 +75,7 @@ TEST(ParticlePrediction, NoiseIsKeyedByIdAndStep) {
     for (int a = 0; a < 3; ++a) EXPECT_EQ(y[3 * s + a], x[3 * s + a] + sigma * xi[a]);
   }
   const double nan_x[6] = {0, 0, 0, NAN, 5, 5};
-  prediction.Predict(nan_x, y, id, nullptr, 12, 1, &max_move, &bad);
+  prediction.Predict(nan_x, y, id, nullptr, nullptr, nullptr, 12, 1, &max_move, &bad);
   EXPECT_EQ(bad, 3);
 }
 

@@ -1,7 +1,7 @@
 // `moreau run SCENARIO.toml [--set key=value ...] [--out DIR] [--fix-overlaps]`: one simulation.
 // problem.kind = "particles" goes to the particle engine (particles_scenario → particles_run →
-// particles_report); "sliding" and "disks" to the paper's steppers (pbd_scenario → pbd_run →
-// pbd_report).
+// particles_report; with [[types]], an agent-based model: population_run); "sliding" and "disks"
+// to the paper's steppers (pbd_scenario → pbd_run → pbd_report).
 #include <memory>
 
 #include "commands.h"
@@ -11,6 +11,7 @@
 #include "run/pbd_report.h"
 #include "run/pbd_run.h"
 #include "run/pbd_scenario.h"
+#include "run/population_run.h"
 
 namespace moreau::cli {
 namespace {
@@ -24,6 +25,11 @@ struct RunArgs : ScenarioArgs {
 int RunParticleScenario(Scenario& scenario, const RunArgs& args) {
   const ParticleScenario settings = ReadParticleScenario(scenario, args.fix_overlaps);
   scenario.CheckAllKeysUsed();
+  if (settings.is_population()) {
+    particles::Population population = SetUpPopulationRun(settings, scenario);
+    OutputDir out(args.OutDir());
+    return RunPopulation(settings, population, scenario.path(), out);
+  }
   ParticleSetup setup = SetUpParticleRun(settings, scenario);
   OutputDir out(args.OutDir());
   const ParticleRunResult result = RunParticles(settings, setup, out);

@@ -8,6 +8,7 @@
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
 #include "moreau/common/steps.h"
+#include "run/population_scenario.h"
 
 namespace moreau::cli {
 namespace {
@@ -282,10 +283,12 @@ FieldTable<particles::EngineOptions> EngineFields() {
 
 void AddOutputFields(FieldTable<S>& t) {
   t.Integer(
-       "output.stride", [](auto& s) -> auto& { return s.output.stride; }, Range::NonNegative(),
-       "steps between trajectory frames (0: about 100 frames)")
-      .Flag(
-          "output.hdf5", [](auto& s) -> auto& { return s.output.hdf5; }, "trajectory.h5");
+      "output.stride", [](auto& s) -> auto& { return s.output.stride; }, Range::NonNegative(),
+      "steps between trajectory frames (0: about 100 frames)");
+  AddFlag(
+      t, "output.hdf5", [](auto& s) -> auto& { return s.output.hdf5; },
+      [](const S& s) { return !s.is_population(); },
+      "trajectory.h5 (default: a fixed population; a changing one is written as VTU)");
   AddFlag(
       t, "output.vtu", [](auto& s) -> auto& { return s.output.vtu; },
       [](const S& s) { return s.count <= 100000; }, "vtu/frame.pvd");
@@ -304,6 +307,12 @@ void AddOutputFields(FieldTable<S>& t) {
 void CheckRadii(FieldTable<S>& t) {
   t.Check("problem.radius",
           [](const S& s) {
+            if (s.is_population()) {
+              if (s.radius || s.radius_min || s.radius_max) {
+                throw InputError("the agents' radii come from [[types]]; give no problem.radius");
+              }
+              return;
+            }
             if (!s.radius && !s.radius_min && !s.radius_max) {
               throw InputError("required key is missing (or radius_min and radius_max)");
             }
@@ -370,6 +379,12 @@ void AddChecks(FieldTable<S>& t) {
                if (s.method != "pbd") throw InputError("the particle engine runs pbd");
              })
       .Check("solver.h", [](const S& s) { (void)StepCount(s.T, s.solver.h); })
+      .Check("output.hdf5",
+             [](const S& s) {
+               if (s.is_population() && s.output.hdf5) {
+                 throw InputError("a changing population is written as VTU (output.vtu) for now");
+               }
+             })
       .Check("output.snapshot_times", [](const S& s) {
         if (s.output.snapshot_times.size() > 4) throw InputError("at most four times");
         for (double time : s.output.snapshot_times) {
@@ -386,6 +401,7 @@ FieldTable<S> MakeFields() {
   AddForceFields(t);
   t.Mount("solver", &S::solver, EngineFields())
       .Text("solver.method", &S::method, "pbd (the only method of the particle engine)");
+  AddPopulationFields(t);
   AddOutputFields(t);
   AddChecks(t);
   return t;
@@ -402,7 +418,13 @@ particles::ParticleModel ParticleScenario::MakeModel() const {
   particles::ParticleModel model;
   model.dimension = dimension;
   const auto n = static_cast<std::size_t>(count);
-  if (radius) {
+  if (is_population()) {
+    const std::vector<int> types = InitialTypes();
+    model.radius.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      model.radius[i] = population.rules.types[static_cast<std::size_t>(types[i])].radius;
+    }
+  } else if (radius) {
     model.radius.assign(n, *radius);
   } else {
     SplitMix64 rng(static_cast<std::uint64_t>(seed) ^ 0x5DEECE66DULL);

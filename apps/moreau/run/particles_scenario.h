@@ -13,6 +13,7 @@
 
 #include "field_table.h"
 #include "moreau/particles/engine.h"
+#include "moreau/particles/population.h"
 #include "moreau/particles/room.h"
 #include "scenario.h"
 
@@ -38,6 +39,16 @@ struct ParticleOutputSettings {
   bool vtu = true;                     // default: count ≤ 100000
   bool snapshots = true;               // snapshots.png, 2D only; default: count ≤ 200000
   std::vector<double> snapshot_times;  // at most four; empty: the first and the last frame
+};
+
+// [[types]], [population] and initial.types: an agent-based model (docs/abm.md) when types are
+// given.
+struct PopulationSettings {
+  particles::PopulationRules rules;        // types and rules
+  std::vector<std::string> initial_types;  // one name per agent, or one for all; empty: the first
+  std::int64_t record_every = 1;           // rule steps between rows of population.csv
+  std::optional<double> exit_offset;       // removal past ⟨exit_normal, X⟩ > exit_offset
+  particles::Vec3 exit_normal{1.0, 0.0, 0.0};
 };
 
 struct ParticleScenario {
@@ -66,6 +77,13 @@ struct ParticleScenario {
   particles::EngineOptions solver;  // seed comes from problem.seed
   std::string method = "pbd";       // the particle engine runs pbd only
   ParticleOutputSettings output;
+  PopulationSettings population;
+
+  bool is_population() const { return !population.rules.types.empty(); }
+  // The rules with the exit plane and, unless population.seed is given, the problem's seed.
+  particles::PopulationRules MakeRules() const;
+  // The initial agents' type indices (InputError for an unknown name).
+  std::vector<int> InitialTypes() const;
 
   int n() const { return static_cast<int>(count); }
   // The model's radii, mobilities, domain, walls and obstacles (room walls included).

@@ -80,10 +80,10 @@ struct EngineOptions {
                                 // cell count (⌊√(cells/72)⌋ in 2D clamped to [2, 64],
                                 // ⌊∛(cells/216)⌋ in 3D clamped to [2, 16]: ≥ 8 blocks per
                                 // colour). Part of the definition of the coloured sweep order.
-  int sweeps = 1;                  // PBD sweeps per step, ≥ 1. 1 is the paper's PBD (eq. 4);
-                                   // s > 1 repeats the sweep s times (PNGS truncated at s sweeps),
-                                   // which shrinks the overlaps of deep contact chains (crowds
-                                   // pressing on a door) at s times the sweep cost.
+  int sweeps = 1;               // PBD sweeps per step, ≥ 1. 1 is the paper's PBD (eq. 4);
+                                // s > 1 repeats the sweep s times (PNGS truncated at s sweeps),
+                                // which shrinks the overlaps of deep contact chains (crowds
+                                // pressing on a door) at s times the sweep cost.
   bool monitor_overlap = true;  // track the max pair overlap after every step (one extra
                                 // read-only pass over the candidate pairs)
   bool check_initial_state = true;  // CheckInitialState(model, positions, initial_tolerance)
@@ -99,18 +99,18 @@ struct EngineOptions {
 // Counters and timings; every count is exact and independent of the thread count.
 struct EngineStats {
   std::int64_t steps = 0;
-  double time = 0.0;                        // steps · h
-  std::int64_t neighbour_list_builds = 0;   // Verlet-list builds (the initial one included)
-  std::int64_t verlet_retries = 0;          // steps redone because the skin bound was reached
+  double time = 0.0;                            // steps · h
+  std::int64_t neighbour_list_builds = 0;       // Verlet-list builds (the initial one included)
+  std::int64_t verlet_retries = 0;              // steps redone because the skin bound was reached
   std::int64_t shortest_rebuild_interval = -1;  // fewest steps between two list builds (a redo's
                                                 // build counts at its step); −1: one build
-  std::int64_t candidate_pairs = 0;         // pairs in the list at the last build
-  std::int64_t constraint_evaluations = 0;  // sets visited: candidate pairs + N · (walls +
-                                            // obstacles), per sweep
-  std::int64_t constraint_sets = 0;         // the paper's count m per sweep, summed: N(N−1)/2
-                                            // pairs + N · (walls + obstacles)
-  std::int64_t projections = 0;             // projections that moved a particle
-  double max_overlap = 0.0;                 // max over monitored steps of the largest pair
+  std::int64_t candidate_pairs = 0;             // pairs in the list at the last build
+  std::int64_t constraint_evaluations = 0;      // sets visited: candidate pairs + N · (walls +
+                                                // obstacles), per sweep
+  std::int64_t constraint_sets = 0;             // the paper's count m per sweep, summed: N(N−1)/2
+                                                // pairs + N · (walls + obstacles)
+  std::int64_t projections = 0;                 // projections that moved a particle
+  double max_overlap = 0.0;                     // max over monitored steps of the largest pair
                              // overlap max(0, r_i + r_j − ‖X_i − X_j‖) (exact)
   double last_overlap = 0.0;  // the same after the last monitored step
   // Wall-clock seconds per phase.
@@ -124,10 +124,10 @@ struct EngineStats {
 
 struct EngineSummary {
   EngineStats stats;
-  EngineOptions settings;              // the options the engine ran with
+  EngineOptions settings;                             // the options the engine ran with
   Termination termination = Termination::kCompleted;  // kCompleted or kNonFinite
-  std::string message;                // why it stopped, naming step and particle
-  std::int64_t failed_step = -1;      // the step that failed (1-based)
+  std::string message;                                // why it stopped, naming step and particle
+  std::int64_t failed_step = -1;                      // the step that failed (1-based)
   std::int64_t failed_particle = -1;  // its particle id (−1 when the failure names none)
   bool ok() const { return IsSuccess(termination); }
   std::string BriefReport() const;  // one line
@@ -171,6 +171,21 @@ class Engine {
   // any neighbour list can cover (20 redos in one step, or a skin at the periodic limit).
   bool Step();
 
+  // A changing population (population.h): replaces the particle set between steps. model: the
+  // new set (its dimension must stay; its radii, mobilities, stable_ids and fixed sets are
+  // used), positions: k·N in its index order, active_velocity: k·N velocities added to the
+  // drift u_i (an agent's motility along its polarity), or empty. The step count, time and
+  // counters carry on; the neighbour list is rebuilt at the new positions (one build, counted).
+  // No initial-state check: overlaps (the daughters of a division) are left to the projections
+  // of the next steps or to Relax. Throws InputError for a bad model, sizes or non-finite
+  // positions (the engine is then unusable).
+  void Repopulate(ParticleModel model, std::span<const double> positions,
+                  std::span<const double> active_velocity = {});
+  // Projection sweeps at the current positions (no drift, no noise, the step count unchanged)
+  // until the largest pair overlap is ≤ tolerance (≥ 0, else InputError) or max_sweeps were
+  // done; returns the number of sweeps.
+  int Relax(double tolerance, int max_sweeps);
+
   // Runs n = T/h steps (T/h a whole number to within 1e−9, else InputError), calling the
   // observer, if given, at step 0 and after every step. Stops early at a numerical failure (a
   // non-finite position, or Step's NumericalError) with termination kNonFinite, the message
@@ -198,6 +213,10 @@ class Engine {
   double MaxPairOverlap() const;
   // The largest violation of any set (pairs, walls, obstacles) at the current positions.
   double MaxViolation() const;
+  // For every particle (id order) the number of particles it touches, ‖X_i − X_j‖ ≤
+  // factor (r_i + r_j), at the current positions; factor in [1, 1.5] (InputError otherwise: the
+  // candidate pairs cover that reach). One pass over the list.
+  std::vector<int> ContactCounts(double factor) const;
   // The candidate pairs of the current list as (id_i, id_j), id_i < id_j, sorted.
   std::vector<std::pair<int, int>> CandidatePairs() const;
 

@@ -17,7 +17,8 @@
 //
 // Brownian noise (Euler–Maruyama): after the drift, X_i += √(2 D h) ξ_i with ξ_i ~ N(0, I_k)
 // drawn from a counter-based generator keyed by (seed, particle id, step): Philox4x32-10
-// (Salmon et al., SC'11) with key = seed and counter = (id, block, step low, step high), where
+// (Salmon et al., SC'11) with key = seed and counter = (id low, block + 4 · (id high), step low,
+// step high) (id low/high: its 32-bit halves; ids below 2^32 have id high = 0), where
 // step k = 0, 1, … is the step from t_k to t_{k+1} and block 0 gives ξ_0, ξ_1, block 1 gives ξ_2:
 // its four 32-bit words make two uniforms in (0, 1), then two normals by Box–Muller. The noise of
 // a particle depends only on (seed, id, step), never on threads, storage order or other particles.

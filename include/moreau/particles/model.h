@@ -1,7 +1,8 @@
 // The particle model at scale: what the problem is (immutable once validated).
 //
-// N particles in R^k, k ∈ {1, 2, 3} (the engine runs k ∈ {2, 3}), with per-particle radius r_i > 0 and mobility μ_i > 0, subject
-// to (the sets S_j of x' ∈ f(x) − N(S, x), all with exact orthogonal projections):
+// N particles in R^k, k ∈ {1, 2, 3} (the engine runs k ∈ {2, 3}), with per-particle radius r_i > 0
+// and mobility μ_i > 0, subject to (the sets S_j of x' ∈ f(x) − N(S, x), all with exact orthogonal
+// projections):
 //   - pair non-overlap        ‖X_i − X_j‖ ≥ r_i + r_j (minimum image on periodic axes);
 //   - walls (half-spaces)     ⟨n, X_i⟩ ≥ offset + r_i;
 //   - sphere obstacles        ‖X_i − c‖ ≥ R + r_i (disks in 2D, spheres in 3D);
@@ -50,6 +51,10 @@ struct ParticleModel {
   int dimension = 2;             // k ∈ {1, 2, 3}; the engine needs 2 or 3
   std::vector<double> radius;    // r_i > 0, one per particle (the particle count N = radius.size())
   std::vector<double> mobility;  // μ_i > 0, one per particle; empty means μ_i = 1 for all
+  // Stable ids of a changing population (population.h), one per particle, each in [0, 2^62):
+  // they key the noise ξ(seed, stable id, step) in place of the index i, so a particle keeps its
+  // noise stream when others are added or removed. Empty: the index i (a fixed population).
+  std::vector<std::int64_t> stable_ids;
   std::vector<Wall> walls;
   std::vector<SphereObstacle> spheres;
   std::vector<SegmentObstacle> segments;  // dimension 2 only
@@ -73,7 +78,8 @@ struct ParticleModel {
   // Throws InputError naming the offending field and value:
   //   "dimension must be 1, 2 or 3 (got 4)", "a particle model needs at least one particle",
   //   "radius of particle 12 must be > 0 (got -1)", "mobility of particle 3 must be > 0 (got 0)",
-  //   "mobility has 5 entries for 6 particles", "walls[2].normal must be non-zero",
+  //   "mobility has 5 entries for 6 particles", "stable_ids has 5 entries for 6 particles",
+  //   "stable id of particle 2 must be in [0, 2^62) (got -1)", "walls[2].normal must be non-zero",
   //   "spheres[1].radius must be > 0", "segments[0] needs a ≠ b",
   //   "segments need dimension 2 (segments[0] given in 3D)",
   //   "domain of periodic axis 1 needs lo < hi (got [0, 0))",

@@ -1,0 +1,163 @@
+#include "run/population_run.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "field_table.h"
+#include "moreau/common/hash.h"
+#include "moreau/common/steps.h"
+#include "moreau/io/trajectory.h"
+#include "progress.h"
+
+namespace moreau::cli {
+namespace {
+
+std::string CsvHeader(const particles::PopulationRules& rules) {
+  std::string h = "step,t,count";
+  for (const particles::AgentType& t : rules.types) h += ",count_" + t.name;
+  return h + ",mean_radius,contacts,overlap_before,overlap,colony_radius,births,deaths,removals\n";
+}
+
+std::string CsvRow(const particles::PopulationObservables& o) {
+  std::string row = fmt::format("{},{:.9g},{}", o.step, o.time, o.count);
+  for (std::int64_t c : o.count_per_type) row += fmt::format(",{}", c);
+  return row + fmt::format(",{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{}\n", o.mean_radius, o.contacts,
+                           o.overlap_before, o.overlap, o.colony_radius, o.births, o.deaths,
+                           o.removals);
+}
+
+// "id,type,generation,x,y[,z],r", one row per agent.
+std::string AgentsCsv(const particles::Population& p) {
+  const int k = p.engine().dimension();
+  std::string csv = k == 2 ? "id,type,generation,x,y,r\n" : "id,type,generation,x,y,z,r\n";
+  const std::vector<double> x = p.count() > 0 ? p.Positions() : std::vector<double>{};
+  for (std::size_t i = 0; i < p.agents().size(); ++i) {
+    const particles::Agent& a = p.agents()[i];
+    csv += fmt::format("{},{},{}", a.id, a.type, a.generation);
+    for (int c = 0; c < k; ++c)
+      csv +=
+          fmt::format(",{:.9g}", x[static_cast<std::size_t>(k) * i + static_cast<std::size_t>(c)]);
+    csv += fmt::format(",{:.9g}\n", a.radius);
+  }
+  return csv;
+}
+
+// The VTU frames: the agents' positions, stable ids and radii at the rule steps that cross a
+// multiple of the stride.
+class FrameWriter {
+ public:
+  FrameWriter(OutputDir& out, bool vtu, std::int64_t stride) : stride_(stride) {
+    if (!vtu) return;
+    const std::filesystem::path dir = out.Stage("vtu");
+    std::filesystem::create_directories(dir);
+    writer_ = io::MakeVtuSeriesWriter(dir, "frame");
+  }
+  void Write(const particles::Population& p, bool force) {
+    const std::int64_t slot = p.engine().step() / stride_;
+    if (!writer_ || (!force && slot == last_slot_)) return;
+    last_slot_ = slot;
+    const std::vector<double> x = p.count() > 0 ? p.Positions() : std::vector<double>{};
+    ids_.clear();
+    radii_.clear();
+    for (const particles::Agent& a : p.agents()) {
+      ids_.push_back(a.id);
+      radii_.push_back(a.radius);
+    }
+    writer_->Write({p.engine().step(), p.engine().time(), p.engine().dimension(), x.data(),
+                    ids_.data(), radii_.data(), p.count()});
+  }
+  bool Close() {
+    if (writer_) writer_->Close();
+    return writer_ != nullptr;
+  }
+
+ private:
+  std::int64_t stride_;
+  std::int64_t last_slot_ = -1;
+  std::unique_ptr<io::TrajectoryWriter> writer_;
+  std::vector<std::int64_t> ids_;
+  std::vector<double> radii_;
+};
+
+}  // namespace
+
+particles::Population SetUpPopulationRun(const ParticleScenario& scenario, const Scenario& file) {
+  particles::ParticleModel model = scenario.MakeModel();
+  WithKey(file, "problem", [&] { model.Validate(); });
+  std::vector<double> x0;
+  if (scenario.positions) {
+    x0 = *scenario.positions;
+  } else {
+    WithKey(file, "initial", [&] {
+      x0 = particles::RandomSequentialAddition(model, scenario.initial_lo.value_or(model.domain_lo),
+                                               scenario.initial_hi.value_or(model.domain_hi),
+                                               static_cast<std::uint64_t>(scenario.seed));
+    });
+  }
+  if (scenario.fix_overlaps) WithKey(file, "initial", [&] { particles::FixOverlaps(model, x0); });
+  std::optional<particles::Population> population;
+  WithKey(file, "initial", [&] {
+    population.emplace(std::move(model), scenario.MakeForces(), scenario.MakeEngineOptions(),
+                       scenario.MakeRules(), scenario.InitialTypes(), x0);
+  });
+  return std::move(*population);
+}
+
+int RunPopulation(const ParticleScenario& scenario, particles::Population& population,
+                  const std::string& scenario_file, OutputDir& out) {
+  const particles::PopulationRules rules = scenario.MakeRules();
+  const std::int64_t steps = StepCount(scenario.T, scenario.solver.h);
+  FrameWriter frames(
+      out, scenario.output.vtu,
+      scenario.output.stride > 0 ? scenario.output.stride : std::max<std::int64_t>(1, steps / 100));
+  std::string csv = CsvHeader(rules);
+  std::int64_t observed = 0;
+  std::int64_t recorded_step = -1;
+  ProgressBar progress("run", steps);
+  const particles::PopulationSummary summary =
+      population.Run(scenario.T, [&](const particles::Population& p) {
+        if (observed++ % scenario.population.record_every == 0) {
+          csv += CsvRow(p.Observe());
+          recorded_step = p.engine().step();
+        }
+        frames.Write(p, false);
+        progress.Update(p.engine().step());
+        return true;
+      });
+  progress.Finish();
+  // The final state (the last step, or the step at which the last agent left) when not yet in.
+  if (recorded_step != population.engine().step() || population.count() == 0) {
+    csv += CsvRow(population.Observe());
+  }
+  frames.Write(population, false);
+  const bool vtu = frames.Close();
+  out.WriteText("population.csv", csv);
+  out.WriteText("agents.csv", AgentsCsv(population));
+  nlohmann::json j = summary.ToJson();
+  j["engine_kind"] = "particles";
+  j["scenario_file"] = scenario_file;
+  j["dimension"] = population.engine().dimension();
+  j["positions_hash"] =
+      HashDoublesHex(population.count() > 0 ? population.Positions() : std::vector<double>{});
+  j["scenario"] = EchoParticleScenario(scenario);
+  out.WriteText("summary.json", j.dump(2) + "\n");
+  out.Commit();
+  std::printf("%s\n", summary.engine.BriefReport().c_str());
+  std::printf("agents: %lld (births %lld, deaths %lld, removals %lld)%s%s\n",
+              static_cast<long long>(population.count()), static_cast<long long>(summary.births),
+              static_cast<long long>(summary.deaths), static_cast<long long>(summary.removals),
+              summary.message.empty() ? "" : " — ", summary.message.c_str());
+  std::printf("wrote %s/summary.json, population.csv, agents.csv%s\n", out.dir().c_str(),
+              vtu ? ", vtu/frame.pvd" : "");
+  if (!summary.ok()) {
+    std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace moreau::cli

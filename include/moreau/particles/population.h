@@ -1,0 +1,204 @@
+// Agent-based models on the particle engine: a population of agents (cells, pedestrians) that
+// grow, divide, die or leave, carry a polarity and move along it, between the engine's steps.
+//
+// Agents are the engine's particles; each has a stable id, a type (per-type parameters below),
+// a generation, a division count, an age, a radius and a unit polarity p_i. Every `interval`
+// engine steps (the rule step, Δt = interval · h, at step s = interval, 2·interval, …) the rules
+// act on every agent i, in this order, with randomness drawn by Philox4x32 keyed by
+// (seed, stable id, s) and a stream per rule — so an agent's fate depends only on
+// (seed, id, step) and its own state, never on threads or the order agents are processed:
+//   growth      r_i ← r_i + g Δt (only while c_i < c_max: contact inhibition, c_i the number
+//               of agents touching i);  age_i ← age_i + Δt;
+//   removal     removed when its centre is past the exit plane, ⟨n, X_i⟩ > c (a crowd's exit);
+//   death       dies with probability 1 − exp(−δ Δt);
+//   polarity    p_i ← normalise(p_i + Δt [J (m_i − p_i) + β (v̂_i − p_i)] + √(2Δt/τ_p) P⊥ η_i),
+//               m_i the mean polarity of the agents touching i (Vicsek-like alignment),
+//               v̂_i the unit displacement of i over the last rule step (alignment with the
+//               velocity), η_i ~ N(0, I) projected perpendicular to p_i (rotational diffusion,
+//               persistence time τ_p; τ_p = 0: none). Alignment reads the previous polarities
+//               (a Jacobi update), so the result is independent of the order;
+//   division    (only while c_i < c_max) when r_i ≥ r_div (r_div > 0), or age_i ≥ τ_c
+//               (τ_c > 0), or with probability 1 − exp(−λ Δt) (λ > 0). The mother keeps its
+//               id; both daughters get radius r_0 (the type's radius), age 0, generation + 1,
+//               and are placed at X_i ± r_0 e along a unit axis e (uniformly random, or the
+//               polarity): they touch each other, and their overlaps with neighbours are
+//               resolved by the projections (or at once by Engine::Relax when `relax` is set).
+//               The new daughter's id is ChildId(mother's id, mother's division count after
+//               this division), a pure function, so ids never depend on the order of events;
+//   motility    the engine adds the active velocity v0 p_i to agent i's drift until the next rule
+//               step (engine.h, Repopulate).
+// Adhesion between touching agents is the engine's pair attraction (forces.h, PairAttraction).
+// The new roster keeps the survivors in their previous order, each new daughter right after its
+// mother; the engine then rebuilds its lists once (Engine::Repopulate).
+//
+// Ids: the initial agents have ids 0 … N0 − 1; ChildId mixes (id, count) into [0, 2^62) with a
+// bijective 64-bit mixer, so two agents share an id only by a hash collision (probability
+// ≈ N²/2^63, ~1e−9 at N = 10^5); the population checks this and stops with an error if it happens.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <unordered_set>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "moreau/common/termination.h"
+#include "moreau/particles/engine.h"
+
+namespace moreau::particles {
+
+// One agent type's parameters (times in the scenario's time unit, lengths in its length unit).
+struct AgentType {
+  std::string name = "cell";        // unique among the types
+  double radius = 0.5;              // r_0 > 0: initial agents' and daughters' radius
+  double growth_rate = 0.0;         // g ≥ 0: dr/dt (length/time)
+  double division_radius = 0.0;     // r_div: divides at r ≥ r_div; 0: never by size; else > r_0
+  double cycle_time = 0.0;          // τ_c ≥ 0: divides at age ≥ τ_c; 0: never by age
+  double division_rate = 0.0;       // λ ≥ 0 (1/time): divides at rate λ
+  double death_rate = 0.0;          // δ ≥ 0 (1/time)
+  double mobility = 1.0;            // μ > 0, the engine's mobility
+  double speed = 0.0;               // v0 ≥ 0: motility along the polarity (length/time)
+  double persistence_time = 0.0;    // τ_p ≥ 0: polarity rotational diffusion 1/τ_p; 0: none
+  double alignment = 0.0;           // J ≥ 0 (1/time): alignment with touching agents' polarity
+  double velocity_alignment = 0.0;  // β ≥ 0 (1/time): alignment with the own velocity
+  double max_contacts = 0.0;        // c_max ≥ 0: contact inhibition, grows and divides only while
+                                    // touching fewer than c_max agents; 0: no inhibition
+};
+
+enum class DivisionAxis { kRandom, kPolarity };
+// "random", "polarity"; Parse throws InputError for other names.
+std::string_view DivisionAxisName(DivisionAxis axis);
+DivisionAxis ParseDivisionAxis(std::string_view name);
+
+// Agents whose centre is past the plane, ⟨normal, X⟩ > offset, are removed.
+struct ExitPlane {
+  Vec3 normal{1.0, 0.0, 0.0};  // non-zero
+  double offset = 0.0;
+};
+
+struct PopulationRules {
+  std::vector<AgentType> types;  // ≥ 1; agents name their type by index
+  int interval = 10;             // engine steps per rule step, ≥ 1
+  std::uint64_t seed = 1;        // key of the rules' randomness (the engine's noise has its own)
+  DivisionAxis axis = DivisionAxis::kRandom;
+  std::optional<ExitPlane> exit;  // removal on leaving through it
+  double contact_factor = 1.05;  // agents touch when ‖X_i − X_j‖ ≤ f (r_i + r_j), f in [1, 1.5]
+  bool relax = false;            // after every rule step, Engine::Relax until every pair
+                                 // overlap ≤ relax_tolerance · min r_0 (or relax_max_sweeps)
+  double relax_tolerance = 1e-3;  // > 0
+  int relax_max_sweeps = 10000;   // ≥ 1
+  std::int64_t max_count = 0;     // stop (completed) once the count reaches it; 0: no cap
+
+  // Throws InputError naming the field: "types[1].growth_rate must be ≥ 0 (got -1)",
+  // "types[0].division_radius (0.4) must be > the radius (0.5)",
+  // "types: the name 'cell' is used twice", "interval must be ≥ 1 (got 0)", …
+  void Validate() const;
+  // The index of the type called `name`; InputError "unknown type 'x' (types: a, b)".
+  int TypeIndex(std::string_view name) const;
+  nlohmann::json ToJson() const;
+};
+
+// The state of one agent (index order = the engine's particle order).
+struct Agent {
+  std::int64_t id = 0;
+  int type = 0;
+  int generation = 0;  // divisions since the initial agent of its lineage
+  int divisions = 0;   // divisions of this agent (it keeps its id; see ChildId)
+  double radius = 0.5;
+  double age = 0.0;              // time since its last division or the start
+  Vec3 polarity{1.0, 0.0, 0.0};  // unit (first k components)
+};
+
+// The id of the daughter born at a mother's `count`-th division: a pure function in [0, 2^62).
+std::int64_t ChildId(std::int64_t mother_id, int count);
+
+// The observables at one time.
+struct PopulationObservables {
+  std::int64_t step = 0;
+  double time = 0.0;
+  std::vector<std::int64_t> count_per_type;
+  std::int64_t count = 0;
+  double mean_radius = 0.0;
+  std::int64_t contacts = 0;    // pairs with ‖X_i − X_j‖ ≤ contact_factor (r_i + r_j)
+  double overlap_before = 0.0;  // largest pair overlap right after the last rule step's
+                                // population change, before any projection (pressure proxy)
+  double overlap = 0.0;         // largest pair overlap now
+  double colony_radius = 0.0;   // max_i ‖X_i − X̄‖ + r_i, X̄ the centroid
+  std::int64_t births = 0;      // so far
+  std::int64_t deaths = 0;      // so far (rate)
+  std::int64_t removals = 0;    // so far (exit)
+};
+
+struct PopulationSummary {
+  EngineSummary engine;
+  PopulationRules settings;
+  Termination termination = Termination::kCompleted;
+  std::string message;  // why it stopped early (extinct, count cap, numerical failure)
+  std::int64_t rule_steps = 0;
+  std::int64_t births = 0, deaths = 0, removals = 0;
+  std::int64_t relax_sweeps = 0;
+  std::int64_t final_count = 0;
+  double max_overlap_before = 0.0;  // max over rule steps of overlap_before
+  double rules_seconds = 0.0;       // the rules and the repopulation
+  double total_seconds = 0.0;
+  bool ok() const { return IsSuccess(termination); }
+  // SummaryJson, the counters, "engine" (EngineSummary::ToJson) and "settings".
+  nlohmann::json ToJson() const;
+};
+
+class Population;
+// Called at step 0 and after every rule step; returns false to stop the run (kInterrupted).
+using PopulationObserver = std::function<bool(const Population& population)>;
+
+class Population {
+ public:
+  // geometry: dimension, walls, obstacles, periodic domain (its radius/mobility/stable_ids are
+  // replaced by the agents'); types: the initial agents' type indices; positions: k·N0.
+  // Throws InputError for bad rules, a type index out of range, or what the engine throws.
+  Population(ParticleModel geometry, Forces forces, EngineOptions options, PopulationRules rules,
+             std::span<const int> types, std::span<const double> positions);
+
+  // One engine step, then the rules when the step count is a multiple of the interval. Returns
+  // false (state kept) when the engine failed, the population is extinct, or the cap is reached.
+  bool Step();
+  // Runs T/h steps (as Engine::Run), calling the observer at step 0 and after each rule step.
+  PopulationSummary Run(double T, const PopulationObserver& observer = {});
+
+  const std::vector<Agent>& agents() const { return agents_; }
+  std::vector<double> Positions() const { return engine_.Positions(); }  // k·N, index order
+  const Engine& engine() const { return engine_; }
+  int count() const { return static_cast<int>(agents_.size()); }
+  // The observables now (one pass over the candidate pairs for the contacts).
+  PopulationObservables Observe() const;
+  PopulationSummary summary() const;
+
+ private:
+  static ParticleModel ModelOf(const ParticleModel& geometry, const PopulationRules& rules,
+                               const std::vector<Agent>& agents);
+  std::vector<double> ActiveVelocities() const;
+  void ApplyRules();
+  std::vector<double> MeanNeighbourPolarity(std::span<const double> x) const;
+  void UpdatePolarity(std::size_t i, std::span<const double> x, std::span<const double> mean,
+                      Agent* agent) const;
+  bool Leaves(const Agent& a, const double* xi, std::int64_t step);
+  void Divide(Agent a, const double* xi, std::int64_t step, std::vector<Agent>* next,
+              std::vector<double>* y);
+  void Stop(Termination termination, std::string message);
+
+  ParticleModel geometry_;
+  PopulationRules rules_;
+  std::vector<Agent> agents_;  // before engine_: the engine is built from them
+  Engine engine_;
+  std::unordered_set<std::int64_t> ids_;  // the ids in use (the collision check)
+  std::vector<double> last_positions_;    // at the last rule step (velocity alignment)
+  PopulationSummary summary_;
+  double overlap_before_ = 0.0;
+  bool stopped_ = false;
+};
+
+}  // namespace moreau::particles

@@ -1,0 +1,112 @@
+"""End-to-end tests of `moreau run` on agent-based scenarios (issue 14, docs/abm.md): a small
+growing colony writes its observables, agents and frames; the same seed gives the same bits; the
+crowd leaves through the exit; bad input (negative rates, a division size below the radius, an
+unknown type name) gets one line naming the file, the key and the reason, exit code 2, nothing
+written."""
+import csv
+import json
+
+import pytest
+
+from conftest import ROOT, assert_rejected, run_cli
+
+COLONY = """
+[problem]
+kind = "particles"
+dimension = 2
+count = 2
+T = 20.0
+seed = 4
+
+[initial]
+positions = [[-0.6, 0.0], [0.6, 0.0]]
+types = ["normal", "tumour"]
+
+[[types]]
+name = "normal"
+radius = 0.5
+growth_rate = 0.02
+division_radius = 0.7071
+division_rate = 0.1
+
+[[types]]
+name = "tumour"
+radius = 0.5
+growth_rate = 0.04
+division_radius = 0.7071
+death_rate = 0.01
+speed = 0.05
+persistence_time = 5.0
+
+[population]
+interval = 5
+
+[solver]
+h = 0.02
+"""
+
+
+def test_colony_writes_observables_agents_and_frames(tmp_path, write_scenario):
+    out = tmp_path / "out"
+    r = run_cli("run", write_scenario(COLONY), "--out", out)
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader(open(out / "population.csv")))
+    assert rows[0]["count"] == "2" and rows[0]["t"] == "0"
+    last = rows[-1]
+    assert int(last["count"]) == int(last["count_normal"]) + int(last["count_tumour"])
+    assert int(last["count"]) == 2 + int(last["births"]) - int(last["deaths"])
+    agents = list(csv.DictReader(open(out / "agents.csv")))
+    assert len(agents) == int(last["count"])
+    assert len({a["id"] for a in agents}) == len(agents)
+    summary = json.load(open(out / "summary.json"))
+    assert summary["ok"] and summary["final_count"] == len(agents)
+    assert summary["settings"]["types"][1]["name"] == "tumour"
+    assert (out / "vtu" / "frame.pvd").exists()
+    assert not (out / "trajectory.h5").exists()
+
+
+def test_same_seed_same_bits_on_one_and_two_threads(tmp_path, write_scenario):
+    hashes = []
+    for threads in (1, 2):
+        out = tmp_path / f"out{threads}"
+        r = run_cli("run", write_scenario(COLONY), "--out", out, "--set",
+                    f"solver.threads={threads}")
+        assert r.returncode == 0, r.stderr
+        hashes.append(json.load(open(out / "summary.json"))["positions_hash"])
+    assert hashes[0] == hashes[1]
+
+
+def test_crowd_leaves_through_the_exit(tmp_path):
+    out = tmp_path / "crowd"
+    r = run_cli("run", ROOT / "examples/abm/crowd_exit.toml", "--out", out, "--set",
+                "problem.count=40", "--set", "problem.T=20")
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader(open(out / "population.csv")))
+    assert int(rows[-1]["removals"]) == 40 - int(rows[-1]["count"])
+    assert int(rows[-1]["removals"]) > 0
+    # Everybody is out well before T = 60 s of the full example; with 40 people, by 20 s.
+    assert rows[-1]["count"] == "0" and rows[-1]["removals"] == "40"
+
+
+BAD = [
+    ("negative_rate", COLONY.replace("death_rate = 0.01", "death_rate = -0.5"), "types",
+     "types[1].death_rate must be ≥ 0 (got -0.5)"),
+    ("negative_growth", COLONY.replace("growth_rate = 0.02", "growth_rate = -1"), "types",
+     "types[0].growth_rate must be ≥ 0"),
+    ("division_below_radius", COLONY.replace("division_radius = 0.7071\ndivision_rate",
+                                             "division_radius = 0.4\ndivision_rate"), "types",
+     "types[0].division_radius (0.4) must be > the radius (0.5)"),
+    ("unknown_type", COLONY.replace('types = ["normal", "tumour"]', 'types = ["normal", "stroma"]'),
+     "initial.types", "unknown type 'stroma' (types: normal, tumour)"),
+    ("unknown_type_key", COLONY.replace("speed = 0.05", "sped = 0.05"), "types[1].sped",
+     "unknown key"),
+    ("radius_with_types", COLONY.replace("T = 20.0", "T = 20.0\nradius = 0.5"), "problem.radius",
+     "come from [[types]]"),
+    ("hdf5_changing_count", COLONY + "\n[output]\nhdf5 = true\n", "output.hdf5", "VTU"),
+    ("interval", COLONY.replace("interval = 5", "interval = 0"), "population.interval", "must be ≥ 1 (got 0)"),
+]
+
+
+@pytest.mark.parametrize("name,text,key,reason", BAD, ids=[b[0] for b in BAD])
+def test_bad_abm_input(tmp_path, write_scenario, name, text, key, reason):
+    assert_rejected(write_scenario(text), tmp_path / "out", key, reason)
