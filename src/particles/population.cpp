@@ -2,7 +2,6 @@
 #include "moreau/particles/population.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -10,15 +9,11 @@
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
 #include "moreau/common/steps.h"
+#include "moreau/common/stopwatch.h"
 
 namespace moreau::particles {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double Seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
 
 // One stream of randomness per rule: the rule seed is mixed with the stream's constant.
 enum class Stream : std::uint64_t {
@@ -254,7 +249,7 @@ void Population::Divide(Agent a, const double* xi, std::int64_t step, std::vecto
 // growth → removal → death → polarity → division, agent by agent (population.h); then the
 // engine takes the new roster.
 void Population::ApplyRules() {
-  const auto t0 = Clock::now();
+  const Stopwatch stopwatch;
   const int k = geometry_.dimension;
   const auto uk = static_cast<std::size_t>(k);
   const double dt = static_cast<double>(rules_.interval) * engine_.options().h;
@@ -302,7 +297,7 @@ void Population::ApplyRules() {
   ++summary_.rule_steps;
   summary_.final_count = count();
   if (agents_.empty()) {
-    summary_.rules_seconds += Seconds(t0, Clock::now());
+    summary_.rules_seconds += stopwatch.Seconds();
     Stop(Termination::kCompleted, fmt::format("no agents left at step {}", step));
     return;
   }
@@ -317,7 +312,7 @@ void Population::ApplyRules() {
   bool follows_velocity = false;
   for (const AgentType& t : rules_.types) follows_velocity |= t.velocity_alignment > 0.0;
   if (follows_velocity) last_positions_ = engine_.Positions();
-  summary_.rules_seconds += Seconds(t0, Clock::now());
+  summary_.rules_seconds += stopwatch.Seconds();
   if (rules_.max_count > 0 && count() >= rules_.max_count) {
     Stop(Termination::kCompleted, fmt::format("the count reached {} (max_count {}) at step {}",
                                               count(), rules_.max_count, step));
@@ -326,7 +321,7 @@ void Population::ApplyRules() {
 
 bool Population::Step() {
   if (stopped_) return false;
-  const auto t0 = Clock::now();
+  const Stopwatch stopwatch;
   try {
     if (!engine_.Step()) {
       Stop(Termination::kNonFinite, engine_.summary().message);
@@ -336,7 +331,7 @@ bool Population::Step() {
   } catch (const NumericalError& e) {
     Stop(Termination::kNonFinite, e.what());
   }
-  summary_.total_seconds += Seconds(t0, Clock::now());
+  summary_.total_seconds += stopwatch.Seconds();
   return !stopped_;
 }
 

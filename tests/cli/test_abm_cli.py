@@ -62,7 +62,25 @@ def test_colony_writes_observables_agents_and_frames(tmp_path, write_scenario):
     assert summary["ok"] and summary["final_count"] == len(agents)
     assert summary["settings"]["types"][1]["name"] == "tumour"
     assert (out / "vtu" / "frame.pvd").exists()
-    assert not (out / "trajectory.h5").exists()
+    assert (out / "trajectory.xdmf").exists()
+
+
+def test_changing_population_trajectory_holds_each_frames_count(tmp_path, write_scenario):
+    h5py = pytest.importorskip("h5py")  # installed by scripts/install-deps
+    out = tmp_path / "out"
+    r = run_cli("run", write_scenario(COLONY), "--out", out)
+    assert r.returncode == 0, r.stderr
+    agents = list(csv.DictReader(open(out / "agents.csv")))
+    with h5py.File(out / "trajectory.h5", "r") as f:
+        counts = f["count"][:]
+        assert counts[0] == 2 and counts[-1] == len(agents)
+        assert len(set(counts.tolist())) > 1  # the count did change
+        for i, n in enumerate(counts):
+            ids = f["ids"][i, :n]
+            assert (ids >= 0).all() and len(set(ids.tolist())) == n
+            assert (f["ids"][i, n:] == -1).all()
+        last_ids = sorted(f["ids"][len(counts) - 1, :counts[-1]].tolist())
+    assert last_ids == sorted(int(a["id"]) for a in agents)
 
 
 def test_same_seed_same_bits_on_one_and_two_threads(tmp_path, write_scenario):
@@ -102,7 +120,6 @@ BAD = [
      "unknown key"),
     ("radius_with_types", COLONY.replace("T = 20.0", "T = 20.0\nradius = 0.5"), "problem.radius",
      "come from [[types]]"),
-    ("hdf5_changing_count", COLONY + "\n[output]\nhdf5 = true\n", "output.hdf5", "VTU"),
     ("interval", COLONY.replace("interval = 5", "interval = 0"), "population.interval", "must be ≥ 1 (got 0)"),
 ]
 

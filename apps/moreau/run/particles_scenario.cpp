@@ -287,8 +287,7 @@ void AddOutputFields(FieldTable<S>& t) {
       "steps between trajectory frames (0: about 100 frames)");
   AddFlag(
       t, "output.hdf5", [](auto& s) -> auto& { return s.output.hdf5; },
-      [](const S& s) { return !s.is_population(); },
-      "trajectory.h5 (default: a fixed population; a changing one is written as VTU)");
+      [](const S&) { return true; }, "trajectory.h5 + trajectory.xdmf");
   AddFlag(
       t, "output.vtu", [](auto& s) -> auto& { return s.output.vtu; },
       [](const S& s) { return s.count <= 100000; }, "vtu/frame.pvd");
@@ -379,12 +378,6 @@ void AddChecks(FieldTable<S>& t) {
                if (s.method != "pbd") throw InputError("the particle engine runs pbd");
              })
       .Check("solver.h", [](const S& s) { (void)StepCount(s.T, s.solver.h); })
-      .Check("output.hdf5",
-             [](const S& s) {
-               if (s.is_population() && s.output.hdf5) {
-                 throw InputError("a changing population is written as VTU (output.vtu) for now");
-               }
-             })
       .Check("output.snapshot_times", [](const S& s) {
         if (s.output.snapshot_times.size() > 4) throw InputError("at most four times");
         for (double time : s.output.snapshot_times) {

@@ -46,19 +46,24 @@ std::string AgentsCsv(const particles::Population& p) {
   return csv;
 }
 
-// The VTU frames: the agents' positions, stable ids and radii at the rule steps that cross a
-// multiple of the stride.
+// The trajectory frames (HDF5 + XDMF and/or VTU, both with a count that changes per frame): the
+// agents' positions, stable ids and radii at the rule steps that cross a multiple of the stride.
 class FrameWriter {
  public:
-  FrameWriter(OutputDir& out, bool vtu, std::int64_t stride) : stride_(stride) {
-    if (!vtu) return;
-    const std::filesystem::path dir = out.Stage("vtu");
-    std::filesystem::create_directories(dir);
-    writer_ = io::MakeVtuSeriesWriter(dir, "frame");
+  FrameWriter(OutputDir& out, bool hdf5, bool vtu, std::int64_t stride) : stride_(stride) {
+    if (hdf5) {
+      out.Stage("trajectory.xdmf");  // the sidecar the HDF5 writer completes at Close()
+      writers_.push_back(io::MakeHdf5Writer(out.Stage("trajectory.h5")));
+    }
+    if (vtu) {
+      const std::filesystem::path dir = out.Stage("vtu");
+      std::filesystem::create_directories(dir);
+      writers_.push_back(io::MakeVtuSeriesWriter(dir, "frame"));
+    }
   }
   void Write(const particles::Population& p, bool force) {
     const std::int64_t slot = p.engine().step() / stride_;
-    if (!writer_ || (!force && slot == last_slot_)) return;
+    if (writers_.empty() || (!force && slot == last_slot_)) return;
     last_slot_ = slot;
     const std::vector<double> x = p.count() > 0 ? p.Positions() : std::vector<double>{};
     ids_.clear();
@@ -67,18 +72,18 @@ class FrameWriter {
       ids_.push_back(a.id);
       radii_.push_back(a.radius);
     }
-    writer_->Write({p.engine().step(), p.engine().time(), p.engine().dimension(), x.data(),
-                    ids_.data(), radii_.data(), p.count()});
+    const io::ParticleFrame frame{p.engine().step(), p.engine().time(), p.engine().dimension(),
+                                  x.data(), ids_.data(), radii_.data(), p.count()};
+    for (auto& writer : writers_) writer->Write(frame);
   }
-  bool Close() {
-    if (writer_) writer_->Close();
-    return writer_ != nullptr;
+  void Close() {
+    for (auto& writer : writers_) writer->Close();
   }
 
  private:
   std::int64_t stride_;
   std::int64_t last_slot_ = -1;
-  std::unique_ptr<io::TrajectoryWriter> writer_;
+  std::vector<std::unique_ptr<io::TrajectoryWriter>> writers_;
   std::vector<std::int64_t> ids_;
   std::vector<double> radii_;
 };
@@ -112,7 +117,7 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
   const particles::PopulationRules rules = scenario.MakeRules();
   const std::int64_t steps = StepCount(scenario.T, scenario.solver.h);
   FrameWriter frames(
-      out, scenario.output.vtu,
+      out, scenario.output.hdf5, scenario.output.vtu,
       scenario.output.stride > 0 ? scenario.output.stride : std::max<std::int64_t>(1, steps / 100));
   std::string csv = CsvHeader(rules);
   std::int64_t observed = 0;
@@ -134,7 +139,7 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
     csv += CsvRow(population.Observe());
   }
   frames.Write(population, false);
-  const bool vtu = frames.Close();
+  frames.Close();
   out.WriteText("population.csv", csv);
   out.WriteText("agents.csv", AgentsCsv(population));
   nlohmann::json j = summary.ToJson();
@@ -151,8 +156,9 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
               static_cast<long long>(population.count()), static_cast<long long>(summary.births),
               static_cast<long long>(summary.deaths), static_cast<long long>(summary.removals),
               summary.message.empty() ? "" : " — ", summary.message.c_str());
-  std::printf("wrote %s/summary.json, population.csv, agents.csv%s\n", out.dir().c_str(),
-              vtu ? ", vtu/frame.pvd" : "");
+  std::printf("wrote %s/summary.json, population.csv, agents.csv%s%s\n", out.dir().c_str(),
+              scenario.output.hdf5 ? ", trajectory.h5 + .xdmf" : "",
+              scenario.output.vtu ? ", vtu/frame.pvd" : "");
   if (!summary.ok()) {
     std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
     return 3;
