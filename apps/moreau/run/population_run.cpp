@@ -73,7 +73,8 @@ class FrameWriter {
       radii_.push_back(a.radius);
     }
     const io::ParticleFrame frame{p.engine().step(), p.engine().time(), p.engine().dimension(),
-                                  x.data(), ids_.data(), radii_.data(), p.count()};
+                                  x.data(),          ids_.data(),       radii_.data(),
+                                  p.count()};
     for (auto& writer : writers_) writer->Write(frame);
   }
   void Close() {
