@@ -58,6 +58,8 @@ demo: build
 	$(MOREAU) run examples/disks.toml --out $(OUT)/disks_run
 	$(MOREAU) run examples/sliding.toml --out $(OUT)/sliding_run
 	$(MOREAU) run examples/abm/monolayer.toml --out $(OUT)/abm_monolayer
+	$(PYTHON) examples/abm/plot_abm.py count $(OUT)/abm_monolayer/count.png $(OUT)/abm_monolayer/population.csv
+	$(PYTHON) examples/abm/plot_abm.py snapshot $(OUT)/abm_monolayer/snapshot.png $(OUT)/abm_monolayer/agents.csv
 	$(MOREAU) control examples/control/oscillator_1d.toml --out $(OUT)/oscillator_1d
 	$(MOREAU) control examples/control/oscillator_1d.toml --out $(OUT)/oscillator_1d_study \
 	  --study-steps 500,1000,1500,2000,2500,3000,3500,4000
