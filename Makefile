@@ -7,7 +7,7 @@ OUT      ?= out
 MOCAP_DATA ?= ../shared/data/mocap
 PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
-CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON)
+CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON) -DMOREAU_UNITY_BUILD=ON
 
 .PHONY: all deps build python test test-release test-asan test-clients demo bench format clean
 
@@ -35,7 +35,7 @@ test-release: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 test-asan: deps
-	@cmake -S . -B $(ASAN) -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -g1" -DMOREAU_SANITIZE=ON -DCMAKE_UNITY_BUILD=ON \
+	@cmake -S . -B $(ASAN) -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -g1" -DMOREAU_SANITIZE=ON \
 	  -DMOREAU_BUILD_BENCH=OFF $(CMAKE_FLAGS) > /dev/null
 	@cmake --build $(ASAN) -j $(JOBS) --target moreau_tests
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
