@@ -109,19 +109,22 @@ class RunRecorder {
 
 }  // namespace
 
+std::vector<double> InitialPositions(const ParticleScenario& scenario,
+                                     const particles::ParticleModel& model, const Scenario& file) {
+  if (scenario.positions) return *scenario.positions;
+  std::vector<double> x0;
+  WithKey(file, "initial", [&] {
+    x0 = particles::RandomSequentialAddition(model, scenario.initial_lo.value_or(model.domain_lo),
+                                             scenario.initial_hi.value_or(model.domain_hi),
+                                             static_cast<std::uint64_t>(scenario.seed));
+  });
+  return x0;
+}
+
 ParticleSetup SetUpParticleRun(const ParticleScenario& scenario, const Scenario& file) {
   particles::ParticleModel model = scenario.MakeModel();
   WithKey(file, "problem", [&] { model.Validate(); });
-  std::vector<double> x0;
-  if (scenario.positions) {
-    x0 = *scenario.positions;
-  } else {
-    WithKey(file, "initial", [&] {
-      x0 = particles::RandomSequentialAddition(model, scenario.initial_lo.value_or(model.domain_lo),
-                                               scenario.initial_hi.value_or(model.domain_hi),
-                                               static_cast<std::uint64_t>(scenario.seed));
-    });
-  }
+  std::vector<double> x0 = InitialPositions(scenario, model, file);
   int fix_sweeps = 0;
   if (scenario.fix_overlaps) {
     WithKey(file, "initial", [&] { fix_sweeps = particles::FixOverlaps(model, x0); });

@@ -27,6 +27,11 @@ struct ParticleSetup {
 // Builds the model, forces, options and initial state (random sequential addition unless given,
 // then FixOverlaps when asked) and the engine, which checks the initial state. Throws InputError
 // "FILE: KEY: REASON" (KEY: problem, initial), before anything is written.
+// The initial positions (k·N): initial.positions, or random sequential addition in the start
+// region [initial.lo, initial.hi] (default: the domain) with problem.seed; errors name "initial".
+std::vector<double> InitialPositions(const ParticleScenario& scenario,
+                                     const particles::ParticleModel& model, const Scenario& file);
+
 ParticleSetup SetUpParticleRun(const ParticleScenario& scenario, const Scenario& file);
 
 struct ParticleRunResult {

@@ -12,6 +12,7 @@
 #include "moreau/common/steps.h"
 #include "moreau/io/trajectory.h"
 #include "progress.h"
+#include "run/particles_run.h"
 
 namespace moreau::cli {
 namespace {
@@ -94,16 +95,7 @@ class FrameWriter {
 particles::Population SetUpPopulationRun(const ParticleScenario& scenario, const Scenario& file) {
   particles::ParticleModel model = scenario.MakeModel();
   WithKey(file, "problem", [&] { model.Validate(); });
-  std::vector<double> x0;
-  if (scenario.positions) {
-    x0 = *scenario.positions;
-  } else {
-    WithKey(file, "initial", [&] {
-      x0 = particles::RandomSequentialAddition(model, scenario.initial_lo.value_or(model.domain_lo),
-                                               scenario.initial_hi.value_or(model.domain_hi),
-                                               static_cast<std::uint64_t>(scenario.seed));
-    });
-  }
+  std::vector<double> x0 = InitialPositions(scenario, model, file);
   if (scenario.fix_overlaps) WithKey(file, "initial", [&] { particles::FixOverlaps(model, x0); });
   std::optional<particles::Population> population;
   WithKey(file, "initial", [&] {
