@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "signals.h"
 #include "moreau/common/error.h"
 
 int main(int argc, char** argv) {
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
     ::setenv("OMP_WAIT_POLICY", "passive", 1);
     ::execv("/proc/self/exe", argv);  // returns only on failure: then go on as we are
   }
+  moreau::cli::InstallStopHandlers();
   CLI::App app{"moreau " MOREAU_VERSION
                ": position-based dynamics and optimal control of particles and spring networks"};
   app.require_subcommand(1);

@@ -1,8 +1,15 @@
-// An output folder that never holds half-written results.
+// An output folder that always holds exactly one complete result (docs/reliability.md).
 //
-// Files are written into a hidden staging folder inside DIR and moved into DIR by Commit(), each
-// by an atomic rename, only once everything succeeded. If Commit() is never reached (an error, an
-// exception) the destructor removes the staging folder and DIR keeps what it had before.
+// The files of a run are written into a staging folder beside DIR (DIR's parent, named
+// .moreau-staging.PID.START.TOKEN.HOST) and published by Commit() in one rename: the staging
+// folder takes DIR's place (renameat2 RENAME_EXCHANGE, or rename-aside-then-swap where the file
+// system lacks it) and the previous DIR is removed. Until then DIR keeps what it held; if
+// Commit() is never reached (an error, an exception) the destructor removes the staging folder.
+// A process killed outside a run leaves its staging folder behind: the next OutputDir beside it
+// removes the staging folders of dead processes on this host (PID and start time both checked).
+//
+// While an OutputDir is alive it holds an advisory lock (flock) on the file .DIR.moreau-lock
+// beside DIR: a second run into the same folder is refused with an InputError (exit code 2).
 #pragma once
 
 #include <filesystem>
@@ -11,34 +18,61 @@
 
 namespace moreau::cli {
 
+// How Commit() publishes.
+enum class Publish {
+  kReplace,  // the staging folder becomes DIR in one rename; the previous DIR is removed
+  kMerge,    // each staged file is renamed into DIR, other files of DIR stay (a sweep's folder
+             // with its journal)
+};
+
 class OutputDir {
  public:
-  explicit OutputDir(std::filesystem::path dir);
+  // Checks the path (length, not a file, with Publish::kReplace not a folder of someone else's
+  // files: DIR must be empty or hold a summary.json or report.json), takes the lock, removes
+  // stale staging folders and creates this run's. Creates DIR's parent folders if needed.
+  // Throws InputError "DIR: --out: REASON".
+  explicit OutputDir(std::filesystem::path dir, Publish publish = Publish::kReplace);
+  // A staging folder in the system's temporary folder that is never published (a sweep run
+  // without a run folder still stages its trajectory writers somewhere).
+  static OutputDir Scratch();
   ~OutputDir();
   OutputDir(const OutputDir&) = delete;
   OutputDir& operator=(const OutputDir&) = delete;
 
   const std::filesystem::path& dir() const { return dir_; }
 
-  // The staging path where NAME is to be written; it is moved to DIR/NAME by Commit().
+  // The staging path where NAME is to be written (absolute); it is published by Commit().
   std::filesystem::path Stage(const std::string& name);
   void WriteText(const std::string& name, const std::string& content);
   // Where an already staged NAME lies until Commit() (to read it back, e.g. for a figure).
   std::filesystem::path StagedPath(const std::string& name) const { return staging_ / name; }
 
-  // Moves every staged file into DIR. Throws InputError when DIR cannot be written.
+  // Publishes the staged files (see Publish). Throws InputError when DIR cannot be written.
   void Commit();
 
  private:
-  std::filesystem::path dir_;
-  std::filesystem::path staging_;
+  struct ScratchTag {};
+  explicit OutputDir(ScratchTag);
+  void ReleaseLock();
+  void ReplaceTarget();
+  void MergeIntoTarget();
+
+  std::filesystem::path dir_;      // as given (for messages)
+  std::filesystem::path target_;   // absolute, symlinks resolved
+  std::filesystem::path staging_;  // beside target_
   std::vector<std::string> names_;
-  bool committed_ = false;
+  Publish publish_ = Publish::kReplace;
+  int lock_fd_ = -1;
+  std::filesystem::path lock_path_;
+  bool scratch_ = false;
 };
 
-// Runs a figure script from MOREAU_SCRIPTS_DIR with Debian's Python. Returns false (after one
-// warning line on stderr) when Python or matplotlib is missing or the script fails: figures are
-// an extra, never a reason to lose the numbers.
+// Runs a figure script with Debian's Python (MOREAU_PYTHON), by argument vector (posix_spawn: no
+// shell, so no character of a path is ever interpreted). The script is looked up in
+// <executable's folder>/../share/moreau/scripts (an installed tool), then in the source tree the
+// tool was built from. Returns false (after one warning line on stderr) when the script is not
+// found, Python or matplotlib is missing or the script fails: figures are an extra, never a
+// reason to lose the numbers.
 bool RunPlotScript(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace moreau::cli

@@ -71,7 +71,7 @@ nlohmann::json EngineSummary::ToJson() const {
   j["neighbour_seconds"] = stats.neighbour_seconds;
   j["sweep_seconds"] = stats.sweep_seconds;
   j["monitor_seconds"] = stats.monitor_seconds;
-  if (!ok()) {
+  if (failed_step >= 0) {
     j["failed_step"] = failed_step;
     if (failed_particle >= 0) j["failed_particle"] = failed_particle;
   }

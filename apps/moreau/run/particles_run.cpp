@@ -13,6 +13,7 @@
 #include "moreau/io/trajectory.h"
 #include "moreau/particles/room.h"
 #include "progress.h"
+#include "signals.h"
 
 namespace moreau::cli {
 namespace {
@@ -141,10 +142,17 @@ ParticleRunResult RunParticles(const ParticleScenario& scenario, ParticleSetup& 
   particles::Engine& engine = setup.engine;
   RunRecorder recorder(out, scenario, engine, setup.steps);
   ProgressBar progress("run", setup.steps);
-  const particles::EngineSummary summary = engine.Run(scenario.T, [&](const particles::Engine& e) {
-    recorder.Observe(e);
-    progress.Update(e.step());
-  });
+  const StopScope stop_on_signal;  // SIGINT/SIGTERM: stop after the current step
+  particles::EngineSummary summary;
+  try {
+    summary = engine.Run(scenario.T, [&](const particles::Engine& e) {
+      recorder.Observe(e);
+      progress.Update(e.step());
+      if (e.step() < setup.steps) ThrowIfStopRequested();
+    });
+  } catch (const StopAfterStep&) {
+    summary = InterruptedSummary(engine.summary(), engine.step(), engine.time());
+  }
   progress.Finish();
   return recorder.Finish(summary, engine.time(), engine.Positions());
 }

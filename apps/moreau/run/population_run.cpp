@@ -12,6 +12,7 @@
 #include "moreau/common/steps.h"
 #include "moreau/io/trajectory.h"
 #include "progress.h"
+#include "signals.h"
 #include "run/particles_run.h"
 
 namespace moreau::cli {
@@ -116,6 +117,7 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
   std::int64_t observed = 0;
   std::int64_t recorded_step = -1;
   ProgressBar progress("run", steps);
+  const StopScope stop_on_signal;  // SIGINT/SIGTERM: stop after the current step
   const particles::PopulationSummary summary =
       population.Run(scenario.T, [&](const particles::Population& p) {
         if (observed++ % scenario.population.record_every == 0) {
@@ -124,7 +126,7 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
         }
         frames.Write(p, false);
         progress.Update(p.engine().step());
-        return true;
+        return !StopRequested();
       });
   progress.Finish();
   // The final state (the last step, or the step at which the last agent left) when not yet in.
@@ -152,6 +154,7 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
   std::printf("wrote %s/summary.json, population.csv, agents.csv%s%s\n", out.dir().c_str(),
               scenario.output.hdf5 ? ", trajectory.h5 + .xdmf" : "",
               scenario.output.vtu ? ", vtu/frame.pvd" : "");
+  if (summary.termination == Termination::kInterrupted) return ReportInterrupted(summary.message);
   if (!summary.ok()) {
     std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
     return 3;

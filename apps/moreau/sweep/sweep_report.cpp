@@ -59,7 +59,7 @@ int ReportSweep(const SweepScenario& s, const sweep::ResultsTable& table, const 
   j["sweep_file"] = sweep_file;
   j["settings"] = EchoSweepScenario(s);
 
-  OutputDir out(dir);
+  OutputDir out(dir, Publish::kMerge);  // beside the journal and the run folders
   out.WriteText("results.csv", sweep::ResultsCsv(table));
   sweep::WriteResultsHdf5(out.Stage("results.h5"), table);
   out.WriteText("summary.json", j.dump(2) + "\n");

@@ -66,9 +66,8 @@ nlohmann::json RunParticlePoint(Scenario& scenario, const fs::path& run_dir) {
   ParticleSetup setup = SetUpParticleRun(settings, scenario);
   const std::vector<double> x0 = setup.engine.Positions();
   // RunParticles stages its trajectory here; without a run folder nothing is staged and the
-  // staging folder goes with `out`.
-  const fs::path dir = run_dir.empty() ? fs::temp_directory_path() : run_dir;
-  OutputDir out(dir);
+  // scratch folder goes with `out`.
+  OutputDir out = run_dir.empty() ? OutputDir::Scratch() : OutputDir(run_dir);
   const ParticleRunResult result = RunParticles(settings, setup, out);
   nlohmann::json j = ParticleRunJson(settings, setup, result, scenario.path());
   j["msd"] = MeanSquaredDisplacement(x0, result.x, setup.engine.count());

@@ -1,0 +1,51 @@
+// SIGINT and SIGTERM for the `moreau` tool (docs/reliability.md, "Interrupting a run").
+//
+// main() installs the handlers once. Outside a StopScope a signal ends the process at once
+// (exit 128 + signal, one line on stderr): nothing is published, the output folder keeps what it
+// held, and the staging folder left behind is removed by the next run beside it. Inside a
+// StopScope (the time loops of `moreau run`) the signal only sets a flag: the loop finishes its
+// current step and stops, and the command publishes what is complete, marked "interrupted", and
+// exits 128 + signal (130 for SIGINT, 143 for SIGTERM). A second signal ends the process at once.
+#pragma once
+
+#include <string>
+
+#include <fmt/format.h>
+
+#include "moreau/common/termination.h"
+
+namespace moreau::cli {
+
+// Installs the SIGINT/SIGTERM handlers (main() only).
+void InstallStopHandlers();
+
+// While one is alive, SIGINT/SIGTERM set the stop flag instead of ending the process.
+class StopScope {
+ public:
+  StopScope();
+  ~StopScope();
+  StopScope(const StopScope&) = delete;
+  StopScope& operator=(const StopScope&) = delete;
+};
+
+// True once SIGINT or SIGTERM arrived (inside a StopScope): the loops' "should stop" check.
+bool StopRequested();
+
+// Thrown by ThrowIfStopRequested() from a library loop's observer to end the loop after the step
+// just taken (the library's state is that step's); the loop's caller catches it.
+struct StopAfterStep {};
+void ThrowIfStopRequested();
+
+// SUMMARY (of a loop ended by StopAfterStep after STEP, at time T) marked kInterrupted.
+template <class Summary>
+Summary InterruptedSummary(Summary summary, long long step, double t) {
+  summary.termination = Termination::kInterrupted;
+  summary.message = fmt::format("stopped on request after step {} (t = {:g})", step, t);
+  return summary;
+}
+
+// After a run that ended interrupted: prints "moreau: interrupted by SIGINT: MESSAGE" on stderr
+// and returns the exit code, 128 + the signal (130 when no signal is recorded).
+int ReportInterrupted(const std::string& message);
+
+}  // namespace moreau::cli

@@ -1,0 +1,109 @@
+"""SIGINT and SIGTERM (issue 12, docs/reliability.md): a time loop finishes its current step,
+the completed part is published marked "interrupted" (summary, readable HDF5 trajectory), no
+staging folder stays, and the exit code is 128 + the signal. Outside a time loop nothing is
+published and the folder keeps what it held."""
+import json
+import pathlib
+import signal
+import subprocess
+import time
+
+import h5py
+import pytest
+
+from conftest import CLI, ROOT, run_cli
+
+LONG_PARTICLES = """
+[problem]
+kind = "particles"
+dimension = 2
+count = 50
+radius = 0.5
+T = 100000.0
+seed = 2
+
+[domain]
+lo = [0.0, 0.0]
+hi = [20.0, 20.0]
+box_walls = true
+
+[forces]
+trap_gamma = 1.0
+trap_center = [10.0, 10.0]
+diffusion = 0.01
+
+[solver]
+h = 0.01
+
+[output]
+stride = 100
+"""
+
+
+def cpu_seconds(pid):
+    """User + system CPU time of process PID so far."""
+    fields = pathlib.Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / 100.0
+
+
+def start_and_signal(args, sig, ready):
+    """Starts `moreau ARGS`, waits until ready() (at most 60 s, the process still running),
+    sends SIG and returns the finished CompletedProcess-like (returncode, stderr)."""
+    p = subprocess.Popen([CLI, *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True)
+    deadline = time.monotonic() + 60
+    while not ready(p.pid):
+        assert p.poll() is None, p.communicate()
+        assert time.monotonic() < deadline, "the run never got ready"
+        time.sleep(0.02)
+    p.send_signal(sig)
+    stdout, stderr = p.communicate(timeout=120)
+    return p.returncode, stdout, stderr
+
+
+def hidden_leftovers(folder):
+    return sorted(p.name for p in folder.iterdir() if p.name.startswith(".") and "moreau" in p.name)
+
+
+def frames_written(parent):
+    """True once a staging folder beside the output holds a trajectory with a frame or more."""
+    return lambda pid: any(h5.stat().st_size > 4096
+                           for h5 in parent.glob(".moreau-staging.*/trajectory.h5"))
+
+
+@pytest.mark.parametrize("sig,code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_an_interrupted_particle_run_publishes_what_is_complete(tmp_path, sig, code):
+    """Reproducer 2: a signal left the staging folder behind and no message."""
+    scenario = tmp_path / "long.toml"
+    scenario.write_text(LONG_PARTICLES)
+    out = tmp_path / "out"
+    rc, stdout, stderr = start_and_signal(["run", scenario, "--out", out], sig,
+                                          frames_written(tmp_path))
+    assert rc == code, stderr
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"moreau: interrupted by {sig.name}"), stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["termination"] == "interrupted" and summary["ok"] is False
+    assert 0 < summary["steps"] < 10_000_000
+    assert "failed_step" not in summary
+    with h5py.File(out / "trajectory.h5", "r") as f:
+        names = []
+        f.visit(names.append)
+        assert names, "an empty trajectory"
+    assert (out / "trajectory.xdmf").exists()
+    assert hidden_leftovers(tmp_path) == []
+
+
+def test_outside_a_time_loop_nothing_is_published(tmp_path):
+    """The paper's sliding case has no loop that stops between steps: a signal ends the tool at
+    once, and the folder keeps the previous result."""
+    example = ROOT / "examples" / "sliding.toml"
+    out = tmp_path / "out"
+    assert run_cli("run", example, "--out", out, "--set", "solver.h=0.01").returncode == 0
+    before = (out / "summary.json").read_bytes()
+    rc, _, stderr = start_and_signal(["run", example, "--out", out, "--set", "solver.h=1e-7"],
+                                     signal.SIGTERM, lambda pid: cpu_seconds(pid) > 0.5)
+    assert rc == 143
+    assert stderr.strip().splitlines() == ["moreau: interrupted by SIGTERM; no result published"]
+    assert (out / "summary.json").read_bytes() == before
+    assert hidden_leftovers(tmp_path) == []
