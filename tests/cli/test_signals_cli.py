@@ -66,9 +66,11 @@ def hidden_leftovers(folder):
 
 
 def frames_written(parent):
-    """True once a staging folder beside the output holds a trajectory with a frame or more."""
-    return lambda pid: any(h5.stat().st_size > 4096
-                           for h5 in parent.glob(".moreau-staging.*/trajectory.h5"))
+    """True once a staging folder beside the output holds a trajectory and the run has computed
+    for half a second (well past its first frames)."""
+    return lambda pid: (any(h5.stat().st_size > 4096
+                            for h5 in parent.glob(".moreau-staging.*/trajectory.h5"))
+                        and cpu_seconds(pid) > 0.5)
 
 
 @pytest.mark.parametrize("sig,code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
@@ -86,10 +88,10 @@ def test_an_interrupted_particle_run_publishes_what_is_complete(tmp_path, sig, c
     assert summary["termination"] == "interrupted" and summary["ok"] is False
     assert 0 < summary["steps"] < 10_000_000
     assert "failed_step" not in summary
-    with h5py.File(out / "trajectory.h5", "r") as f:
-        names = []
-        f.visit(names.append)
-        assert names, "an empty trajectory"
+    with h5py.File(out / "trajectory.h5", "r") as f:  # closed properly: readable
+        steps = f["step"][:]
+        assert steps[-1] == summary["steps"]  # the last completed step is the last frame
+        assert f["positions"].shape[0] == len(steps) and len(steps) >= 2
     assert (out / "trajectory.xdmf").exists()
     assert hidden_leftovers(tmp_path) == []
 
@@ -106,4 +108,50 @@ def test_outside_a_time_loop_nothing_is_published(tmp_path):
     assert rc == 143
     assert stderr.strip().splitlines() == ["moreau: interrupted by SIGTERM; no result published"]
     assert (out / "summary.json").read_bytes() == before
+    assert hidden_leftovers(tmp_path) == []
+
+
+WALKERS = """
+[problem]
+kind = "particles"
+dimension = 2
+count = 2
+T = 1000000.0
+seed = 4
+
+[initial]
+positions = [[-0.6, 0.0], [0.6, 0.0]]
+types = ["walker", "walker"]
+
+[[types]]
+name = "walker"
+radius = 0.5
+speed = 0.05
+persistence_time = 5.0
+
+[population]
+interval = 5
+
+[solver]
+h = 0.02
+
+[output]
+stride = 1000
+"""
+
+
+def test_an_interrupted_population_run_publishes_what_is_complete(tmp_path):
+    scenario = tmp_path / "walkers.toml"
+    scenario.write_text(WALKERS)
+    out = tmp_path / "out"
+    rc, _, stderr = start_and_signal(["run", scenario, "--out", out], signal.SIGTERM,
+                                     frames_written(tmp_path))
+    assert rc == 143, stderr
+    assert stderr.strip().splitlines()[-1].startswith("moreau: interrupted by SIGTERM")
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["termination"] == "interrupted"
+    assert 0 < summary["engine"]["steps"] < 50_000_000
+    with h5py.File(out / "trajectory.h5", "r") as f:
+        assert len(f["step"]) >= 1
+    assert (out / "population.csv").read_text().count("\n") >= 2
     assert hidden_leftovers(tmp_path) == []
