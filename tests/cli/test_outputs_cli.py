@@ -12,29 +12,9 @@ import subprocess
 import pytest
 
 from conftest import CLI, ROOT, run_cli
+from test_particles_cli import SMALL
 
-PARTICLES = """
-[problem]
-kind = "particles"
-dimension = 2
-count = 50
-radius = 0.5
-T = 1.0
-seed = 2
-
-[domain]
-lo = [0.0, 0.0]
-hi = [20.0, 20.0]
-box_walls = true
-
-[forces]
-trap_gamma = 1.0
-trap_center = [10.0, 10.0]
-diffusion = 0.01
-
-[solver]
-h = 0.01
-"""
+PARTICLES = SMALL  # 50 disks in a trap, 100 steps
 
 # Every character a shell would act on, spaces and non-ASCII letters.
 HOSTILE = "q'$(touch PWNED)'x \"`touch PWNED`\" ; touch PWNED é ü ∂"

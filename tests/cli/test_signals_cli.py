@@ -12,32 +12,12 @@ import h5py
 import pytest
 
 from conftest import CLI, ROOT, run_cli
+from test_abm_cli import COLONY
+from test_outputs_cli import hidden_leftovers
+from test_particles_cli import SMALL
 
-LONG_PARTICLES = """
-[problem]
-kind = "particles"
-dimension = 2
-count = 50
-radius = 0.5
-T = 100000.0
-seed = 2
-
-[domain]
-lo = [0.0, 0.0]
-hi = [20.0, 20.0]
-box_walls = true
-
-[forces]
-trap_gamma = 1.0
-trap_center = [10.0, 10.0]
-diffusion = 0.01
-
-[solver]
-h = 0.01
-
-[output]
-stride = 100
-"""
+# 50 disks in a trap for 10^7 steps, a frame every 100.
+LONG_PARTICLES = SMALL.replace("T = 1.0", "T = 100000.0") + "\n[output]\nstride = 100\n"
 
 
 def cpu_seconds(pid):
@@ -48,7 +28,7 @@ def cpu_seconds(pid):
 
 def start_and_signal(args, sig, ready):
     """Starts `moreau ARGS`, waits until ready() (at most 60 s, the process still running),
-    sends SIG and returns the finished CompletedProcess-like (returncode, stderr)."""
+    sends SIG and returns (returncode, stdout, stderr) once it ended."""
     p = subprocess.Popen([CLI, *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          text=True)
     deadline = time.monotonic() + 60
@@ -59,10 +39,6 @@ def start_and_signal(args, sig, ready):
     p.send_signal(sig)
     stdout, stderr = p.communicate(timeout=120)
     return p.returncode, stdout, stderr
-
-
-def hidden_leftovers(folder):
-    return sorted(p.name for p in folder.iterdir() if p.name.startswith(".") and "moreau" in p.name)
 
 
 def frames_written(parent):
@@ -111,37 +87,15 @@ def test_outside_a_time_loop_nothing_is_published(tmp_path):
     assert hidden_leftovers(tmp_path) == []
 
 
-WALKERS = """
-[problem]
-kind = "particles"
-dimension = 2
-count = 2
-T = 1000000.0
-seed = 4
-
-[initial]
-positions = [[-0.6, 0.0], [0.6, 0.0]]
-types = ["walker", "walker"]
-
-[[types]]
-name = "walker"
-radius = 0.5
-speed = 0.05
-persistence_time = 5.0
-
-[population]
-interval = 5
-
-[solver]
-h = 0.02
-
-[output]
-stride = 1000
-"""
+# Two cells that neither grow nor die, for 5·10^7 steps.
+WALKERS = (COLONY.replace("T = 20.0", "T = 1000000.0")
+           .replace("growth_rate = 0.02", "growth_rate = 0.0")
+           .replace("growth_rate = 0.04", "growth_rate = 0.0")
+           .replace("death_rate = 0.01", "death_rate = 0.0") + "\n[output]\nstride = 1000\n")
 
 
 def test_an_interrupted_population_run_publishes_what_is_complete(tmp_path):
-    scenario = tmp_path / "walkers.toml"
+    scenario = tmp_path / "colony.toml"
     scenario.write_text(WALKERS)
     out = tmp_path / "out"
     rc, _, stderr = start_and_signal(["run", scenario, "--out", out], signal.SIGTERM,
