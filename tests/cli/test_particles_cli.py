@@ -68,7 +68,7 @@ def test_crowd_evacuates_end_to_end(tmp_path):
     for name in ("evacuation.png", "snapshots.png", "trajectory.h5", "trajectory.xdmf",
                  "vtu/frame.pvd"):
         assert (out / name).exists(), name
-    assert not list(out.glob(".moreau-staging-*"))
+    assert not list(out.parent.glob(".moreau-staging.*"))  # staged beside, then renamed
 
 
 def test_same_seed_same_bits(tmp_path, write_scenario):

@@ -54,7 +54,7 @@ def test_run_sliding_writes_summary_and_trajectory(tmp_path, write_scenario):
         rows = list(csv.reader(f))
     assert rows[0] == ["t", "x0", "x1", "x2"]
     assert len(rows) == 1 + 101
-    assert not list(out.glob(".moreau-staging-*"))
+    assert not list(out.parent.glob(".moreau-staging.*"))  # staged beside, then renamed
 
 
 def test_set_overrides_a_scenario_value(tmp_path, write_scenario):
