@@ -40,7 +40,7 @@ long long ProcessStartTime(long pid) {
   std::ifstream in(fmt::format("/proc/{}/stat", pid));
   std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t paren = stat.rfind(')');  // the command name may hold spaces and ')'
-  if (!in.is_open() || paren == std::string::npos) return -1;
+  if (!in.is_open() || paren == std::string::npos || paren + 2 > stat.size()) return -1;
   std::istringstream fields(stat.substr(paren + 2));
   std::string field;
   for (int i = 3; i <= 22 && fields >> field; ++i) {
