@@ -10,6 +10,7 @@ import time
 import pytest
 
 from conftest import CLI, ROOT, run_cli
+from test_pbd_cli import DISKS  # the paper's disks case, small
 
 MPIRUN = shutil.which("mpirun")
 needs_mpirun = pytest.mark.skipif(MPIRUN is None,
@@ -202,22 +203,6 @@ def test_control_and_paper_case_sweeps(tmp_path):
     assert 0 < errors[1] < errors[0]  # PBD converges as h shrinks
 
 
-STUDY_DISKS = """
-[problem]
-kind = "disks"
-count = 6
-radius = 0.2
-gamma = 1.0
-T = 0.5
-seed = 4
-[solver]
-method = "pbd"
-h = 0.01
-[reference]
-h = 0.0009765625
-"""
-
-
 def study_rows_without_timings(out):
     """study.csv without its last column (total_seconds: the run's wall time differs every time)."""
     with open(out / "study.csv", newline="") as f:
@@ -229,7 +214,7 @@ def study_rows_without_timings(out):
 @needs_mpirun
 def test_study_on_two_ranks_and_two_threads_gives_the_same_table_as_one_process(tmp_path):
     scenario = tmp_path / "disks.toml"
-    scenario.write_text(STUDY_DISKS)  # a reference solution: every rank computes the same one
+    scenario.write_text(DISKS)  # a reference solution: every rank computes the same one
     study = ["study", str(scenario), "--methods", "pbd,pngs,penalty:1000", "--h",
              "0.0625,0.03125,0.015625"]
     plain = tmp_path / "plain"
