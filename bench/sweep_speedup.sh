@@ -26,39 +26,43 @@ machine() {
        "load average $(cut -d' ' -f1-3 /proc/loadavg)"
 }
 
-# One timed sweep on $1 ranks into $2; prints "wall sweep".
+# One timed sweep on $1 ranks into $2; prints "wall sweep cpu" (cpu: user + system seconds of
+# mpirun and the ranks, which a loaded machine inflates far less than the wall time).
 timed() {
-  local start end
-  start=$(date +%s.%N)
   # shellcheck disable=SC2086
-  mpirun $ROOT_FLAG $MPIRUN_OPTS -n "$1" "$MOREAU" sweep "$SWEEP" --out "$2" >/dev/null
-  end=$(date +%s.%N)
-  $PY -c 'import json,sys; print(f"{float(sys.argv[2])-float(sys.argv[1]):.3f}",
-          json.load(open(sys.argv[3]))["total_seconds"])' "$start" "$end" "$2/summary.json"
+  /usr/bin/time -f "%e %U %S" -o "$2.time" mpirun $ROOT_FLAG $MPIRUN_OPTS -n "$1" "$MOREAU" sweep \
+    "$SWEEP" --out "$2" >/dev/null
+  $PY -c 'import json,sys; w,u,s=map(float,open(sys.argv[1]).read().split()[-3:])
+print(w, json.load(open(sys.argv[2]))["total_seconds"], round(u+s,3))' "$2.time" "$2/summary.json"
 }
 
 machine
 echo "# $MOREAU sweep $SWEEP; mpirun $MPIRUN_OPTS"
 timed 1 "$OUT/warm" >/dev/null  # page cache, first MPI start
-printf '%-5s %22s %22s %18s\n' pair "1 rank: wall (sweep)" "2 ranks: wall (sweep)" "ratio wall (sweep)"
+printf '%-5s %28s %28s %18s\n' pair "1 rank: wall (sweep) cpu" "2 ranks: wall (sweep) cpu" \
+  "ratio wall (sweep)"
 RESULTS=$OUT/pairs.txt
 : >"$RESULTS"
 for ((i = 1; i <= PAIRS; i++)); do
   rm -rf "$OUT/r1" "$OUT/r2"
-  read -r w1 s1 < <(timed 1 "$OUT/r1")
-  read -r w2 s2 < <(timed 2 "$OUT/r2")
+  read -r w1 s1 c1 < <(timed 1 "$OUT/r1")
+  read -r w2 s2 c2 < <(timed 2 "$OUT/r2")
   cmp -s "$OUT/r1/results.csv" "$OUT/r2/results.csv" || { echo "results.csv differ" >&2; exit 1; }
-  echo "$w1 $s1 $w2 $s2" >>"$RESULTS"
-  $PY -c 'import sys; w1,s1,w2,s2=map(float,sys.argv[2:]); print(f"{sys.argv[1]:<5} {w1:9.2f} s ({s1:6.2f} s)  {w2:9.2f} s ({s2:6.2f} s)  {w1/w2:7.2f}× ({s1/s2:.2f}×)")' \
-    "$i" "$w1" "$s1" "$w2" "$s2"
+  echo "$w1 $s1 $c1 $w2 $s2 $c2" >>"$RESULTS"
+  $PY -c 'import sys; w1,s1,c1,w2,s2,c2=map(float,sys.argv[2:])
+print(f"{sys.argv[1]:<5} {w1:8.2f} s ({s1:6.2f} s) {c1:6.2f} s  {w2:8.2f} s ({s2:6.2f} s) {c2:6.2f} s  {w1/w2:7.2f}× ({s1/s2:.2f}×)")' \
+    "$i" "$w1" "$s1" "$c1" "$w2" "$s2" "$c2"
 done
 $PY - "$RESULTS" <<'PY'
 import statistics, sys
 rows = [list(map(float, line.split())) for line in open(sys.argv[1])]
-wall = [w1 / w2 for w1, _, w2, _ in rows]
-sweep = [s1 / s2 for _, s1, _, s2 in rows]
-print(f"speed-up, whole command: median {statistics.median(wall):.2f}×, range {min(wall):.2f}–{max(wall):.2f}×")
-print(f"speed-up, inside the sweep: median {statistics.median(sweep):.2f}×, range {min(sweep):.2f}–{max(sweep):.2f}×")
+def report(what, ratios):
+    print(f"{what}: median {statistics.median(ratios):.2f}×, range {min(ratios):.2f}–{max(ratios):.2f}×")
+report("speed-up, whole command", [r[0] / r[3] for r in rows])
+report("speed-up, inside the sweep", [r[1] / r[4] for r in rows])
+extra = [r[5] - r[2] for r in rows]
+print(f"CPU of 2 ranks minus 1 rank: median {statistics.median(extra):.2f} s "
+      f"(range {min(extra):.2f}–{max(extra):.2f} s)")
 PY
 # Per-run overhead: runs of 2 steps, one process without MPI, 3 repetitions.
 for i in 1 2 3; do
