@@ -67,6 +67,34 @@ SampledTrajectory ComputeReference(const StudyProblem& problem, const StepperOpt
   return reference;
 }
 
+StudyRow RunStudyPoint(const StudyProblem& problem, const MethodSpec& spec, double h,
+                       const StepperOptions& base) {
+  StepperOptions options = base;
+  options.method = spec.method;
+  options.h = h;
+  if (spec.penalty > 0.0) options.penalty = spec.penalty;
+  auto constraints = problem.constraints->MakeWorkspace();
+  double error = 0.0;
+  const SimulationSummary summary =
+      Simulate(*problem.drift, *constraints, options, problem.x0, problem.T,
+               [&](std::int64_t, double t, ConstVectorRef x) {
+                 error = std::max(error, (x - problem.solution(t)).norm());
+               });
+  StudyRow row;
+  row.label = spec.label;
+  row.method = spec.method;
+  row.h = h;
+  row.termination =
+      summary.ok() && !std::isfinite(error) ? Termination::kNonFinite : summary.termination;
+  row.error = row.ok() ? error : std::numeric_limits<double>::infinity();
+  row.constraint_evaluations = summary.counters.constraint_evaluations;
+  row.sweeps = summary.counters.sweeps;
+  row.max_violation = summary.max_violation;
+  row.total_seconds = summary.total_seconds;
+  row.message = summary.ok() && !row.ok() ? "the error is not finite" : summary.message;
+  return row;
+}
+
 std::vector<StudyRow> RunStudy(const StudyProblem& problem, const std::vector<MethodSpec>& methods,
                                const std::vector<double>& hs, const StepperOptions& base,
                                const std::function<void(int, int)>& progress) {
@@ -74,30 +102,7 @@ std::vector<StudyRow> RunStudy(const StudyProblem& problem, const std::vector<Me
   const int total = static_cast<int>(methods.size() * hs.size());
   for (const MethodSpec& spec : methods) {
     for (double h : hs) {
-      StepperOptions options = base;
-      options.method = spec.method;
-      options.h = h;
-      if (spec.penalty > 0.0) options.penalty = spec.penalty;
-      auto constraints = problem.constraints->MakeWorkspace();
-      double error = 0.0;
-      const SimulationSummary summary =
-          Simulate(*problem.drift, *constraints, options, problem.x0, problem.T,
-                   [&](std::int64_t, double t, ConstVectorRef x) {
-                     error = std::max(error, (x - problem.solution(t)).norm());
-                   });
-      StudyRow row;
-      row.label = spec.label;
-      row.method = spec.method;
-      row.h = h;
-      row.termination = summary.ok() && !std::isfinite(error) ? Termination::kNonFinite
-                                                              : summary.termination;
-      row.error = row.ok() ? error : std::numeric_limits<double>::infinity();
-      row.constraint_evaluations = summary.counters.constraint_evaluations;
-      row.sweeps = summary.counters.sweeps;
-      row.max_violation = summary.max_violation;
-      row.total_seconds = summary.total_seconds;
-      row.message = summary.ok() && !row.ok() ? "the error is not finite" : summary.message;
-      rows.push_back(row);
+      rows.push_back(RunStudyPoint(problem, spec, h, base));
       if (progress) progress(static_cast<int>(rows.size()), total);
     }
   }

@@ -12,15 +12,18 @@
 
 namespace moreau::sweep {
 
-void RunQueueWorkers(RunQueue& queue, int jobs, const RunTask& task, const RunFinished& finished) {
+std::vector<nlohmann::json> RunQueueWorkers(RunQueue& queue, int jobs, const RunTask& task,
+                                            const RunFinished& finished) {
+  std::vector<nlohmann::json> entries;
   std::exception_ptr error;
   const auto work = [&] {
     for (std::int64_t index = queue.Pop(); index >= 0; index = queue.Pop()) {
-      const nlohmann::json entry = task(index);
+      nlohmann::json entry = task(index);
       const std::lock_guard lock(queue.finished_mutex);
       if (error) return;
       try {
         finished(entry);
+        entries.push_back(std::move(entry));
       } catch (...) {
         error = std::current_exception();
         queue.Close();
@@ -35,17 +38,23 @@ void RunQueueWorkers(RunQueue& queue, int jobs, const RunTask& task, const RunFi
     for (int j = 0; j < jobs; ++j) threads.emplace_back(work);
   }
   if (error) std::rethrow_exception(error);
+  return entries;
 }
 
 std::int64_t RunQueue::Pop() {
   const std::lock_guard lock(mutex_);
-  if (next_ >= todo_.size()) return -1;
-  return todo_[next_++];
+  if (closed_) return -1;
+  const std::int64_t position = claim_ ? claim_() : next_++;
+  if (position >= static_cast<std::int64_t>(todo_.size())) {
+    closed_ = true;  // every later claim would be past the end too
+    return -1;
+  }
+  return todo_[static_cast<std::size_t>(position)];
 }
 
 void RunQueue::Close() {
   const std::lock_guard lock(mutex_);
-  next_ = todo_.size();
+  closed_ = true;
 }
 
 #ifndef MOREAU_WITH_MPI
@@ -64,10 +73,11 @@ MpiSession::MpiSession() {
 MpiSession::~MpiSession() = default;
 bool MpiSession::BuiltWithMpi() { return false; }
 
-void Dispatch(const MpiSession& /*session*/, const std::vector<std::int64_t>& todo, int jobs,
-              const RunTask& task, const RunFinished& finished) {
+std::vector<nlohmann::json> Dispatch(const MpiSession& /*session*/,
+                                     const std::vector<std::int64_t>& todo, int jobs,
+                                     const RunTask& task, const RunFinished& finished) {
   RunQueue queue(todo);
-  RunQueueWorkers(queue, jobs, task, finished);
+  return RunQueueWorkers(queue, jobs, task, finished);
 }
 #endif
 

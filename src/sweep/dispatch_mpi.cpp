@@ -5,23 +5,17 @@
 #define MPICH_SKIP_MPICXX 1
 #include <mpi.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <exception>
+#include <numeric>
+#include <sstream>
 #include <string>
-#include <thread>
 
 #include "moreau/sweep/dispatch.h"
 #include "sweep/run_queue.h"
 
 namespace moreau::sweep {
 namespace {
-
-constexpr int kEntryTag = 1;  // worker → rank 0: the entry of the last run ("" at first)
-constexpr int kRunTag = 2;    // rank 0 → worker: the next run number, −1 when none is left
-// How long a waiting rank sleeps between two looks for a message: short against a run, long
-// enough that waiting costs no core the runs need.
-constexpr std::chrono::microseconds kPollInterval{200};
 
 bool LaunchedByMpi() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
@@ -30,46 +24,69 @@ bool LaunchedByMpi() {
   return false;
 }
 
-// Any rank but 0: ask, run, send the entry back with the next request.
-void Work(const RunTask& task) {
-  std::string entry;
-  while (true) {
-    MPI_Send(entry.data(), static_cast<int>(entry.size()), MPI_CHAR, 0, kEntryTag, MPI_COMM_WORLD);
-    std::int64_t index = -1;
-    MPI_Request request = MPI_REQUEST_NULL;
-    MPI_Irecv(&index, 1, MPI_INT64_T, 0, kRunTag, MPI_COMM_WORLD, &request);
-    for (int done = 0; MPI_Test(&request, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && !done;) {
-      std::this_thread::sleep_for(kPollInterval);  // rather than MPI_Recv's busy wait
+// The position of the next run to hand out: one int64 in rank 0's window, advanced by each
+// claim. Collective to create and to free.
+class SharedRunCounter {
+ public:
+  explicit SharedRunCounter(int rank) {
+    const MPI_Aint bytes = rank == 0 ? sizeof(std::int64_t) : 0;
+    MPI_Win_allocate(bytes, sizeof(std::int64_t), MPI_INFO_NULL, MPI_COMM_WORLD, &value_, &window_);
+    if (rank == 0) {
+      MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, window_);
+      *value_ = 0;
+      MPI_Win_unlock(0, window_);
     }
-    if (index < 0) return;
-    entry = task(index).dump();
+    MPI_Barrier(MPI_COMM_WORLD);  // nobody claims before the counter is 0
+    MPI_Win_lock_all(MPI_MODE_NOCHECK, window_);
   }
+  ~SharedRunCounter() {
+    // While an exception leaves, the other ranks may never get here: MpiSession aborts instead.
+    if (std::uncaught_exceptions() > 0) return;
+    MPI_Win_unlock_all(window_);
+    MPI_Win_free(&window_);
+  }
+  SharedRunCounter(const SharedRunCounter&) = delete;
+  SharedRunCounter& operator=(const SharedRunCounter&) = delete;
+
+  std::int64_t Claim() {
+    const std::int64_t one = 1;
+    std::int64_t position = 0;
+    MPI_Fetch_and_op(&one, &position, MPI_INT64_T, 0, 0, MPI_SUM, window_);
+    MPI_Win_flush(0, window_);
+    return position;
+  }
+
+ private:
+  std::int64_t* value_ = nullptr;
+  MPI_Win window_ = MPI_WIN_NULL;
+};
+
+std::vector<std::int64_t> BroadcastTodo(std::vector<std::int64_t> todo) {
+  auto count = static_cast<std::int64_t>(todo.size());
+  MPI_Bcast(&count, 1, MPI_INT64_T, 0, MPI_COMM_WORLD);
+  todo.resize(static_cast<std::size_t>(count));
+  MPI_Bcast(todo.data(), static_cast<int>(count), MPI_INT64_T, 0, MPI_COMM_WORLD);
+  return todo;
 }
 
-// Rank 0's main thread: answer each request with the next run (polled, so that the thread
-// sleeps between messages instead of spinning on a core the runs need).
-void Serve(RunQueue& queue, int workers, const RunFinished& finished) {
-  while (workers > 0) {
-    int ready = 0;
-    MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, kEntryTag, MPI_COMM_WORLD, &ready, &status);
-    if (ready == 0) {
-      std::this_thread::sleep_for(kPollInterval);
-      continue;
-    }
-    int size = 0;
-    MPI_Get_count(&status, MPI_CHAR, &size);
-    std::string text(static_cast<std::size_t>(size), '\0');
-    MPI_Recv(text.data(), size, MPI_CHAR, status.MPI_SOURCE, kEntryTag, MPI_COMM_WORLD,
-             MPI_STATUS_IGNORE);
-    if (!text.empty()) {
-      const std::lock_guard lock(queue.finished_mutex);
-      finished(nlohmann::json::parse(text));
-    }
-    const std::int64_t next = queue.Pop();
-    MPI_Send(&next, 1, MPI_INT64_T, status.MPI_SOURCE, kRunTag, MPI_COMM_WORLD);
-    if (next < 0) --workers;
-  }
+// Every rank's entries on rank 0, rank by rank, sent as lines of JSON text.
+std::vector<nlohmann::json> GatherEntries(const std::vector<nlohmann::json>& mine,
+                                          const MpiSession& session) {
+  std::string text;
+  for (const nlohmann::json& entry : mine) text += entry.dump() + "\n";
+  int length = static_cast<int>(text.size());
+  const bool root = session.rank() == 0;
+  std::vector<int> lengths(root ? static_cast<std::size_t>(session.size()) : 0);
+  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<int> offsets(lengths.size(), 0);
+  if (root) std::exclusive_scan(lengths.begin(), lengths.end(), offsets.begin(), 0);
+  std::string all(root ? static_cast<std::size_t>(offsets.back() + lengths.back()) : 0, '\0');
+  MPI_Gatherv(text.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR,
+              0, MPI_COMM_WORLD);
+  std::vector<nlohmann::json> entries;
+  std::istringstream lines(all);
+  for (std::string line; std::getline(lines, line);) entries.push_back(nlohmann::json::parse(line));
+  return entries;
 }
 
 }  // namespace
@@ -77,7 +94,8 @@ void Serve(RunQueue& queue, int workers, const RunFinished& finished) {
 MpiSession::MpiSession() {
   if (!LaunchedByMpi()) return;
   int provided = 0;
-  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  // Worker threads claim runs one at a time (under the queue's lock): serialized calls.
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
   active_ = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
@@ -91,24 +109,17 @@ MpiSession::~MpiSession() {
 
 bool MpiSession::BuiltWithMpi() { return true; }
 
-void Dispatch(const MpiSession& session, const std::vector<std::int64_t>& todo, int jobs,
-              const RunTask& task, const RunFinished& finished) {
-  if (session.rank() != 0) {
-    Work(task);
-    return;
+std::vector<nlohmann::json> Dispatch(const MpiSession& session,
+                                     const std::vector<std::int64_t>& todo, int jobs,
+                                     const RunTask& task, const RunFinished& finished) {
+  if (!session.active()) {
+    RunQueue queue(todo);
+    return RunQueueWorkers(queue, jobs, task, finished);
   }
-  RunQueue queue(todo);
-  std::exception_ptr error;
-  std::jthread local([&] {
-    try {
-      RunQueueWorkers(queue, jobs, task, finished);
-    } catch (...) {
-      error = std::current_exception();
-    }
-  });
-  Serve(queue, session.size() - 1, finished);
-  local.join();
-  if (error) std::rethrow_exception(error);
+  SharedRunCounter counter(session.rank());
+  RunQueue queue(BroadcastTodo(todo), [&counter] { return counter.Claim(); });
+  const std::vector<nlohmann::json> mine = RunQueueWorkers(queue, jobs, task, finished);
+  return GatherEntries(mine, session);
 }
 
 }  // namespace moreau::sweep

@@ -1,6 +1,8 @@
 #include "moreau/sweep/journal.h"
 
+#include <algorithm>
 #include <fstream>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -43,6 +45,24 @@ std::map<std::string, nlohmann::json> Journal::Read(const std::filesystem::path&
     const std::string hash = entry["hash"].get<std::string>();
     entries[hash] = std::move(entry);
   }
+  return entries;
+}
+
+std::filesystem::path Journal::PathFor(const std::filesystem::path& dir, int rank) {
+  return dir /
+         (rank == 0 ? std::string("journal.jsonl") : fmt::format("journal.rank{}.jsonl", rank));
+}
+
+std::map<std::string, nlohmann::json> Journal::ReadFolder(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> paths;
+  std::error_code absent;  // no folder yet: no journal
+  for (const auto& file : std::filesystem::directory_iterator(dir, absent)) {
+    const std::string name = file.path().filename().string();
+    if (name.starts_with("journal") && name.ends_with(".jsonl")) paths.push_back(file.path());
+  }
+  std::sort(paths.begin(), paths.end());
+  std::map<std::string, nlohmann::json> entries;
+  for (const auto& path : paths) entries.merge(Read(path));
   return entries;
 }
 

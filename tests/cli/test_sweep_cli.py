@@ -10,6 +10,7 @@ import time
 import pytest
 
 from conftest import CLI, ROOT, run_cli
+from test_pbd_cli import DISKS  # the paper's disks case, small
 
 MPIRUN = shutil.which("mpirun")
 needs_mpirun = pytest.mark.skipif(MPIRUN is None,
@@ -200,3 +201,36 @@ def test_control_and_paper_case_sweeps(tmp_path):
     assert r.returncode == 0, r.stderr
     errors = [float(row["error"]) for row in rows(tmp_path / "sliding")]
     assert 0 < errors[1] < errors[0]  # PBD converges as h shrinks
+
+
+def study_rows_without_timings(out):
+    """study.csv without its last column (total_seconds: the run's wall time differs every time)."""
+    with open(out / "study.csv", newline="") as f:
+        table = list(csv.reader(f))
+    assert table[0][-1] == "total_seconds"
+    return [row[:-1] for row in table]
+
+
+@needs_mpirun
+def test_study_on_two_ranks_and_two_threads_gives_the_same_table_as_one_process(tmp_path):
+    scenario = tmp_path / "disks.toml"
+    scenario.write_text(DISKS)  # a reference solution: every rank computes the same one
+    study = ["study", str(scenario), "--methods", "pbd,pngs,penalty:1000", "--h",
+             "0.0625,0.03125,0.015625"]
+    plain = tmp_path / "plain"
+    assert run_cli(*study, "--out", plain).returncode == 0
+    threads = tmp_path / "threads"
+    assert run_cli(*study, "--jobs", "2", "--out", threads).returncode == 0
+    ranks = tmp_path / "ranks"
+    r = subprocess.run([MPIRUN, "--allow-run-as-root", "--oversubscribe", "-n", "2", CLI, *study,
+                        "--out", str(ranks)], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    expected = study_rows_without_timings(plain)
+    assert len(expected) == 1 + 3 * 3
+    assert study_rows_without_timings(threads) == expected
+    assert study_rows_without_timings(ranks) == expected
+    # One copy wrote the report (rank 0), and it found the same observed orders.
+    assert r.stdout.count("wrote ") == 1
+    orders = [json.loads((d / "summary.json").read_text())["methods"]["pbd"]["observed_order"]
+              for d in (plain, ranks)]
+    assert orders[0] == orders[1]

@@ -19,7 +19,7 @@ TEST(SweepDispatch, EveryRunIsDoneOnceAndFinishedOnceForAnyNumberOfThreads) {
   std::iota(todo.begin(), todo.end(), 100);
   for (const int jobs : {1, 3}) {
     std::vector<int> finished(140, 0);
-    Dispatch(
+    const std::vector<nlohmann::json> entries = Dispatch(
         session, todo, jobs,
         [](std::int64_t index) {
           return nlohmann::json{{"index", index}};
@@ -28,6 +28,10 @@ TEST(SweepDispatch, EveryRunIsDoneOnceAndFinishedOnceForAnyNumberOfThreads) {
     for (std::size_t i = 0; i < finished.size(); ++i) {
       EXPECT_EQ(finished[i], i >= 100 ? 1 : 0) << "run " << i << ", jobs " << jobs;
     }
+    // One process is rank 0: it returns every entry, each once.
+    std::vector<int> returned(140, 0);
+    for (const nlohmann::json& entry : entries) ++returned[entry["index"].get<std::size_t>()];
+    EXPECT_EQ(returned, finished) << "jobs " << jobs;
   }
 }
 

@@ -1,4 +1,5 @@
-// The sweep journal: entries appended are read back; a line cut short by a kill is skipped.
+// The sweep journal: entries appended are read back; a line cut short by a kill is skipped; a
+// folder's journals (one per MPI rank) are read together.
 #include "moreau/sweep/journal.h"
 
 #include <filesystem>
@@ -59,6 +60,23 @@ TEST(SweepJournal, LineCutShortIsSkippedAndEndedOnRestartForeignLinesSkippedLast
   ASSERT_EQ(entries.size(), 2U);
   EXPECT_EQ(entries.at("bb")["row"]["x"], 4);
   fs::remove(path);
+}
+
+TEST(SweepJournal, FolderReadsTheJournalOfEveryRankAndNothingElse) {
+  const fs::path dir = fs::temp_directory_path() / "moreau_journal_test_folder";
+  fs::remove_all(dir);
+  EXPECT_TRUE(Journal::ReadFolder(dir).empty());  // no folder: nothing finished
+  fs::create_directories(dir);
+  EXPECT_EQ(Journal::PathFor(dir, 0), dir / "journal.jsonl");
+  EXPECT_EQ(Journal::PathFor(dir, 3), dir / "journal.rank3.jsonl");
+  Journal(Journal::PathFor(dir, 0)).Append({{"hash", "aa"}, {"row", {{"x", 1}}}});
+  Journal(Journal::PathFor(dir, 3)).Append({{"hash", "bb"}, {"row", {{"x", 2}}}});
+  Journal(dir / "other.jsonl").Append({{"hash", "cc"}, {"row", {{"x", 3}}}});
+  const auto entries = Journal::ReadFolder(dir);
+  ASSERT_EQ(entries.size(), 2U);
+  EXPECT_EQ(entries.at("aa")["row"]["x"], 1);
+  EXPECT_EQ(entries.at("bb")["row"]["x"], 2);
+  fs::remove_all(dir);
 }
 
 }  // namespace

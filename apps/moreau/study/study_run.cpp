@@ -1,9 +1,11 @@
 #include "study/study_run.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <numeric>
 
 #include <fmt/format.h>
 
@@ -40,31 +42,112 @@ PbdStudyPlan MakeStudyPlan(const StudyRequest& request, const PbdScenario& scena
   return plan;
 }
 
-PbdStudyResult RunPbdStudy(const Scenario& file, const PbdScenario& scenario,
-                           const PbdStudyPlan& plan) {
-  const Stopwatch stopwatch;
+namespace {
+
+// A double as JSON that reads back to the same bits, non-finite values included.
+nlohmann::json ExactNumber(double value) {
+  if (std::isfinite(value)) return value;
+  return std::isnan(value) ? "nan" : (value > 0.0 ? "inf" : "-inf");
+}
+double FromExactNumber(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  return std::stod(j.get<std::string>());
+}
+
+nlohmann::json StudyEntry(const pbd::StudyRow& row, std::int64_t index) {
+  return {{"index", index},
+          {"error", ExactNumber(row.error)},
+          {"constraint_evaluations", row.constraint_evaluations},
+          {"sweeps", row.sweeps},
+          {"max_violation", ExactNumber(row.max_violation)},
+          {"total_seconds", row.total_seconds},
+          {"termination", ToString(row.termination)},
+          {"message", row.message}};
+}
+
+pbd::StudyRow RowFromEntry(const PbdStudyPlan& plan, const nlohmann::json& entry) {
+  const auto index = entry["index"].get<std::size_t>();
+  const pbd::MethodSpec& spec = plan.methods[index / plan.hs.size()];
+  pbd::StudyRow row;
+  row.label = spec.label;
+  row.method = spec.method;
+  row.h = plan.hs[index % plan.hs.size()];
+  row.error = FromExactNumber(entry["error"]);
+  row.constraint_evaluations = entry["constraint_evaluations"].get<std::int64_t>();
+  row.sweeps = entry["sweeps"].get<std::int64_t>();
+  row.max_violation = FromExactNumber(entry["max_violation"]);
+  row.total_seconds = entry["total_seconds"].get<double>();
+  row.termination = ParseTermination(entry["termination"].get<std::string>());
+  row.message = entry["message"].get<std::string>();
+  return row;
+}
+
+// The exact solution, or a reference computed on this rank (every rank computes the same).
+pbd::StudyProblem StudyProblemWithSolution(const Scenario& file, const PbdScenario& scenario,
+                                           const PbdStudyPlan& plan, bool report) {
   pbd::StudyProblem problem = scenario.MakeProblem();
-  if (!problem.solution) {
-    const double sample_dt = plan.hs.back();
-    const pbd::StepperOptions& ref = scenario.reference;
-    try {
-      (void)StepCount(sample_dt, ref.h);
-    } catch (const InputError&) {
-      file.Fail("reference.h", fmt::format("the smallest study step {} must be a whole "
-                                           "multiple of it ({})",
-                                           sample_dt, ref.h));
-    }
+  if (problem.solution) return problem;
+  const double sample_dt = plan.hs.back();
+  const pbd::StepperOptions& ref = scenario.reference;
+  try {
+    (void)StepCount(sample_dt, ref.h);
+  } catch (const InputError&) {
+    file.Fail("reference.h", fmt::format("the smallest study step {} must be a whole "
+                                         "multiple of it ({})",
+                                         sample_dt, ref.h));
+  }
+  if (report) {
     std::fprintf(stderr, "moreau: computing the reference solution (%s, h = %g, reltol = %g)\n",
                  std::string(pbd::MethodName(ref.method)).c_str(), ref.h, ref.reltol);
-    auto reference =
-        std::make_shared<pbd::SampledTrajectory>(pbd::ComputeReference(problem, ref, sample_dt));
-    problem.solution = [reference](double t) { return reference->At(t); };
   }
-  ProgressBar progress("study", static_cast<std::int64_t>(plan.methods.size() * plan.hs.size()));
-  PbdStudyResult result;
-  result.rows = pbd::RunStudy(problem, plan.methods, plan.hs, scenario.solver,
-                              [&](int done, int) { progress.Update(done); });
+  auto reference =
+      std::make_shared<pbd::SampledTrajectory>(pbd::ComputeReference(problem, ref, sample_dt));
+  problem.solution = [reference](double t) { return reference->At(t); };
+  return problem;
+}
+
+}  // namespace
+
+sweep::Grid StudyGrid(const PbdStudyPlan& plan) {
+  sweep::Grid grid;  // crossed, the last axis fastest: method by method, h decreasing
+  sweep::Axis methods{"method", {}};
+  for (const pbd::MethodSpec& m : plan.methods)
+    methods.values.push_back(nlohmann::json(m.label).dump());
+  sweep::Axis hs{"h", {}};
+  for (double h : plan.hs) hs.values.push_back(fmt::format("{}", h));
+  grid.axes = {methods, hs};
+  return grid;
+}
+
+std::optional<PbdStudyResult> RunPbdStudy(const sweep::MpiSession& mpi, const Scenario& file,
+                                          const PbdScenario& scenario, const PbdStudyPlan& plan,
+                                          int jobs) {
+  const Stopwatch stopwatch;
+  const bool root = mpi.rank() == 0;
+  const pbd::StudyProblem problem = StudyProblemWithSolution(file, scenario, plan, root);
+  const sweep::Grid grid = StudyGrid(plan);
+  std::vector<std::int64_t> todo(static_cast<std::size_t>(grid.RunCount()));
+  std::iota(todo.begin(), todo.end(), 0);
+  ProgressBar progress("study", grid.RunCount());
+  std::int64_t done = 0;
+  const std::vector<nlohmann::json> entries = sweep::Dispatch(
+      mpi, todo, jobs,
+      [&](std::int64_t index) {
+        const auto i = static_cast<std::size_t>(index);
+        return StudyEntry(pbd::RunStudyPoint(problem, plan.methods[i / plan.hs.size()],
+                                             plan.hs[i % plan.hs.size()], scenario.solver),
+                          index);
+      },
+      [&](const nlohmann::json&) {
+        if (root) progress.Update(++done);  // rank 0's runs
+      });
   progress.Finish();
+  if (!root) return std::nullopt;
+  PbdStudyResult result;
+  result.rows.resize(todo.size());
+  for (const nlohmann::json& entry : entries) {
+    result.rows[entry["index"].get<std::size_t>()] = RowFromEntry(plan, entry);
+  }
   result.total_seconds = stopwatch.Seconds();
   return result;
 }

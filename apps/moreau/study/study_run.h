@@ -2,10 +2,13 @@
 // (sliding) or a reference (disks) solution.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "moreau/pbd/study.h"
+#include "moreau/sweep/dispatch.h"
+#include "moreau/sweep/grid.h"
 #include "run/pbd_scenario.h"
 
 namespace moreau::cli {
@@ -31,9 +34,16 @@ struct PbdStudyResult {
   double total_seconds = 0.0;       // reference and runs
 };
 
-// Computes the reference first when the scenario has no exact solution (its step must divide
-// the smallest h: else InputError naming reference.h in the scenario file).
-PbdStudyResult RunPbdStudy(const Scenario& file, const PbdScenario& scenario,
-                           const PbdStudyPlan& plan);
+// The study's runs as a sweep grid: axes "method" (labels) and "h", crossed, so run i is method
+// i / hs.size() at step hs[i % hs.size()], the order of the rows.
+sweep::Grid StudyGrid(const PbdStudyPlan& plan);
+
+// Runs the grid through sweep::Dispatch: `jobs` threads per process, over MPI ranks when
+// launched by mpirun/srun. Computes the reference first (on every rank) when the scenario has no
+// exact solution (its step must divide the smallest h: else InputError naming reference.h in
+// the scenario file). Returns the rows on rank 0, nothing on the other ranks.
+std::optional<PbdStudyResult> RunPbdStudy(const sweep::MpiSession& mpi, const Scenario& file,
+                                          const PbdScenario& scenario, const PbdStudyPlan& plan,
+                                          int jobs);
 
 }  // namespace moreau::cli

@@ -1,8 +1,9 @@
 // `moreau sweep SWEEP.toml [--set key=value ...] [--out DIR] [--jobs J]`: a parameter sweep or
 // ensemble of runs of one command (docs/sweeps.md): sweep_scenario → the runs, handed out by
-// sweep::Dispatch over MPI ranks (under mpirun/srun) or a local pool, each appended to
-// DIR/journal.jsonl as it finishes → sweep_report (results.csv, results.h5, summary.json).
-// Runs already in the journal (by the hash of their settings) are not run again.
+// sweep::Dispatch over MPI ranks (under mpirun/srun) or a local pool, each appended to its
+// rank's journal (DIR/journal.jsonl, DIR/journal.rank<k>.jsonl) as it finishes → sweep_report
+// (results.csv, results.h5, summary.json). Runs already in a journal (by the hash of their
+// settings) are not run again.
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -44,21 +45,19 @@ int Sweep(const SweepArgs& args) {
   file.CheckAllKeysUsed();
   if (args.jobs < 1) file.Fail("--jobs", fmt::format("must be ≥ 1 (got {})", args.jobs));
   const fs::path dir = args.OutDir();
-  const fs::path journal_path = dir / "journal.jsonl";
+  fs::create_directories(dir);  // on every rank: the folder may be local to a node
   SweepCounts counts{s.grid.RunCount(), 0, mpi.size(), args.jobs, 0.0, 0.0};
   std::vector<std::int64_t> todo;
-  std::optional<sweep::Journal> journal;
   if (mpi.rank() == 0) {
-    fs::create_directories(dir);
-    todo = RunsToDo(s, sweep::Journal::Read(journal_path));
+    todo = RunsToDo(s, sweep::Journal::ReadFolder(dir));
     counts.skipped = counts.runs - static_cast<std::int64_t>(todo.size());
-    journal.emplace(journal_path);
   }
-  sweep::Dispatch(
+  std::optional<sweep::Journal> journal;  // this rank's, opened at its first finished run
+  const std::vector<nlohmann::json> entries = sweep::Dispatch(
       mpi, todo, args.jobs, [&](std::int64_t index) { return SweepEntry(s, index, dir); },
       [&](const nlohmann::json& entry) {
+        if (!journal) journal.emplace(sweep::Journal::PathFor(dir, mpi.rank()));
         journal->Append(entry);
-        counts.run_seconds += entry["seconds"].get<double>();
         const nlohmann::json& row = entry["row"];
         if (!RowSucceeded(row["status"])) {
           std::fprintf(stderr, "moreau: sweep: run %lld (%s) %s: %s\n",
@@ -70,7 +69,14 @@ int Sweep(const SweepArgs& args) {
       });
   if (mpi.rank() != 0) return 0;
   journal.reset();
-  const sweep::ResultsTable table = SweepTable(s, sweep::Journal::Read(journal_path));
+  // The journals rank 0 sees, and this invocation's entries of every rank (the other ranks'
+  // journals may lie on their own nodes' disks).
+  std::map<std::string, nlohmann::json> finished = sweep::Journal::ReadFolder(dir);
+  for (const nlohmann::json& entry : entries) {
+    counts.run_seconds += entry["seconds"].get<double>();
+    finished[entry["hash"].get<std::string>()] = entry;
+  }
+  const sweep::ResultsTable table = SweepTable(s, finished);
   counts.total_seconds = clock.Seconds();
   return ReportSweep(s, table, counts, args.scenario, dir);
 }

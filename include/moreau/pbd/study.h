@@ -109,6 +109,12 @@ struct StudyRow {
   nlohmann::json ToJson() const;
 };
 
+// One run of a study: method `spec` at step h (tolerances and γ from `base`), its error against
+// problem.solution on the time grid. Thread-safe for one problem (each run has its own
+// constraint workspace).
+StudyRow RunStudyPoint(const StudyProblem& problem, const MethodSpec& spec, double h,
+                       const StepperOptions& base);
+
 // Runs every method at every h (from `base` for tolerances and γ). progress, if set, is called
 // after each run with (runs done, runs in all).
 std::vector<StudyRow> RunStudy(const StudyProblem& problem, const std::vector<MethodSpec>& methods,

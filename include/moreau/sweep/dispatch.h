@@ -1,10 +1,16 @@
 // Handing out the runs of a sweep: a pool of threads in one process, or MPI ranks.
 //
 // Runs differ in cost by orders of magnitude, so no run is assigned ahead: whichever worker is
-// free takes the next one (dynamic load balancing). Under MPI, rank 0 hands out run numbers on
-// request and works on runs itself with its own threads; every other rank asks for the next run
-// when it has sent back the entry of the last. Only rank 0 sees the finished entries, so only
-// rank 0 writes. Each run may use OpenMP threads of its own.
+// free takes the next one (dynamic load balancing). Under MPI the next run is the value of a
+// counter in rank 0's memory that every rank advances with one atomic MPI_Fetch_and_op (an MPI
+// one-sided window): no rank serves the others, and no thread polls for messages, so every core
+// works on runs. Each rank records the runs it did as they finish (`finished`, e.g. into a
+// journal of its own); their entries reach rank 0 once, at the end. Each run may use OpenMP
+// threads of its own.
+//
+// Progress: within a node (and on networks with remote atomics: InfiniBand through UCX) the
+// counter advances without rank 0's help. Over plain TCP, OpenMPI emulates the atomic with a
+// message that rank 0 answers when it next enters MPI, i.e. between two of its runs.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +24,9 @@ namespace moreau::sweep {
 // Does run `index` and returns its journal entry (an object). Must not throw. Called from
 // `jobs` threads at once when jobs > 1.
 using RunTask = std::function<nlohmann::json(std::int64_t index)>;
-// Takes a finished run's entry; called one call at a time, on rank 0 only, in the order the
-// runs finish. May throw (e.g. when the journal cannot be written): the sweep stops.
+// Takes a finished run's entry; called one call at a time per rank, on the rank that did the run,
+// in the order its runs finish. May throw (e.g. when the journal cannot be written): the sweep
+// stops (under MPI: MpiSession's destructor aborts every rank).
 using RunFinished = std::function<void(const nlohmann::json& entry)>;
 
 // An MPI environment for the lifetime of the object, when the process was started by an MPI
@@ -45,8 +52,11 @@ class MpiSession {
 };
 
 // Runs every index of `todo` (each exactly once) on the session's ranks, `jobs` ≥ 1 threads
-// each; every rank calls it with the same arguments. Returns when all runs are finished.
-void Dispatch(const MpiSession& session, const std::vector<std::int64_t>& todo, int jobs,
-              const RunTask& task, const RunFinished& finished);
+// each; every rank calls it (`todo` is read on rank 0 only). Returns when all runs are finished:
+// on rank 0 the entries of every run of every rank (each rank's in the order they finished, rank
+// by rank), on the other ranks nothing.
+std::vector<nlohmann::json> Dispatch(const MpiSession& session,
+                                     const std::vector<std::int64_t>& todo, int jobs,
+                                     const RunTask& task, const RunFinished& finished);
 
 }  // namespace moreau::sweep

@@ -4,6 +4,10 @@
 // An entry is {"hash": RunHash, "seconds": run time, "row": {column: value, …}}. Reading skips a
 // last line cut short by a kill (it does not parse) and keeps the last entry of a hash that
 // appears twice.
+//
+// Under MPI every rank keeps a journal of its own in the sweep's folder (rank 0: journal.jsonl,
+// rank k: journal.rank<k>.jsonl), so no rank waits for another to record a run; a restart reads
+// them all, whatever the number of ranks that wrote them.
 #pragma once
 
 #include <cstdio>
@@ -31,6 +35,12 @@ class Journal {
   // The entries of PATH by hash (empty when PATH is absent). Lines that are not a JSON object
   // with a string "hash" are skipped.
   static std::map<std::string, nlohmann::json> Read(const std::filesystem::path& path);
+
+  // The journal of `rank` in the sweep folder `dir`.
+  static std::filesystem::path PathFor(const std::filesystem::path& dir, int rank);
+  // The entries of every journal in `dir` (journal.jsonl, journal.rank<k>.jsonl), read in the
+  // order of their names (a hash in two: the first); empty when there is none.
+  static std::map<std::string, nlohmann::json> ReadFolder(const std::filesystem::path& dir);
 
  private:
   std::filesystem::path path_;
