@@ -222,6 +222,85 @@ bool NeighbourList::Accept(double moved) {
   return true;
 }
 
+bool NeighbourList::Listed(int s, int t) const {
+  const int a = std::min(s, t), b = std::max(s, t);
+  const int* row = nbr_.data();
+  for (int p = row_start_[static_cast<std::size_t>(a)];
+       p < row_start_[static_cast<std::size_t>(a) + 1]; ++p) {
+    if (row[p] == b) return true;
+  }
+  return false;
+}
+
+// Every two fast slots are listed, or were apart at the build by more than their contact distance
+// plus both bounds (the minimum image on periodic axes).
+bool NeighbourList::FastPairsApart(const std::vector<int>& fast, const std::vector<double>& bound,
+                                   const double* radius) const {
+  const int k = box_.k;
+  for (std::size_t i = 0; i < fast.size(); ++i) {
+    for (std::size_t j = i + 1; j < fast.size(); ++j) {
+      const int s = fast[i], t = fast[j];
+      double d2 = 0.0;
+      for (int a = 0; a < k; ++a) {
+        double u = reference_[static_cast<std::size_t>(k * s + a)] -
+                   reference_[static_cast<std::size_t>(k * t + a)];
+        if (box_.periodic[a]) u -= box_.len[a] * std::nearbyint(u / box_.len[a]);
+        d2 += u * u;
+      }
+      const double apart = radius[s] + radius[t] + attraction_range_ +
+                           bound[static_cast<std::size_t>(s)] + bound[static_cast<std::size_t>(t)];
+      if (!(std::sqrt(d2) * (1.0 - 1e-12) > apart) && !Listed(s, t)) return false;
+    }
+  }
+  return true;
+}
+
+bool NeighbourList::AcceptEach(const double* start, const double* x, const double* radius,
+                               const std::vector<double>& path, int threads) {
+  const int k = box_.k;
+  const std::int64_t n = n_;
+  const double half = 0.5 * skin_;
+  bound_.resize(static_cast<std::size_t>(n));
+  double* b = bound_.data();
+  const double* r0 = reference_.data();
+  double slow = 0.0;  // the largest bound below skin/2
+  double end = 0.0;   // max_s ‖x_s − X_s^build‖
+  int fast_count = 0;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : slow, end) \
+    reduction(+ : fast_count)
+  for (std::int64_t s = 0; s < n; ++s) {
+    double e2 = 0.0, f2 = 0.0;
+    for (int a = 0; a < k; ++a) {
+      const double d = start[k * s + a] - r0[k * s + a];
+      const double f = x[k * s + a] - r0[k * s + a];
+      e2 += d * d;
+      f2 += f * f;
+    }
+    const double to_end = std::sqrt(f2);
+    end = std::max(end, to_end);
+    // A point P on a path of length L from A to B has |P − A| + |P − B| ≤ L, so
+    // |P − X^build| ≤ (|A − X^build| + |B − X^build| + L) / 2.
+    b[s] = 0.5 * (std::sqrt(e2) + to_end + path[static_cast<std::size_t>(s)]) * (1.0 + 1e-12);
+    if (b[s] >= half) {
+      ++fast_count;
+    } else {
+      slow = std::max(slow, b[s]);
+    }
+  }
+  if (fast_count > kMaxFastSlots) return false;
+  std::vector<int> fast;
+  double fastest = 0.0;
+  for (int s = 0; s < n_; ++s) {
+    if (bound_[static_cast<std::size_t>(s)] < half) continue;
+    fast.push_back(s);
+    fastest = std::max(fastest, bound_[static_cast<std::size_t>(s)]);
+  }
+  const double room = skin_ * (1.0 - 1e-9);
+  if (!(fastest + slow < room) || !FastPairsApart(fast, bound_, radius)) return false;
+  drift_bound_ = end * (1.0 + 1e-12);  // bounds ‖X_i − X_i^build‖ after the step
+  return true;
+}
+
 bool NeighbourList::PrepareRedo() {
   if (!built_here_) return true;
   if (skin_ >= skin_limit_) return false;

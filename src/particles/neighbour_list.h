@@ -52,6 +52,18 @@ class NeighbourList {
   // Accepts a step whose particles are within `moved` of their build positions (returns false
   // when a redo is needed: moved reached skin/2).
   bool Accept(double moved);
+  // The per-particle test, after one sweep that Accept refused: start and x are the positions
+  // before and after the sweep, path_s the length of the projection moves of slot s in it; then
+  // b_s = (‖start_s − X_s^build‖ + ‖x_s − X_s^build‖ + path_s) / 2 bounds how far slot s was from
+  // its build position during the sweep (a point of a path of length L from A to B is within L of
+  // A and B together), and a pair left out of the list stayed apart while
+  // b_s + b_t < skin. With F = {s : b_s ≥ skin/2} (the fast slots) and B the largest b outside F,
+  // accepts when |F| ≤ kMaxFastSlots, b_f + B < skin for every f in F, and every two slots of F are
+  // a pair of the list or were farther apart at the build than r_f + r_g + ℓ + b_f + b_g. Only the
+  // few slots a division or a deep overlap pushes far then cost no redo.
+  bool AcceptEach(const double* start, const double* x, const double* radius,
+                  const std::vector<double>& path, int threads);
+  static constexpr int kMaxFastSlots = 64;
   // Before a redo: false when the skin cannot grow (it is at the periodic limit); else widens
   // the skin if the list was built at this step's predicted positions already.
   bool PrepareRedo();
@@ -83,6 +95,9 @@ class NeighbourList {
   void BuildRows(const double* x, const double* radius, const CellList& cells, const int* members,
                  bool sort_rows, bool brute_force, int threads);
   void Concatenate(bool periodic, int chunks, int threads);
+  bool Listed(int s, int t) const;
+  bool FastPairsApart(const std::vector<int>& fast, const std::vector<double>& bound,
+                      const double* radius) const;
 
   PeriodicBox box_;
   int n_ = 0;
@@ -98,6 +113,7 @@ class NeighbourList {
   std::vector<int> row_start_;  // int: the list is capped at INT_MAX pairs
   std::vector<int> nbr_;
   std::vector<std::uint8_t> image_;          // per pair, periodic only: the image code
+  std::vector<double> bound_;                // per slot, AcceptEach's b_s
   std::vector<std::vector<int>> chunk_nbr_;  // build buffers, reused
   std::vector<std::vector<std::uint8_t>> chunk_image_;
   NeighbourListStats stats_;
