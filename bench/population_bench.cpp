@@ -12,7 +12,10 @@
 //               per particle-step;
 //   ratio       growth / fixed (the target: ≤ 1.5).
 // Times are process CPU seconds (meaningful for threads = 1 on a shared machine).
-// One iteration (the growth is the measurement). MOREAU_BENCH_ABM_CELLS overrides N_max.
+// One iteration (the growth is the measurement). MOREAU_BENCH_ABM_CELLS overrides N_max,
+// MOREAU_BENCH_ABM_INTERVAL the rule interval (20; 5 and 1 are the worst cadences). Counters of
+// the last doubling (growth_*) and of the fixed run (fixed_*): list builds, redone steps and the
+// engine's wall-clock phase seconds (neighbour lists, sweeps, forces) and the rules' seconds.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>

@@ -29,11 +29,14 @@
 // A build happens when some predicted position has moved more than skin/4 from the last build.
 // No missed contacts, exactly: during a sweep each particle's distance from its build position
 // is bounded by its predicted displacement plus the length of the projection moves applied to it
-// so far; if after a sweep that bound reached skin/2 for some particle the step is redone from its
-// start with a fresh list (and, if that was fresh already, a doubled skin, which relaxes back by
-// halves toward the nominal skin at later regular builds) — a pair left out of the list is then
-// provably farther apart than r_i + r_j + ℓ throughout the sweep, so its projection is the
-// identity and leaving it out changes no bit. Such redos are counted (verlet_retries).
+// so far; if after a sweep that bound reached skin/2 for some particle — and, with one sweep per
+// step, the per-particle test also fails (at most 64 particles beyond skin/2, each of them with
+// the largest bound of the others below the skin, and no two of them able to meet unlisted; the
+// path bound per particle is (‖Y_i − X_i^build‖ + ‖X_i' − X_i^build‖ + path_i)/2) — the step is
+// redone from its start with a fresh list (and, if that was fresh already, a doubled skin, which
+// relaxes back by halves toward the nominal skin at later regular builds) — a pair left out of the
+// list is then provably farther apart than r_i + r_j + ℓ throughout the sweep, so its projection is
+// the identity and leaving it out changes no bit. Such redos are counted (verlet_retries).
 //
 // Bad input throws InputError (message names the field); a non-finite predicted position stops
 // the step, keeps the last good state and reports the step and particle id (Step returns false;
