@@ -231,7 +231,8 @@ bool Engine::Impl::AcceptEach() {
   path_scratch.resize(static_cast<std::size_t>(n));
   for (int s = 0; s < n; ++s) path_scratch[static_cast<std::size_t>(s)] = sweep->PathOf(s);
   return list.AcceptEach(sweep_start.data(), store->predicted.data(), store->radius.data(),
-                         path_scratch, threads);
+                         path_scratch, cells, lexicographic ? cells.permutation().data() : nullptr,
+                         threads);
 }
 
 // predict → (build if the skin bound says so) → sweeps (redone if needed) → accept.

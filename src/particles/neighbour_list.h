@@ -56,13 +56,15 @@ class NeighbourList {
   // before and after the sweep, path_s the length of the projection moves of slot s in it; then
   // b_s = (‖start_s − X_s^build‖ + ‖x_s − X_s^build‖ + path_s) / 2 bounds how far slot s was from
   // its build position during the sweep (a point of a path of length L from A to B is within L of
-  // A and B together), and a pair left out of the list stayed apart while
-  // b_s + b_t < skin. With F = {s : b_s ≥ skin/2} (the fast slots) and B the largest b outside F,
-  // accepts when |F| ≤ kMaxFastSlots, b_f + B < skin for every f in F, and every two slots of F are
-  // a pair of the list or were farther apart at the build than r_f + r_g + ℓ + b_f + b_g. Only the
+  // A and B together), and a pair left out of the list stayed apart while b_s + b_t < skin.
+  // Accepts when every b_s < skin, at most max(kMaxFastSlots, n/16) slots are fast (b_f ≥
+  // skin/2), and every fast slot f and every slot t within 2 cells of it (cells: the build's cell
+  // list, members as in Build) are a pair of the list or were farther apart at the build than
+  // r_f + r_t + ℓ + b_f + b_t; slots farther away are ≥ 2 min edge apart, which covers them. The
   // few slots a division or a deep overlap pushes far then cost no redo.
   bool AcceptEach(const double* start, const double* x, const double* radius,
-                  const std::vector<double>& path, int threads);
+                  const std::vector<double>& path, const CellList& cells, const int* members,
+                  int threads);
   static constexpr int kMaxFastSlots = 64;
   // Before a redo: false when the skin cannot grow (it is at the periodic limit); else widens
   // the skin if the list was built at this step's predicted positions already.
@@ -96,8 +98,9 @@ class NeighbourList {
                  bool sort_rows, bool brute_force, int threads);
   void Concatenate(bool periodic, int chunks, int threads);
   bool Listed(int s, int t) const;
-  bool FastPairsApart(const std::vector<int>& fast, const std::vector<double>& bound,
-                      const double* radius) const;
+  template <int K>
+  bool LocalPairsApart(int f, const CellList& cells, const int* members,
+                       const double* radius) const;
 
   PeriodicBox box_;
   int n_ = 0;
