@@ -194,16 +194,20 @@ void NeighbourList::Build(const double* x, const double* radius, const CellList&
   drift_bound_ = 0.0;
 }
 
-double NeighbourList::BoundAfterPrediction(double step_move, const double* y, int threads) const {
+double NeighbourList::BoundAfterPrediction(double step_move, const double* y, int threads) {
   // max_i ‖Y_i − X_i^build‖ ≤ (bound on ‖X_i − X_i^build‖) + max_i ‖Y_i − X_i‖: a bound without
   // reading the build positions; only when it reaches skin/4 is the exact maximum computed.
   const double moved = drift_bound_ + step_move;
+  far_slots_ = std::numeric_limits<std::int64_t>::max();
   if (!(moved > 0.25 * skin_)) return moved;
   const double* r0 = reference_.data();
   const int k = box_.k;
   const std::int64_t n = n_;
+  const double quarter2 = 0.0625 * skin_ * skin_;
   double worst = 0.0;
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst)
+  std::int64_t far = 0;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst) \
+    reduction(+ : far)
   for (std::int64_t s = 0; s < n; ++s) {
     double d2 = 0.0;
     for (int a = 0; a < k; ++a) {
@@ -211,7 +215,9 @@ double NeighbourList::BoundAfterPrediction(double step_move, const double* y, in
       d2 += d * d;
     }
     worst = std::max(worst, d2);
+    if (d2 > quarter2) ++far;
   }
+  far_slots_ = far;
   return std::sqrt(worst);
 }
 

@@ -45,8 +45,15 @@ class NeighbourList {
 
   // The skin bound. BoundAfterPrediction: max_i ‖Y_i − X_i^build‖ from the bound of the last
   // accepted step plus step_move, or (when that reaches skin/4) exactly from y.
-  double BoundAfterPrediction(double step_move, const double* y, int threads) const;
-  bool NeedsBuild(double moved) const { return moved > 0.25 * skin_; }
+  // When computed exactly it also counts the slots beyond skin/4.
+  double BoundAfterPrediction(double step_move, const double* y, int threads);
+  // A build is needed beyond skin/4, unless only a few slots (≤ max(kMaxFastSlots, n/16),
+  // counted by the exact bound) are there and none reached skin/2: AcceptEach can take such a
+  // sweep.
+  bool NeedsBuild(double moved) const {
+    return moved > 0.25 * skin_ &&
+           !(moved < 0.5 * skin_ && far_slots_ <= std::max<std::int64_t>(kMaxFastSlots, n_ / 16));
+  }
   // A regular build: a skin widened by redos relaxes back toward the nominal one.
   void RelaxSkin() { skin_ = std::max(std::min(nominal_skin_, skin_limit_), 0.5 * skin_); }
   // Accepts a step whose particles are within `moved` of their build positions (returns false
@@ -108,8 +115,9 @@ class NeighbourList {
   double nominal_skin_ = 0.0;
   double skin_limit_ = std::numeric_limits<double>::infinity();
   double attraction_range_ = 0.0;
-  bool built_here_ = false;   // built at the current predicted positions
-  double drift_bound_ = 0.0;  // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
+  bool built_here_ = false;     // built at the current predicted positions
+  double drift_bound_ = 0.0;    // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
+  std::int64_t far_slots_ = 0;  // slots beyond skin/4 at the last exact bound (else INT64_MAX)
   std::int64_t last_build_step_ = -1;
   std::vector<double> reference_;  // positions at the last build
   // Half-lists: pairs (s, nbr_[p]) for p in [row_start_[s], row_start_[s + 1]), nbr_ > s.
