@@ -1,6 +1,7 @@
 // The neighbour list's per-particle acceptance (NeighbourList::AcceptEach): it accepts a sweep in
 // which a few slots moved far, and whenever it accepts, every pair that came into contact during
-// the sweep is in the list (the invariant that makes leaving pairs out exact).
+// the sweep is in the list (the invariant that makes leaving pairs out exact); and the build rule
+// that lets a few slots go beyond skin/4.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -101,7 +102,8 @@ TEST(ListAcceptance, AFewFarMovesAreAcceptedAndEveryContactIsListed) {
   }
   const std::vector<double> path = Paths(2, start, x);
   EXPECT_FALSE(list.Accept(0.05 + 0.25));
-  ASSERT_TRUE(list.AcceptEach(start.data(), x.data(), c.model.radius.data(), path, 1));
+  ASSERT_TRUE(list.AcceptEach(start.data(), x.data(), c.model.radius.data(), path, built.cells,
+                              built.cells.permutation().data(), 1));
   EXPECT_TRUE(EveryContactListed(built, c.model, start, x));
   // The next step's bound is the exact largest distance from the build positions (≤ 0.3 here).
   const double bound = list.BoundAfterPrediction(0.0, x.data(), 1);
@@ -120,13 +122,14 @@ TEST(ListAcceptance, TwoFastSlotsThatCouldMeetAreRefused) {
   // 0 and 1 move 0.25 toward each other: they overlap at the end, a contact the list misses.
   const std::vector<double> meet{0.25, 0.0, 1.2, 0.0, 10.0, 10.0};
   NeighbourList list = built.list;
-  EXPECT_FALSE(list.AcceptEach(x0.data(), meet.data(), model.radius.data(), Paths(2, x0, meet), 1));
+  EXPECT_FALSE(list.AcceptEach(x0.data(), meet.data(), model.radius.data(), Paths(2, x0, meet),
+                               built.cells, built.cells.permutation().data(), 1));
   EXPECT_FALSE(EveryContactListed(built, model, x0, meet));
   // 0 and 2 move 0.25 each, far apart: accepted, and nothing was missed.
   const std::vector<double> apart{-0.25, 0.0, 1.45, 0.0, 10.25, 10.0};
   list = built.list;
-  EXPECT_TRUE(
-      list.AcceptEach(x0.data(), apart.data(), model.radius.data(), Paths(2, x0, apart), 1));
+  EXPECT_TRUE(list.AcceptEach(x0.data(), apart.data(), model.radius.data(), Paths(2, x0, apart),
+                              built.cells, built.cells.permutation().data(), 1));
   EXPECT_TRUE(EveryContactListed(built, model, x0, apart));
 }
 
@@ -137,7 +140,26 @@ TEST(ListAcceptance, ManyFastSlotsAreRefused) {
   std::vector<double> x = c.x;
   for (int s = 0; s <= NeighbourList::kMaxFastSlots; ++s)
     x[static_cast<std::size_t>(2 * s)] += 0.25;
-  EXPECT_FALSE(list.AcceptEach(c.x.data(), x.data(), c.model.radius.data(), Paths(2, c.x, x), 1));
+  EXPECT_FALSE(list.AcceptEach(c.x.data(), x.data(), c.model.radius.data(), Paths(2, c.x, x),
+                               built.cells, built.cells.permutation().data(), 1));
+}
+
+TEST(ListAcceptance, AFewSlotsBeyondAQuarterSkinNeedNoBuild) {
+  const RandomConfiguration c(2, {false, false, false}, 400, 30.0, 23);
+  const BuiltList built(c.model, c.x);
+  NeighbourList list = built.list;
+  std::vector<double> y = c.x;
+  for (int s = 0; s < 10; ++s) y[static_cast<std::size_t>(2 * s)] += 0.15;  // > skin/4, < skin/2
+  const double few = list.BoundAfterPrediction(0.15, y.data(), 1);
+  EXPECT_NEAR(few, 0.15, 1e-12);
+  EXPECT_FALSE(list.NeedsBuild(few));
+  // Beyond skin/2, or more than the cap of slots beyond skin/4: a build.
+  y[0] += 0.1;
+  EXPECT_TRUE(list.NeedsBuild(list.BoundAfterPrediction(0.25, y.data(), 1)));
+  y = c.x;
+  for (int s = 0; s <= NeighbourList::kMaxFastSlots; ++s)
+    y[static_cast<std::size_t>(2 * s)] += 0.15;
+  EXPECT_TRUE(list.NeedsBuild(list.BoundAfterPrediction(0.15, y.data(), 1)));
 }
 
 }  // namespace
