@@ -253,7 +253,7 @@ bool Engine::Impl::Step() {
   }
   list.MarkPredicted();
   double moved = list.BoundAfterPrediction(step_move, store->predicted.data(), threads);
-  if (list.NeedsBuild(moved)) {
+  if (list.NeedsBuild(moved, options.sweeps == 1)) {
     list.RelaxSkin();
     Rebuild(&store->predicted, step + 1);
     moved = 0.0;
@@ -322,7 +322,7 @@ int Engine::Impl::Relax(double tolerance, int max_sweeps) {
     store->predicted = store->current;
     list.MarkPredicted();
     double moved = list.BoundAfterPrediction(0.0, store->predicted.data(), threads);
-    if (list.NeedsBuild(moved)) {
+    if (list.NeedsBuild(moved, true)) {
       list.RelaxSkin();
       Rebuild(&store->predicted, step);
       moved = 0.0;

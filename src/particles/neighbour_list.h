@@ -47,12 +47,12 @@ class NeighbourList {
   // accepted step plus step_move, or (when that reaches skin/4) exactly from y.
   // When computed exactly it also counts the slots beyond skin/4.
   double BoundAfterPrediction(double step_move, const double* y, int threads);
-  // A build is needed beyond skin/4, unless only a few slots (≤ max(kMaxFastSlots, n/16),
-  // counted by the exact bound) are there and none reached skin/2: AcceptEach can take such a
-  // sweep.
-  bool NeedsBuild(double moved) const {
-    return moved > 0.25 * skin_ &&
-           !(moved < 0.5 * skin_ && far_slots_ <= std::max<std::int64_t>(kMaxFastSlots, n_ / 16));
+  // A build is needed beyond skin/4, unless `few_may_pass` (one sweep per step: AcceptEach can
+  // take the sweep) and only a few slots (≤ max(kMaxFastSlots, n/16), counted by the exact bound)
+  // are there and none reached skin/2.
+  bool NeedsBuild(double moved, bool few_may_pass = false) const {
+    return moved > 0.25 * skin_ && !(few_may_pass && moved < 0.5 * skin_ &&
+                                     far_slots_ <= std::max<std::int64_t>(kMaxFastSlots, n_ / 16));
   }
   // A regular build: a skin widened by redos relaxes back toward the nominal one.
   void RelaxSkin() { skin_ = std::max(std::min(nominal_skin_, skin_limit_), 0.5 * skin_); }

@@ -152,14 +152,15 @@ TEST(ListAcceptance, AFewSlotsBeyondAQuarterSkinNeedNoBuild) {
   for (int s = 0; s < 10; ++s) y[static_cast<std::size_t>(2 * s)] += 0.15;  // > skin/4, < skin/2
   const double few = list.BoundAfterPrediction(0.15, y.data(), 1);
   EXPECT_NEAR(few, 0.15, 1e-12);
-  EXPECT_FALSE(list.NeedsBuild(few));
+  EXPECT_FALSE(list.NeedsBuild(few, true));
+  EXPECT_TRUE(list.NeedsBuild(few, false));  // several sweeps per step: the rule as before
   // Beyond skin/2, or more than the cap of slots beyond skin/4: a build.
   y[0] += 0.1;
-  EXPECT_TRUE(list.NeedsBuild(list.BoundAfterPrediction(0.25, y.data(), 1)));
+  EXPECT_TRUE(list.NeedsBuild(list.BoundAfterPrediction(0.25, y.data(), 1), true));
   y = c.x;
   for (int s = 0; s <= NeighbourList::kMaxFastSlots; ++s)
     y[static_cast<std::size_t>(2 * s)] += 0.15;
-  EXPECT_TRUE(list.NeedsBuild(list.BoundAfterPrediction(0.15, y.data(), 1)));
+  EXPECT_TRUE(list.NeedsBuild(list.BoundAfterPrediction(0.15, y.data(), 1), true));
 }
 
 }  // namespace
