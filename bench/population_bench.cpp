@@ -12,7 +12,10 @@
 //               per particle-step;
 //   ratio       growth / fixed (the target: ≤ 1.5).
 // Times are process CPU seconds (meaningful for threads = 1 on a shared machine).
-// One iteration (the growth is the measurement). MOREAU_BENCH_ABM_CELLS overrides N_max.
+// One iteration (the growth is the measurement). MOREAU_BENCH_ABM_CELLS overrides N_max,
+// MOREAU_BENCH_ABM_INTERVAL the rule interval (20; 5 and 1 are the worst cadences). Counters of
+// the last doubling (growth_*) and of the fixed run (fixed_*): list builds, redone steps and the
+// engine's wall-clock phase seconds (neighbour lists, sweeps, forces) and the rules' seconds.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -52,15 +55,24 @@ void BM_GrowingColony(benchmark::State& state) {
     cell.division_rate = 0.01;
     PopulationRules rules;
     rules.types = {cell};
-    rules.interval = 20;
+    const char* every = std::getenv("MOREAU_BENCH_ABM_INTERVAL");
+    rules.interval = every != nullptr ? std::atoi(every) : 20;
     rules.seed = 3;
     const std::vector<int> types{0};
     const std::vector<double> x0{0.0, 0.0};
     Population colony(geometry, forces, options, rules, types, x0);
     double growth_seconds = 0.0, growth_particle_steps = 0.0;
+    EngineStats at_half;
+    double rules_at_half = 0.0;
+    bool half = false;
     while (colony.count() < n_max) {
       const int n = colony.count();
       const double t0 = CpuSeconds();
+      if (!half && 2 * n >= n_max) {
+        half = true;
+        at_half = colony.engine().summary().stats;
+        rules_at_half = colony.summary().rules_seconds;
+      }
       if (!colony.Step()) break;
       if (2 * n >= n_max) {
         growth_seconds += CpuSeconds() - t0;
@@ -77,6 +89,21 @@ void BM_GrowingColony(benchmark::State& state) {
     for (int i = 0; i < steps; ++i) fixed.Step();
     const double fixed_per = (CpuSeconds() - t0) / (static_cast<double>(steps) * fixed.count());
     const double growth_per = growth_seconds / growth_particle_steps;
+    const EngineStats end = colony.engine().summary().stats;
+    const EngineStats fs = fixed.summary().stats;
+    state.counters["growth_builds"] =
+        static_cast<double>(end.neighbour_list_builds - at_half.neighbour_list_builds);
+    state.counters["growth_retries"] =
+        static_cast<double>(end.verlet_retries - at_half.verlet_retries);
+    state.counters["growth_steps"] = static_cast<double>(end.steps - at_half.steps);
+    state.counters["growth_neighbour_s"] = end.neighbour_seconds - at_half.neighbour_seconds;
+    state.counters["growth_sweep_s"] = end.sweep_seconds - at_half.sweep_seconds;
+    state.counters["growth_force_s"] = end.force_seconds - at_half.force_seconds;
+    state.counters["growth_rules_s"] = colony.summary().rules_seconds - rules_at_half;
+    state.counters["fixed_builds"] = static_cast<double>(fs.neighbour_list_builds);
+    state.counters["fixed_neighbour_s"] = fs.neighbour_seconds;
+    state.counters["fixed_sweep_s"] = fs.sweep_seconds;
+    state.counters["fixed_force_s"] = fs.force_seconds;
     state.counters["cells"] = colony.count();
     state.counters["steps"] = static_cast<double>(colony.engine().step());
     state.counters["growth_s_per_particle_step"] = growth_per;

@@ -49,18 +49,24 @@ struct CellGrid {
   // the cell edge lies in adjacent cells.
   template <int K, typename F>
   void ForEachAdjacentCell(const double* x, F&& f) const {
+    ForEachCellWithin<K>(x, 1, f);
+  }
+  // The same for the cells at most `ring` cells away on every axis (ring ≥ 1). A pair in cells
+  // farther apart is at least ring · min edge apart.
+  template <int K, typename F>
+  void ForEachCellWithin(const double* x, int ring, F&& f) const {
     int lo_c[3] = {0, 0, 0}, hi_c[3] = {0, 0, 0};
     for (int a = 0; a < K; ++a) {
       const int c = Coord(a, x[a]);
-      if (periodic[a] && nc[a] >= 3) {
-        lo_c[a] = c - 1;
-        hi_c[a] = c + 1;
+      if (periodic[a] && nc[a] >= 2 * ring + 1) {
+        lo_c[a] = c - ring;
+        hi_c[a] = c + ring;
       } else if (periodic[a]) {
         lo_c[a] = 0;
         hi_c[a] = nc[a] - 1;
       } else {
-        lo_c[a] = std::max(0, c - 1);
-        hi_c[a] = std::min(nc[a] - 1, c + 1);
+        lo_c[a] = std::max(0, c - ring);
+        hi_c[a] = std::min(nc[a] - 1, c + ring);
       }
     }
     for (int z = lo_c[2]; z <= hi_c[2]; ++z) {

@@ -68,6 +68,9 @@ struct Engine::Impl {
   void Repopulate(std::span<const double> positions, std::span<const double> active);
   int Relax(double tolerance, int max_sweeps);
   void Fail(std::int64_t bad);
+  bool AcceptEach();
+  std::vector<double> path_scratch;
+  std::vector<double> sweep_start;  // the predicted positions before a single sweep
   double MaxOverlap() const {
     return internal::MaxPairOverlap(list, store->current.data(), store->radius.data(), n, threads);
   }
@@ -186,6 +189,7 @@ void Engine::Impl::SweepUntilAccepted(double moved, int sweeps, bool relax) {
     std::int64_t proj = 0;
     // The sum over sweeps of the longest path bounds every particle's path in this step.
     double max_path = 0.0;
+    if (sweeps == 1) sweep_start = store->predicted;
     for (int s = 0; s < sweeps; ++s) {
       max_path += sweep->Sweep(store->predicted.data(), store->radius.data(), list, colouring,
                                cells, lexicographic, threads, &proj);
@@ -196,6 +200,7 @@ void Engine::Impl::SweepUntilAccepted(double moved, int sweeps, bool relax) {
     stats.constraint_sets += sweeps * (static_cast<std::int64_t>(n) * (n - 1) / 2 + fixed);
     stats.projections += proj;
     if (list.Accept(moved + max_path)) return;
+    if (sweeps == 1 && AcceptEach()) return;
     ++stats.verlet_retries;
     if (attempt >= 20) {
       throw NumericalError(fmt::format(
@@ -221,6 +226,15 @@ void Engine::Impl::SweepUntilAccepted(double moved, int sweeps, bool relax) {
   }
 }
 
+// The list's per-particle acceptance (NeighbourList::AcceptEach) with the last sweep's paths.
+bool Engine::Impl::AcceptEach() {
+  path_scratch.resize(static_cast<std::size_t>(n));
+  for (int s = 0; s < n; ++s) path_scratch[static_cast<std::size_t>(s)] = sweep->PathOf(s);
+  return list.AcceptEach(sweep_start.data(), store->predicted.data(), store->radius.data(),
+                         path_scratch, cells, lexicographic ? cells.permutation().data() : nullptr,
+                         threads);
+}
+
 // predict → (build if the skin bound says so) → sweeps (redone if needed) → accept.
 bool Engine::Impl::Step() {
   if (termination != Termination::kCompleted) return false;
@@ -239,7 +253,7 @@ bool Engine::Impl::Step() {
   }
   list.MarkPredicted();
   double moved = list.BoundAfterPrediction(step_move, store->predicted.data(), threads);
-  if (list.NeedsBuild(moved)) {
+  if (list.NeedsBuild(moved, options.sweeps == 1)) {
     list.RelaxSkin();
     Rebuild(&store->predicted, step + 1);
     moved = 0.0;
@@ -308,7 +322,7 @@ int Engine::Impl::Relax(double tolerance, int max_sweeps) {
     store->predicted = store->current;
     list.MarkPredicted();
     double moved = list.BoundAfterPrediction(0.0, store->predicted.data(), threads);
-    if (list.NeedsBuild(moved)) {
+    if (list.NeedsBuild(moved, true)) {
       list.RelaxSkin();
       Rebuild(&store->predicted, step);
       moved = 0.0;

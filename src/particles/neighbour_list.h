@@ -45,13 +45,34 @@ class NeighbourList {
 
   // The skin bound. BoundAfterPrediction: max_i ‖Y_i − X_i^build‖ from the bound of the last
   // accepted step plus step_move, or (when that reaches skin/4) exactly from y.
-  double BoundAfterPrediction(double step_move, const double* y, int threads) const;
-  bool NeedsBuild(double moved) const { return moved > 0.25 * skin_; }
+  // When computed exactly it also counts the slots beyond skin/4.
+  double BoundAfterPrediction(double step_move, const double* y, int threads);
+  // A build is needed beyond skin/4, unless `few_may_pass` (one sweep per step: AcceptEach can
+  // take the sweep) and only a few slots (≤ max(kMaxFastSlots, n/16), counted by the exact bound)
+  // are there and none reached skin/2.
+  bool NeedsBuild(double moved, bool few_may_pass = false) const {
+    return moved > 0.25 * skin_ && !(few_may_pass && moved < 0.5 * skin_ &&
+                                     far_slots_ <= std::max<std::int64_t>(kMaxFastSlots, n_ / 16));
+  }
   // A regular build: a skin widened by redos relaxes back toward the nominal one.
   void RelaxSkin() { skin_ = std::max(std::min(nominal_skin_, skin_limit_), 0.5 * skin_); }
   // Accepts a step whose particles are within `moved` of their build positions (returns false
   // when a redo is needed: moved reached skin/2).
   bool Accept(double moved);
+  // The per-particle test, after one sweep that Accept refused: start and x are the positions
+  // before and after the sweep, path_s the length of the projection moves of slot s in it; then
+  // b_s = (‖start_s − X_s^build‖ + ‖x_s − X_s^build‖ + path_s) / 2 bounds how far slot s was from
+  // its build position during the sweep (a point of a path of length L from A to B is within L of
+  // A and B together), and a pair left out of the list stayed apart while b_s + b_t < skin.
+  // Accepts when every b_s < skin, at most max(kMaxFastSlots, n/16) slots are fast (b_f ≥
+  // skin/2), and every fast slot f and every slot t within 2 cells of it (cells: the build's cell
+  // list, members as in Build) are a pair of the list or were farther apart at the build than
+  // r_f + r_t + ℓ + b_f + b_t; slots farther away are ≥ 2 min edge apart, which covers them. The
+  // few slots a division or a deep overlap pushes far then cost no redo.
+  bool AcceptEach(const double* start, const double* x, const double* radius,
+                  const std::vector<double>& path, const CellList& cells, const int* members,
+                  int threads);
+  static constexpr int kMaxFastSlots = 64;
   // Before a redo: false when the skin cannot grow (it is at the periodic limit); else widens
   // the skin if the list was built at this step's predicted positions already.
   bool PrepareRedo();
@@ -83,6 +104,10 @@ class NeighbourList {
   void BuildRows(const double* x, const double* radius, const CellList& cells, const int* members,
                  bool sort_rows, bool brute_force, int threads);
   void Concatenate(bool periodic, int chunks, int threads);
+  bool Listed(int s, int t) const;
+  template <int K>
+  bool LocalPairsApart(int f, const CellList& cells, const int* members,
+                       const double* radius) const;
 
   PeriodicBox box_;
   int n_ = 0;
@@ -90,14 +115,16 @@ class NeighbourList {
   double nominal_skin_ = 0.0;
   double skin_limit_ = std::numeric_limits<double>::infinity();
   double attraction_range_ = 0.0;
-  bool built_here_ = false;   // built at the current predicted positions
-  double drift_bound_ = 0.0;  // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
+  bool built_here_ = false;     // built at the current predicted positions
+  double drift_bound_ = 0.0;    // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
+  std::int64_t far_slots_ = 0;  // slots beyond skin/4 at the last exact bound (else INT64_MAX)
   std::int64_t last_build_step_ = -1;
   std::vector<double> reference_;  // positions at the last build
   // Half-lists: pairs (s, nbr_[p]) for p in [row_start_[s], row_start_[s + 1]), nbr_ > s.
   std::vector<int> row_start_;  // int: the list is capped at INT_MAX pairs
   std::vector<int> nbr_;
   std::vector<std::uint8_t> image_;          // per pair, periodic only: the image code
+  std::vector<double> bound_;                // per slot, AcceptEach's b_s
   std::vector<std::vector<int>> chunk_nbr_;  // build buffers, reused
   std::vector<std::vector<std::uint8_t>> chunk_image_;
   NeighbourListStats stats_;

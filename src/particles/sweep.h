@@ -32,6 +32,11 @@ class ProjectionSweep {
                const Colouring& colouring, const CellList& cells, bool lexicographic, int threads,
                std::int64_t* projections);
 
+  // The length of the projection moves applied to slot s in the last sweep.
+  double PathOf(int s) const {
+    const auto us = static_cast<std::size_t>(s);
+    return stamp_[us] == sweep_id_ ? path_[us] : 0.0;
+  }
   // Sets visited per sweep besides the pairs: N · (walls + obstacles).
   int fixed_sets() const { return fixed_sets_; }
   // The largest violation of a wall or obstacle at x (0 when none is violated).

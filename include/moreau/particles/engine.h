@@ -26,14 +26,18 @@
 // Neighbour lists: a uniform cell grid (edge ≥ reach = 2 max r + attraction range + skin) filled
 // by counting sort, Verlet half-lists of the pairs closer than r_i + r_j + ℓ + skin, and the
 // particle storage reordered along the blocks' Morton curve at every build (ids are kept).
-// A build happens when some predicted position has moved more than skin/4 from the last build.
+// A build happens when some predicted position has moved more than skin/4 from the last build
+// (with one sweep per step: more than max(64, N/16) of them, or one by skin/2).
 // No missed contacts, exactly: during a sweep each particle's distance from its build position
 // is bounded by its predicted displacement plus the length of the projection moves applied to it
-// so far; if after a sweep that bound reached skin/2 for some particle the step is redone from its
-// start with a fresh list (and, if that was fresh already, a doubled skin, which relaxes back by
-// halves toward the nominal skin at later regular builds) — a pair left out of the list is then
-// provably farther apart than r_i + r_j + ℓ throughout the sweep, so its projection is the
-// identity and leaving it out changes no bit. Such redos are counted (verlet_retries).
+// so far; if after a sweep that bound reached skin/2 for some particle — and, with one sweep per
+// step, the per-particle test also fails (every bound below the skin, at most max(64, N/16)
+// particles beyond skin/2, none of them able to meet an unlisted particle within 2 cells; the
+// path bound per particle is (‖Y_i − X_i^build‖ + ‖X_i' − X_i^build‖ + path_i)/2) — the step is
+// redone from its start with a fresh list (and, if that was fresh already, a doubled skin, which
+// relaxes back by halves toward the nominal skin at later regular builds) — a pair left out of the
+// list is then provably farther apart than r_i + r_j + ℓ throughout the sweep, so its projection is
+// the identity and leaving it out changes no bit. Such redos are counted (verlet_retries).
 //
 // Bad input throws InputError (message names the field); a non-finite predicted position stops
 // the step, keeps the last good state and reports the step and particle id (Step returns false;
