@@ -50,8 +50,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "moreau: out of memory: %s\n", e.what());
     return 3;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "moreau: out of memory: an allocation failed while running `moreau %s`\n",
-                 app.get_subcommands().empty() ? "" : app.get_subcommands().front()->get_name().c_str());
+    std::fprintf(
+        stderr, "moreau: out of memory: an allocation failed while running `moreau %s`\n",
+        app.get_subcommands().empty() ? "" : app.get_subcommands().front()->get_name().c_str());
     return 3;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "moreau: error: %s\n", e.what());

@@ -97,8 +97,8 @@ std::string ConvergenceCsv(const control::RefinementStudySummary& study, double 
     }
     // A level that did not converge has no value (empty cells), only its residual.
     const auto number = [&l](double v) { return l.ok() ? fmt::format("{:.17g}", v) : ""; };
-    fmt::format_to(out, "{},{:.17g},{},{},{},{:.6e},{},{},{:.6f},{},{},{:.6e}{}\n",
-                   l.steps, dt, l.ok() ? 1 : 0, number(l.value),
+    fmt::format_to(out, "{},{:.17g},{},{},{},{:.6e},{},{},{:.6f},{},{},{:.6e}{}\n", l.steps, dt,
+                   l.ok() ? 1 : 0, number(l.value),
                    study.levels.back().ok() ? number(u_finest - l.value) : "", l.residual,
                    l.newton_iterations, l.newton_total, l.total_seconds,
                    std::isfinite(l.diff_previous) ? fmt::format("{:.6e}", l.diff_previous) : "",
