@@ -6,7 +6,7 @@ import os
 import resource
 import subprocess
 
-from conftest import CLI, ROOT, run_cli
+from conftest import CLI, ROOT, rejected, run_cli
 
 SLIDING = ROOT / "examples/sliding.toml"
 CROWD = ROOT / "examples/crowd.toml"
@@ -30,16 +30,6 @@ box_walls = true
 [solver]
 h = 0.01
 """
-
-
-def rejected(r, *needles):
-    """Exit 2 with one stderr line that holds every needle."""
-    assert r.returncode == 2, (r.returncode, r.stderr)
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1, r.stderr
-    for needle in needles:
-        assert needle in lines[0], (needle, lines[0])
-    return lines[0]
 
 
 def run_with_address_space(limit_bytes, *args):

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import ROOT, rejected, run_cli
 
 CROWD = ROOT / "examples/crowd.toml"
 NETWORK = ROOT / "examples/control/network_2d.toml"
@@ -29,16 +29,6 @@ hi = [10.0, 10.0]
 [solver]
 h = 0.01
 """
-
-
-def rejected(r, *needles):
-    """Exit 2 with one stderr line that holds every needle."""
-    assert r.returncode == 2, (r.returncode, r.stderr)
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1, r.stderr
-    for needle in needles:
-        assert needle in lines[0], (needle, lines[0])
-    return lines[0]
 
 
 @pytest.mark.parametrize("table, entry, key, suggestion", [
