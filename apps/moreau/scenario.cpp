@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <new>
 #include <system_error>
 
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 
 namespace moreau::cli {
 namespace {
@@ -102,6 +104,8 @@ Scenario Scenario::Load(const std::string& path, const std::vector<std::string>&
   }
   try {
     s.table_ = toml::parse_file(path);
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemoryError(fmt::format("{}: out of memory while reading the file", path));
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
     if (where.line == 0) {

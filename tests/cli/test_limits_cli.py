@@ -109,3 +109,14 @@ def test_threads_beyond_the_hardware_are_capped_with_a_warning(tmp_path, write_s
     summary = json.loads((out / "summary.json").read_text())
     assert summary["settings"]["solver"]["threads"] == hardware
     assert 1 <= summary["threads"] <= hardware
+
+
+def test_running_out_of_memory_is_one_line_naming_what_was_read(tmp_path, write_scenario):
+    # 300 000 positions take about 100 MiB as parsed TOML: more than 96 MiB of address space.
+    rows = ",".join(["[1.0, 2.0]"] * 300000)
+    scenario = write_scenario(f'[problem]\nkind = "particles"\n[initial]\npositions = [{rows}]\n')
+    r = run_with_address_space(96 << 20, "run", scenario, "--out", tmp_path / "out")
+    assert r.returncode == 3, (r.returncode, r.stderr)
+    assert r.stderr.strip().splitlines() == [
+        f"moreau: out of memory: {scenario}: out of memory while reading the file"]
+    assert not (tmp_path / "out").exists()
