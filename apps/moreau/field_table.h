@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -28,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 #include "scenario.h"
 
 namespace moreau::cli {
@@ -55,8 +57,20 @@ struct Range {
   void Check(const Scenario& scenario, std::string_view key, double v, std::string_view got) const;
 };
 
+// The most trajectory frames one run may write (docs/reliability.md, "Limits and validation").
+inline constexpr std::int64_t kMaxFrames = 1'000'000;
+
+// The frames of a run of `steps` steps that writes one every `stride` steps (and the last one).
+// Throws InputError "N frames (STEPS steps, one every STRIDE) is more than the 1000000 allowed"
+// above kMaxFrames.
+std::int64_t CheckFrameCount(std::int64_t steps, std::int64_t stride);
+
 // Sets j[a][b]… = value for the dotted key "a.b…".
 void SetDotted(nlohmann::json& j, std::string_view key, nlohmann::json value);
+// Runs `work`; a std::bad_alloc it throws is re-thrown as OutOfMemoryError "FILE: KEY: out of
+// memory while reading this key".
+void NamingAllocations(const Scenario& scenario, std::string_view key,
+                       const std::function<void()>& work);
 // Runs `check`; an InputError it throws is re-thrown as "FILE: KEY: REASON".
 void WithKey(const Scenario& scenario, std::string_view key, const std::function<void()>& check);
 
@@ -120,6 +134,25 @@ class FieldTable {
                   v = static_cast<T>(read);
                 },
                 Echoer(ref)});
+  }
+
+  // A thread count ≥ 0 (0: automatic). More than the machine's hardware threads is capped to
+  // them, with a warning line on stderr (oversubscribed threads only wait for each other).
+  template <class A>
+  FieldTable& Threads(std::string key, A ref, std::string help) {
+    Integer(std::move(key), ref, Range::NonNegative(), std::move(help));
+    fields_.back().read = [ref, read = fields_.back().read](Scenario& sc, S& s,
+                                                            const std::string& k) {
+      read(sc, s, k);
+      auto& v = std::invoke(ref, s);
+      const auto hardware = static_cast<std::int64_t>(std::thread::hardware_concurrency());
+      if (hardware > 0 && static_cast<std::int64_t>(v) > hardware) {
+        sc.Warn(k, fmt::format("{} threads is more than the {} hardware threads; using {}", v,
+                               hardware, hardware));
+        v = static_cast<std::remove_reference_t<decltype(v)>>(hardware);
+      }
+    };
+    return *this;
   }
 
   template <class A>
@@ -214,12 +247,15 @@ class FieldTable {
     return *this;
   }
 
+  // A std::bad_alloc while reading or checking a key becomes OutOfMemoryError naming the key.
   void Read(Scenario& scenario, S& settings) const {
     for (const Field& f : fields_) {
       if (f.required && !scenario.Has(f.key)) scenario.Fail(f.key, "required key is missing");
-      f.read(scenario, settings, f.key);
+      NamingAllocations(scenario, f.key, [&] { f.read(scenario, settings, f.key); });
     }
-    for (const auto& [key, check] : checks_) WithKey(scenario, key, [&] { check(settings); });
+    for (const auto& [key, check] : checks_) {
+      NamingAllocations(scenario, key, [&] { WithKey(scenario, key, [&] { check(settings); }); });
+    }
   }
 
   nlohmann::json Echo(const S& settings) const {

@@ -4,12 +4,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <new>
 
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
 #include "signals.h"
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 
 int main(int argc, char** argv) {
   // libgomp reads OMP_WAIT_POLICY when it loads. Its default busy-waiting costs a scheduler time
@@ -43,6 +45,16 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const moreau::NumericalError& e) {
     std::fprintf(stderr, "moreau: numerical failure: %s\n", e.what());
+    return 3;
+  }
+  // Out of memory (the size checks estimate before allocating; this is what they missed).
+  catch (const moreau::OutOfMemoryError& e) {
+    std::fprintf(stderr, "moreau: out of memory: %s\n", e.what());
+    return 3;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(
+        stderr, "moreau: out of memory: an allocation failed while running `moreau %s`\n",
+        app.get_subcommands().empty() ? "" : app.get_subcommands().front()->get_name().c_str());
     return 3;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "moreau: error: %s\n", e.what());

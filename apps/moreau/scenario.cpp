@@ -1,9 +1,16 @@
 #include "scenario.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <new>
+#include <system_error>
+
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 
 namespace moreau::cli {
 namespace {
@@ -55,13 +62,50 @@ void CollectLeafKeys(const toml::table& table, const std::string& prefix,
   }
 }
 
+// The number of single-character edits (insert, delete, replace) that turn a into b.
+std::size_t EditDistance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean X?)" for the closest candidate within two edits, else "".
+template <class Range>
+std::string Suggestion(std::string_view key, const Range& candidates) {
+  std::string best;
+  std::size_t best_distance = 3;
+  for (const auto& candidate : candidates) {
+    const std::size_t d = EditDistance(key, candidate);
+    if (d < best_distance) {
+      best_distance = d;
+      best = std::string(candidate);
+    }
+  }
+  return best.empty() ? "" : fmt::format(" (did you mean {}?)", best);
+}
+
 }  // namespace
 
 Scenario Scenario::Load(const std::string& path, const std::vector<std::string>& overrides) {
   Scenario s;
   s.path_ = path;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError(fmt::format("{}: is a directory, not a scenario file", path));
+  }
   try {
     s.table_ = toml::parse_file(path);
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemoryError(fmt::format("{}: out of memory while reading the file", path));
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
     if (where.line == 0) {
@@ -123,6 +167,21 @@ bool Scenario::Has(std::string_view key) const { return Find(key) != nullptr; }
 
 void Scenario::Fail(std::string_view key, std::string_view reason) const {
   throw InputError(fmt::format("{}: {}: {}", path_, key, reason));
+}
+
+void Scenario::Warn(std::string_view key, std::string_view text) const {
+  std::fprintf(stderr, "moreau: warning: %s: %.*s: %.*s\n", path_.c_str(),
+               static_cast<int>(key.size()), key.data(), static_cast<int>(text.size()),
+               text.data());
+}
+
+void Scenario::CheckTableKeys(std::string_view at, const toml::table& table,
+                              std::initializer_list<std::string_view> known) const {
+  for (const auto& [k, node] : table) {
+    (void)node;
+    if (std::find(known.begin(), known.end(), k.str()) != known.end()) continue;
+    Fail(fmt::format("{}.{}", at, k.str()), "unknown key" + Suggestion(k.str(), known));
+  }
 }
 
 double Scenario::GetDouble(std::string_view key, double fallback) {
@@ -234,7 +293,7 @@ void Scenario::CheckAllKeysUsed() const {
       if (dot == std::string::npos) break;
       prefix.resize(dot);
     }
-    if (!used) Fail(key, "unknown key");
+    if (!used) Fail(key, "unknown key" + Suggestion(key, used_));
   }
 }
 

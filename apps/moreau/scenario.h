@@ -1,12 +1,14 @@
 // A scenario file (TOML) with command-line overrides, read with typed getters.
 //
-// Every getter names the key in dotted form ("problem.radius"). A missing required key, a value of
+// Every getter names the key in dotted form ("problem.radius"). Booleans must be true or false
+// (an integer is not taken as a boolean). A missing required key, a value of
 // the wrong type or a value out of range throws moreau::InputError with the message
 // "FILE: KEY: REASON". After reading, CheckAllKeysUsed() rejects keys nobody asked for, so a typo
 // in a scenario is an error rather than a silently ignored setting.
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <set>
 #include <string>
@@ -45,6 +47,13 @@ class Scenario {
 
   // Throws InputError "FILE: KEY: REASON".
   [[noreturn]] void Fail(std::string_view key, std::string_view reason) const;
+  // Prints "moreau: warning: FILE: KEY: TEXT" on stderr (the run goes on).
+  void Warn(std::string_view key, std::string_view text) const;
+
+  // Fails "FILE: AT.NAME: unknown key (did you mean …?)" for the first key of TABLE (one entry of
+  // an array of tables such as [[walls]], named AT = "walls[0]") that is not in KNOWN.
+  void CheckTableKeys(std::string_view at, const toml::table& table,
+                      std::initializer_list<std::string_view> known) const;
 
   // Range checks that throw through Fail().
   double RequirePositive(std::string_view key, double value) const;

@@ -26,6 +26,17 @@ def assert_rejected(scenario, out, key, reason):
     assert not out.exists() or not any(out.iterdir())
 
 
+def rejected(r, *needles):
+    """A finished `moreau` run that must have exit code 2 and one stderr line holding every
+    needle; returns that line."""
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    for needle in needles:
+        assert needle in lines[0], (needle, lines[0])
+    return lines[0]
+
+
 @pytest.fixture
 def write_scenario(tmp_path):
     def write(text, name="scenario.toml"):

@@ -95,8 +95,11 @@ std::string ConvergenceCsv(const control::RefinementStudySummary& study, double 
       const control::ValueErrorBounds vb = control::Theorem51Bounds(*theorem, horizon, dt);
       bounds = fmt::format(",{:.17g},{:.17g}", vb.lower, vb.upper);
     }
-    fmt::format_to(out, "{},{:.17g},{},{:.17g},{:.17g},{:.6e},{},{},{:.6f},{},{},{:.6e}{}\n",
-                   l.steps, dt, l.ok() ? 1 : 0, l.value, u_finest - l.value, l.residual,
+    // A level that did not converge has no value (empty cells), only its residual.
+    const auto number = [&l](double v) { return l.ok() ? fmt::format("{:.17g}", v) : ""; };
+    fmt::format_to(out, "{},{:.17g},{},{},{},{:.6e},{},{},{:.6f},{},{},{:.6e}{}\n", l.steps, dt,
+                   l.ok() ? 1 : 0, number(l.value),
+                   study.levels.back().ok() ? number(u_finest - l.value) : "", l.residual,
                    l.newton_iterations, l.newton_total, l.total_seconds,
                    std::isfinite(l.diff_previous) ? fmt::format("{:.6e}", l.diff_previous) : "",
                    fmt::format("{:.6e}", l.diff_finest), l.tracking_rms, bounds);
@@ -108,9 +111,12 @@ nlohmann::json ControlRunJson(const ControlScenario& scenario, const ControlRunR
                               const std::string& scenario_file) {
   nlohmann::json j = r.continuation.ToJson();
   j["total_seconds"] = r.total_seconds;  // the whole command: solve and evaluation
-  j["value"] = FiniteOrNull(r.value);
+  // A failed solve has no value and no tracking error: null, and "message" says why; the
+  // residual of the last iterate shows how far it is from a solution.
+  const bool solved = r.continuation.ok();
+  j["value"] = solved ? FiniteOrNull(r.value) : nlohmann::json();
   j["residual_norm"] = FiniteOrNull(r.residual_norm);
-  j["tracking_rms"] = r.tracking_rms;
+  j["tracking_rms"] = solved ? FiniteOrNull(r.tracking_rms) : nlohmann::json();
   j["steps"] = scenario.steps;
   j["dt"] = r.dt;
   j["delta"] = r.delta;
@@ -134,8 +140,13 @@ int ReportControlRun(const ControlScenario& scenario, const ControlRunResult& r,
                                     out.StagedPath("controls.csv").string()});
   out.Commit();
   std::printf("%s\n", cs.BriefReport().c_str());
-  std::printf("value %.12g, residual %.3e, tracking RMS %.3e, %d steps, %.2f s\n", r.value,
-              r.residual_norm, r.tracking_rms, scenario.steps, r.total_seconds);
+  if (cs.ok()) {
+    std::printf("value %.12g, residual %.3e, tracking RMS %.3e, %d steps, %.2f s\n", r.value,
+                r.residual_norm, r.tracking_rms, scenario.steps, r.total_seconds);
+  } else {
+    std::printf("no solution: residual %.3e, %d steps, %.2f s\n", r.residual_norm, scenario.steps,
+                r.total_seconds);
+  }
   std::printf("wrote %s/summary.json, trajectory.csv, controls.csv, trajectory.png\n",
               out.dir().c_str());
   if (!cs.ok()) {
@@ -150,7 +161,7 @@ int ReportControlStudy(const ControlScenario& scenario,
                        const std::string& scenario_file, const std::string& out_dir) {
   const control::RefinementLevel& finest = study.levels.back();
   nlohmann::json j = study.ToJson();
-  j["value"] = FiniteOrNull(finest.value);
+  j["value"] = finest.ok() ? FiniteOrNull(finest.value) : nlohmann::json();
   j["newton_iterations"] = finest.newton_iterations;
   j["residual_norm"] = FiniteOrNull(finest.residual);
   j["settings"] = EchoControlScenario(scenario);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 #include "moreau/control/pontryagin.h"
 
 namespace moreau::cli {
@@ -220,6 +221,20 @@ const FieldTable<S>& ControlFields(const std::string& model) {
   return model == "oscillator" ? oscillator : model == "arm" ? arm : network;
 }
 
+// Per time step: the instant, the Jacobian blocks A, B, C and the Riccati factors (about eight
+// nz × nz matrices), the unknowns, residual, Newton direction and trial point, and the controls
+// and the CSV text of the outputs (nz: the state size 2·d·free nodes).
+void CheckControlMemory(const control::SpringNetwork& network, int steps) {
+  const double nz = network.state_size();
+  const double per_step = 8.0 * (8.0 * nz * nz + 24.0 * nz + network.num_springs()) +
+                          25.0 * (3.0 * nz + network.num_springs()) + 512.0;
+  try {
+    CheckMemory(fmt::format("{} steps", steps), per_step * (steps + 1.0));
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("discretization.steps: {}", e.what()));  // WithFile adds the file
+  }
+}
+
 }  // namespace
 
 ControlScenario ReadControlScenario(Scenario& s) {
@@ -238,6 +253,7 @@ ControlScenario ReadControlScenario(Scenario& s) {
     c.continuation.Validate();
     // Build the target problem now so that every model error surfaces before any output.
     const control::TrackingProblem target = MakeProblemFamily(c)(1.0);
+    CheckControlMemory(target.network(), c.steps);
     return control::PontryaginDiscretization(target, c.steps).steps();
   });
   return c;

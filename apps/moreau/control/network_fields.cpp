@@ -1,7 +1,6 @@
 // Reading the structured fields of a network scenario: [[network.nodes]], [[network.springs]]
 // and the reference matrices.
 #include <cmath>
-#include <set>
 
 #include <fmt/format.h>
 
@@ -31,7 +30,7 @@ std::vector<double> NodeNumbers(const Scenario& s, const toml::node& node, const
 
 // The entries of an array of tables, each checked for unknown fields.
 std::vector<const toml::table*> Entries(Scenario& s, const std::string& key,
-                                        const std::set<std::string>& allowed) {
+                                        std::initializer_list<std::string_view> allowed) {
   const toml::node* node = s.GetNode(key);
   const toml::array* arr = node == nullptr ? nullptr : node->as_array();
   if (arr == nullptr) s.Fail(key, "expected an array of tables");
@@ -40,12 +39,7 @@ std::vector<const toml::table*> Entries(Scenario& s, const std::string& key,
     const std::string entry = fmt::format("{}[{}]", key, out.size());
     const toml::table* t = item.as_table();
     if (t == nullptr) s.Fail(entry, "expected a table");
-    for (const auto& [k, v] : *t) {
-      (void)v;
-      if (allowed.count(std::string(k.str())) == 0) {
-        s.Fail(fmt::format("{}.{}", entry, k.str()), "unknown key");
-      }
-    }
+    s.CheckTableKeys(entry, *t, allowed);
     out.push_back(t);
   }
   return out;
@@ -71,7 +65,7 @@ void ReadNetworkNodes(Scenario& s, ControlScenario& c, const std::string& key) {
     const std::string entry = fmt::format("{}[{}]", key, j);
     control::NetworkNode node;
     if (const toml::node* f = t.get("fixed")) {
-      auto b = f->value<bool>();
+      auto b = f->value_exact<bool>();
       if (!b) s.Fail(entry + ".fixed", "expected true or false");
       node.fixed = *b;
     }
@@ -104,6 +98,13 @@ void ReadNetworkSprings(Scenario& s, ControlScenario& c, const std::string& key)
     const std::vector<double> e = NodeNumbers(s, field("nodes"), entry + ".nodes");
     if (e.size() != 2 || e[0] != std::floor(e[0]) || e[1] != std::floor(e[1])) {
       s.Fail(entry + ".nodes", "expected two node indices [a, b]");
+    }
+    const auto nodes = static_cast<double>(c.network.nodes.size());
+    for (const double index : e) {
+      if (!(index >= 0.0 && index < nodes)) {
+        s.Fail(entry + ".nodes",
+               fmt::format("node index {} is out of range [0, {})", index, nodes));
+      }
     }
     sp.a = static_cast<int>(e[0]);
     sp.b = static_cast<int>(e[1]);

@@ -70,9 +70,9 @@ FieldTable<EvaluateGapsSettings> EvaluateGapsFields() {
       .Integer(
           "evaluation.seed", [](auto& s) -> auto& { return s.evaluation.seed; },
           Range::NonNegative(), "SplitMix64 seed of the draws")
-      .Integer(
+      .Threads(
           "evaluation.threads", [](auto& s) -> auto& { return s.evaluation.threads; },
-          Range::NonNegative(), "OpenMP threads; 0: the default (results do not depend on it)")
+          "OpenMP threads; 0: the default (results do not depend on it)")
       .Mount(
           "", [](auto& s) -> auto& { return s.evaluation.fill; }, FillOptionFields())
       .Mount("", &S::read, ReadFields())

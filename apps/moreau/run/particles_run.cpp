@@ -128,7 +128,13 @@ ParticleSetup SetUpParticleRun(const ParticleScenario& scenario, const Scenario&
   std::vector<double> x0 = InitialPositions(scenario, model, file);
   int fix_sweeps = 0;
   if (scenario.fix_overlaps) {
-    WithKey(file, "initial", [&] { fix_sweeps = particles::FixOverlaps(model, x0); });
+    // A start that cannot be projected to a feasible one is bad input, not a failed run.
+    const char* key = scenario.positions ? "initial.positions" : "initial";
+    try {
+      WithKey(file, key, [&] { fix_sweeps = particles::FixOverlaps(model, x0); });
+    } catch (const NumericalError& e) {
+      file.Fail(key, fmt::format("cannot be made feasible (--fix-overlaps): {}", e.what()));
+    }
   }
   std::optional<particles::Engine> engine;
   WithKey(file, "initial", [&] {

@@ -109,18 +109,21 @@ auto ReadEach(std::vector<T> S::*list, Make make) {
 
 particles::Wall MakeWall(const Scenario& sc, const S& s, const std::string& at,
                          const toml::table& t) {
+  sc.CheckTableKeys(at, t, {"normal", "offset"});
   return {VecFromNode(sc, at + ".normal", t.get("normal"), s.dimension),
           NumberFromTable(sc, at, t, "offset")};
 }
 
 particles::SphereObstacle MakeSphere(const Scenario& sc, const S& s, const std::string& at,
                                      const toml::table& t) {
+  sc.CheckTableKeys(at, t, {"center", "radius"});
   return {VecFromNode(sc, at + ".center", t.get("center"), s.dimension),
           NumberFromTable(sc, at, t, "radius")};
 }
 
 particles::SegmentObstacle MakeSegment(const Scenario& sc, const S& s, const std::string& at,
                                        const toml::table& t) {
+  sc.CheckTableKeys(at, t, {"a", "b"});
   if (s.dimension != 2) sc.Fail(at, "segments need dimension 2");
   const Vec3 a = VecFromNode(sc, at + ".a", t.get("a"), 2);
   const Vec3 b = VecFromNode(sc, at + ".b", t.get("b"), 2);
@@ -189,7 +192,7 @@ void ReadPeriodic(Scenario& sc, S& s, const std::string& key) {
     sc.Fail(key, fmt::format("expected {} booleans", s.dimension));
   }
   for (std::size_t a = 0; a < arr->size(); ++a) {
-    const auto b = (*arr)[a].value<bool>();
+    const auto b = (*arr)[a].value_exact<bool>();
     if (!b) sc.Fail(key, "entries must be true or false");
     s.periodic[a] = *b;
   }
@@ -245,12 +248,13 @@ void AddForceFields(FieldTable<S>& t) {
   const auto f = [](auto& s) -> auto& { return s.forces; };
   FieldTable<ParticleForceSettings> sub;
   using F = ParticleForceSettings;
-  sub.OptionalNumber("trap_gamma", &F::trap_gamma, Range::Any(), "harmonic trap γ")
-      .OptionalNumber("propulsion_speed", &F::propulsion_speed, Range::Any(), "walking speed v0")
-      .OptionalNumber("attraction_stiffness", &F::attraction_stiffness, Range::Any(),
+  sub.OptionalNumber("trap_gamma", &F::trap_gamma, Range::NonNegative(), "harmonic trap γ")
+      .OptionalNumber("propulsion_speed", &F::propulsion_speed, Range::NonNegative(),
+                      "walking speed v0")
+      .OptionalNumber("attraction_stiffness", &F::attraction_stiffness, Range::NonNegative(),
                       "pair attraction k")
-      .OptionalNumber("attraction_range", &F::attraction_range, Range::Any(), "its range ℓ")
-      .Number("diffusion", &F::diffusion, Range::Any(), "diffusion D (noise)");
+      .OptionalNumber("attraction_range", &F::attraction_range, Range::Positive(), "its range ℓ")
+      .Number("diffusion", &F::diffusion, Range::NonNegative(), "diffusion D (noise)");
   t.Mount("forces", f, sub);
   AddVec(
       t, "forces.trap_center", [](auto& s) -> auto& { return s.forces.trap_center; },
@@ -271,13 +275,13 @@ FieldTable<particles::EngineOptions> EngineFields() {
       .Required()
       .Choice("order", &O::order, particles::ParseSweepOrder, particles::SweepOrderName,
               "coloured, lexicographic", "sweep order")
-      .Integer("threads", &O::threads, Range::Any(), "OpenMP threads (0: automatic)")
-      .Integer("sweeps", &O::sweeps, Range::Any(), "PBD sweeps per step")
+      .Threads("threads", &O::threads, "OpenMP threads (0: automatic)")
+      .Integer("sweeps", &O::sweeps, Range::AtLeast(1), "PBD sweeps per step")
       .Number("skin_factor", &O::skin_factor, Range::Any(), "Verlet skin / max r")
       .Integer("block_cells", &O::block_cells, Range::Any(), "colouring block (0: automatic)")
       .Integer("memory_limit", &O::memory_limit_bytes,
-               Range::NonNegative().Because("(bytes; 0 = physical memory)"),
-               "memory limit for the particle count");
+               Range::NonNegative().Because("(bytes; 0 = what is available)"),
+               "memory limit for the particle count (0: what is available)");
   return t;
 }
 
@@ -397,6 +401,7 @@ FieldTable<S> MakeFields() {
   AddPopulationFields(t);
   AddOutputFields(t);
   AddChecks(t);
+  AddParticleLimitChecks(t);
   return t;
 }
 

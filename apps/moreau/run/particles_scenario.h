@@ -95,6 +95,10 @@ struct ParticleScenario {
   particles::EngineOptions MakeEngineOptions() const;
 };
 
+// The checks of sizes and geometry (particles_limits.cpp): frames and in-memory series against
+// the stated maxima and the available memory, the start region inside the room.
+void AddParticleLimitChecks(FieldTable<ParticleScenario>& table);
+
 // Reads and validates every key (throws InputError "FILE: KEY: REASON"); --fix-overlaps is
 // `fix_overlaps_flag`. Call scenario.CheckAllKeysUsed() after.
 ParticleScenario ReadParticleScenario(Scenario& scenario, bool fix_overlaps_flag);

@@ -36,7 +36,12 @@ std::string PbdTrajectoryCsv(const PbdScenario& scenario, const PbdRunResult& re
 nlohmann::json PbdRunJson(const PbdScenario& scenario, const PbdRunResult& result,
                           const std::string& scenario_file) {
   nlohmann::json j = result.summary.ToJson();
-  if (result.error) j["error"] = *result.error;
+  // The error is null (the message says why) when the run failed before it was known.
+  if (result.error) {
+    j["error"] = *result.error;
+  } else if (!result.summary.ok() && (!scenario.is_disks() || scenario.reference_for_run)) {
+    j["error"] = nullptr;
+  }
   if (result.neighbour_list) {
     j["neighbour_list_builds"] = result.neighbour_list->neighbour_list_builds;
     j["candidate_pairs"] = result.neighbour_list->candidate_pairs;

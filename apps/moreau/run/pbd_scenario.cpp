@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 #include "moreau/common/steps.h"
 
 namespace moreau::cli {
@@ -40,7 +41,11 @@ FieldTable<pbd::SlidingCase> SlidingFields() {
 FieldTable<pbd::DisksCase> DisksFields() {
   using C = pbd::DisksCase;
   FieldTable<C> t;
-  t.Integer("count", &C::count, Range::Closed(1, 1e8), "number of disks N")
+  t.Integer("count", &C::count,
+            Range::Closed(1, kMaxAllPairsDisks)
+                .Because("(the disks case places and checks all N²/2 pairs; "
+                         "problem.kind = \"particles\" has cell lists for more)"),
+            "number of disks N")
       .Number("radius", &C::radius, Range::Positive(), "disk radius R")
       .Number("gamma", &C::gamma, Range::Any(), "attraction to the origin γ")
       .Number("T", &C::T, Range::Positive(), "final time")
@@ -103,6 +108,14 @@ void CheckAboveWall(const PbdScenario& s) {
   }
 }
 
+// The run keeps its frames in memory and writes them as CSV text (about 25 bytes a number).
+void CheckTrajectorySize(const PbdScenario& s) {
+  const std::int64_t frames = CheckFrameCount(StepCount(s.T(), s.solver.h), s.stride());
+  const double numbers = static_cast<double>(s.InitialStateSize()) + 1.0;
+  CheckMemory(fmt::format("{} frames of the trajectory", frames),
+              static_cast<double>(frames) * numbers * (8.0 + 25.0));
+}
+
 FieldTable<PbdScenario> MakeFields(const std::string& kind) {
   using S = PbdScenario;
   FieldTable<S> t;
@@ -122,7 +135,8 @@ FieldTable<PbdScenario> MakeFields(const std::string& kind) {
       .Mount("reference", &S::reference, StepperFields())
       .Flag("reference.compute", &S::reference_for_run, "disks: error against a reference in run")
       .Integer("output.stride", &S::output_stride, Range::NonNegative(),
-               "write every stride-th step (0: about 1000 frames)");
+               "write every stride-th step (0: about 1000 frames)")
+      .Check("output.stride", CheckTrajectorySize);
   return t;
 }
 
@@ -157,6 +171,11 @@ PbdScenario ReadPbdScenario(Scenario& s) {
 
 nlohmann::json EchoPbdScenario(const PbdScenario& scenario) {
   return PbdFields(scenario.kind).Echo(scenario);
+}
+
+std::int64_t PbdScenario::stride() const {
+  return output_stride > 0 ? output_stride
+                           : std::max<std::int64_t>(1, StepCount(T(), solver.h) / 1000);
 }
 
 pbd::Vector PbdScenario::InitialState() const {

@@ -19,6 +19,9 @@ namespace moreau::cli {
 // The reference solver's defaults: PNGS with tight tolerances and a small step.
 pbd::StepperOptions ReferenceSolverDefaults();
 
+// The most disks of the disks case: its start and its feasibility check test all N²/2 pairs.
+inline constexpr double kMaxAllPairsDisks = 20000;
+
 struct PbdScenario {
   std::string kind;                      // "sliding" or "disks"
   pbd::SlidingCase sliding;              // kind = "sliding"
@@ -32,6 +35,9 @@ struct PbdScenario {
   bool is_disks() const { return kind == "disks"; }
   double T() const { return is_disks() ? disks.T : sliding.T; }
   pbd::Vector InitialState() const;
+  std::int64_t InitialStateSize() const { return is_disks() ? 2 * disks.count : sliding.dimension; }
+  // Steps between written frames: output_stride, or about 1000 frames in all when it is 0.
+  std::int64_t stride() const;
   // The problem for runs and studies; solution() is the exact solution (sliding) or, for disks,
   // empty until a reference is computed.
   pbd::StudyProblem MakeProblem() const;

@@ -92,7 +92,7 @@ struct EngineOptions {
                                 // read-only pass over the candidate pairs)
   bool check_initial_state = true;  // CheckInitialState(model, positions, initial_tolerance)
   double initial_tolerance = 1e-9;
-  std::int64_t memory_limit_bytes = 0;  // for CheckParticleMemory; 0: physical memory
+  std::int64_t memory_limit_bytes = 0;  // for CheckParticleMemory; 0: AvailableMemory()
 
   // Throws InputError naming the field ("h must be > 0 (got 0)", …).
   void Validate() const;
@@ -233,9 +233,9 @@ class Engine {
 // lists at a generous contact count, grid): an estimate made before anything is allocated.
 std::int64_t EstimateEngineBytes(int dimension, std::int64_t count);
 
-// Throws InputError "count: N particles need about X GiB, more than the Y GiB available" when
-// EstimateEngineBytes exceeds limit_bytes (0: the machine's physical memory). Call it before
-// generating a large initial state.
+// Throws InputError "N particles need about X, more than the Y available (SOURCE)" when
+// EstimateEngineBytes exceeds limit_bytes (0: moreau::AvailableMemory(), which respects
+// `ulimit -v` and cgroup limits). Call it before generating a large initial state.
 void CheckParticleMemory(int dimension, std::int64_t count, std::int64_t limit_bytes = 0);
 
 struct FixOverlapsOptions {
