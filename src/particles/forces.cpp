@@ -1,5 +1,6 @@
 #include "moreau/particles/forces.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -9,6 +10,33 @@
 #include "moreau/common/random.h"
 
 namespace moreau::particles {
+
+namespace {
+
+// Separates the desired-speed stream from the Brownian noise of the same seed.
+constexpr std::uint64_t kDesiredSpeedStream = 0x510e527fade682d1ULL;
+
+void ValidateCrowdSpeeds(const SelfPropulsion& p) {
+  if (!(p.speed_sd >= 0.0) || !(3.0 * p.speed_sd <= p.speed)) {
+    throw InputError(fmt::format(
+        "forces.propulsion.speed_sd must be in [0, speed/3] = [0, {}] (got {}): the truncated "
+        "normal must give no negative speed",
+        p.speed / 3.0, p.speed_sd));
+  }
+  if (!p.density_speed) return;
+  const DensitySpeed& d = *p.density_speed;
+  const auto check = [](double v, const char* field) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw InputError(
+          fmt::format("forces.propulsion.density_speed.{} must be > 0 (got {})", field, v));
+    }
+  };
+  check(d.gamma, "gamma");
+  check(d.max_density, "max_density");
+  check(d.radius, "radius");
+}
+
+}  // namespace
 
 void Forces::Validate() const {
   auto finite3 = [](const Vec3& v) {
@@ -36,6 +64,7 @@ void Forces::Validate() const {
     if (propulsion->target_end && !finite3(*propulsion->target_end)) {
       throw InputError("forces.propulsion.target_end must be finite");
     }
+    ValidateCrowdSpeeds(*propulsion);
   }
   if (attraction) {
     if (!(attraction->stiffness >= 0.0) || !std::isfinite(attraction->stiffness)) {
@@ -74,6 +103,32 @@ void GaussianNoise(std::uint64_t seed, std::int64_t id, std::int64_t step, int k
     out[2 * block] = radius * std::cos(angle);
     if (2 * block + 1 < k) out[2 * block + 1] = radius * std::sin(angle);
   }
+}
+
+double DesiredSpeed(std::uint64_t seed, std::int64_t id, double mean, double sd) {
+  if (sd == 0.0) return mean;
+  for (std::int64_t m = 0;; ++m) {
+    double z[2];
+    GaussianNoise(seed ^ kDesiredSpeedStream, id, m, 2, z);
+    for (double zi : z) {
+      if (std::abs(zi) <= 3.0) return mean + sd * zi;
+    }
+  }
+}
+
+double WeidmannSpeedFactor(const DensitySpeed& law, double density) {
+  if (!(density > 0.0)) return 1.0;
+  if (density >= law.max_density) return 0.0;
+  return -std::expm1(-law.gamma * (1.0 / density - 1.0 / law.max_density));
+}
+
+double PairListWidening(const Forces& forces, double min_radius) {
+  double widening = 0.0;
+  if (forces.attraction && forces.attraction->stiffness > 0.0) widening = forces.attraction->range;
+  if (forces.propulsion && forces.propulsion->density_speed) {
+    widening = std::max(widening, forces.propulsion->density_speed->radius - 2.0 * min_radius);
+  }
+  return widening;
 }
 
 }  // namespace moreau::particles
