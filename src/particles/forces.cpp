@@ -16,19 +16,20 @@ namespace {
 // Separates the desired-speed stream from the Brownian noise of the same seed.
 constexpr std::uint64_t kDesiredSpeedStream = 0x510e527fade682d1ULL;
 
-void ValidateCrowdSpeeds(const SelfPropulsion& p) {
-  if (!(p.speed_sd >= 0.0) || !(3.0 * p.speed_sd <= p.speed)) {
+void ValidateWalkingSpeeds(const WalkingSpeeds& w, const std::optional<SelfPropulsion>& p) {
+  if (w.speed_sd == 0.0 && !w.density) return;
+  if (!p) throw InputError("forces.walking needs forces.propulsion");
+  if (!(w.speed_sd >= 0.0) || !(3.0 * w.speed_sd <= p->speed)) {
     throw InputError(fmt::format(
-        "forces.propulsion.speed_sd must be in [0, speed/3] = [0, {}] (got {}): the truncated "
+        "forces.walking.speed_sd must be in [0, speed/3] = [0, {}] (got {}): the truncated "
         "normal must give no negative speed",
-        p.speed / 3.0, p.speed_sd));
+        p->speed / 3.0, w.speed_sd));
   }
-  if (!p.density_speed) return;
-  const DensitySpeed& d = *p.density_speed;
+  if (!w.density) return;
+  const DensitySpeed& d = *w.density;
   const auto check = [](double v, const char* field) {
     if (!(v > 0.0) || !std::isfinite(v)) {
-      throw InputError(
-          fmt::format("forces.propulsion.density_speed.{} must be > 0 (got {})", field, v));
+      throw InputError(fmt::format("forces.walking.density.{} must be > 0 (got {})", field, v));
     }
   };
   check(d.gamma, "gamma");
@@ -64,8 +65,8 @@ void Forces::Validate() const {
     if (propulsion->target_end && !finite3(*propulsion->target_end)) {
       throw InputError("forces.propulsion.target_end must be finite");
     }
-    ValidateCrowdSpeeds(*propulsion);
   }
+  ValidateWalkingSpeeds(walking, propulsion);
   if (attraction) {
     if (!(attraction->stiffness >= 0.0) || !std::isfinite(attraction->stiffness)) {
       throw InputError(
@@ -125,8 +126,8 @@ double WeidmannSpeedFactor(const DensitySpeed& law, double density) {
 double PairListWidening(const Forces& forces, double min_radius) {
   double widening = 0.0;
   if (forces.attraction && forces.attraction->stiffness > 0.0) widening = forces.attraction->range;
-  if (forces.propulsion && forces.propulsion->density_speed) {
-    widening = std::max(widening, forces.propulsion->density_speed->radius - 2.0 * min_radius);
+  if (forces.propulsion && forces.walking.density) {
+    widening = std::max(widening, forces.walking.density->radius - 2.0 * min_radius);
   }
   return widening;
 }

@@ -36,9 +36,9 @@ DriftParameters::DriftParameters(const Forces& forces, int k, double h) {
     for (int a = 0; a < k; ++a) exit_direction[a] /= std::sqrt(n2);
   }
   if (propulsion) {
-    speed_sd = forces.propulsion->speed_sd;
-    density = forces.propulsion->density_speed.has_value();
-    if (density) density_law = *forces.propulsion->density_speed;
+    speed_sd = forces.walking.speed_sd;
+    density = forces.walking.density.has_value();
+    if (density) density_law = *forces.walking.density;
   }
   if (forces.attraction && forces.attraction->stiffness > 0.0) {
     attraction_stiffness = forces.attraction->stiffness;
@@ -59,7 +59,7 @@ Prediction::Prediction(const Forces& forces, const PeriodicBox& box, int n, doub
   if (measures_density()) {
     if (box.k != 2) {
       throw InputError(fmt::format(
-          "forces.propulsion.density_speed: a density in persons per area needs dimension 2 "
+          "forces.walking.density: a density in persons per area needs dimension 2 "
           "(got {})",
           box.k));
     }
@@ -169,8 +169,8 @@ void Prediction::LocalDensityImpl(const double* x, const NeighbourList& list,
 }
 
 void Prediction::LocalDensity(const double* x, const NeighbourList& list,
-                              const Colouring& colouring, const CellList& cells,
-                              bool lexicographic, int threads) {
+                              const Colouring& colouring, const CellList& cells, bool lexicographic,
+                              int threads) {
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
     LocalDensityImpl<k, p>(x, list, colouring, cells, lexicographic, threads);
   });

@@ -27,8 +27,8 @@ struct DriftParameters {
   double target_end[3] = {0, 0, 0};
   bool exit = false;  // past the target the direction is exit_direction (normalised)
   double exit_direction[3] = {0, 0, 0};
-  double speed_sd = 0.0;    // σ_v of the desired speeds; 0: v0 for all
-  bool density = false;     // Weidmann's factor on the walking speed
+  double speed_sd = 0.0;  // σ_v of the desired speeds; 0: v0 for all
+  bool density = false;   // Weidmann's factor on the walking speed
   DensitySpeed density_law;
   double attraction_stiffness = 0.0;
   double attraction_range = 0.0;  // > 0 when the attraction is on

@@ -247,10 +247,8 @@ void AddForceFields(FieldTable<S>& t) {
   using F = ParticleForceSettings;
   sub.OptionalNumber("trap_gamma", &F::trap_gamma, Range::Any(), "harmonic trap γ")
       .OptionalNumber("propulsion_speed", &F::propulsion_speed, Range::Any(), "walking speed v0")
-      .Number("propulsion_speed_sd", &F::propulsion_speed_sd, Range::Any(),
-              "σ_v: desired speeds v0 + σ_v z, z ~ N(0,1) truncated to [−3, 3]")
-      .OptionalNumber("density_radius", &F::density_radius, Range::Any(),
-                      "R: speed × Weidmann φ(ρ), ρ counted within R")
+      .Number("propulsion_speed_sd", &F::propulsion_speed_sd, Range::Any(), "σ_v of v0,i")
+      .OptionalNumber("density_radius", &F::density_radius, Range::Any(), "R of ρ_i (Weidmann)")
       .OptionalNumber("density_gamma", &F::density_gamma, Range::Any(), "Weidmann γ (1.913)")
       .OptionalNumber("density_max", &F::density_max, Range::Any(), "Weidmann ρ_max (5.4)")
       .OptionalNumber("attraction_stiffness", &F::attraction_stiffness, Range::Any(),
@@ -373,16 +371,15 @@ void AddChecks(FieldTable<S>& t) {
              })
       .Check("forces.density_radius",
              [](const S& s) {
-               if ((s.forces.density_radius || s.forces.propulsion_speed_sd != 0.0) &&
-                   !s.forces.propulsion_speed && !s.room) {
+               const ParticleForceSettings& f = s.forces;
+               if ((f.density_radius || f.propulsion_speed_sd != 0.0) && !f.propulsion_speed &&
+                   !s.room) {
                  throw InputError("needs forces.propulsion_speed or a [room]");
                }
-               if ((s.forces.density_gamma || s.forces.density_max) && !s.forces.density_radius) {
-                 throw InputError("forces.density_gamma and density_max need density_radius");
+               if ((f.density_gamma || f.density_max) && !f.density_radius) {
+                 throw InputError("required by forces.density_gamma and forces.density_max");
                }
-               if (s.forces.density_radius && s.dimension != 2) {
-                 throw InputError("a density in persons per area needs dimension 2");
-               }
+               if (f.density_radius && s.dimension != 2) throw InputError("needs dimension 2");
              })
       .Check("forces.attraction_range",
              [](const S& s) {
@@ -472,15 +469,12 @@ particles::Forces ParticleScenario::MakeForces() const {
       f.propulsion = p;
     }
   }
-  if (f.propulsion) {
-    f.propulsion->speed_sd = in.propulsion_speed_sd;
-    if (in.density_radius) {
-      particles::DensitySpeed law;
-      law.radius = *in.density_radius;
-      law.gamma = in.density_gamma.value_or(law.gamma);
-      law.max_density = in.density_max.value_or(law.max_density);
-      f.propulsion->density_speed = law;
-    }
+  f.walking.speed_sd = in.propulsion_speed_sd;
+  if (in.density_radius) {
+    particles::DensitySpeed& law = f.walking.density.emplace();
+    law.radius = *in.density_radius;
+    law.gamma = in.density_gamma.value_or(law.gamma);
+    law.max_density = in.density_max.value_or(law.max_density);
   }
   if (in.attraction_stiffness) {
     f.attraction =

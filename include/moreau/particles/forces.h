@@ -15,9 +15,9 @@
 //              direction e, a particle with ⟨X_i − target, e⟩ > 0 gets v0 e/‖e‖ instead.
 //              A pedestrian crowd (docs/abm.md) replaces v0 by the person's own walking speed
 //                v_i = v0,i · φ(ρ_i)
-//              with v0,i the desired speed of person i (SelfPropulsion::speed_sd: a truncated
+//              with v0,i the desired speed of person i (WalkingSpeeds::speed_sd: a truncated
 //              normal drawn from (seed, id)) and φ the density factor of Weidmann's fundamental
-//              diagram at the local density ρ_i (DensitySpeed); both are 1 / v0 when not set.
+//              diagram at the local density ρ_i (DensitySpeed); v0 and 1 when not set.
 // On periodic axes the trap and the target use the wrapped position.
 //
 // Brownian noise (Euler–Maruyama): after the drift, X_i += √(2 D h) ξ_i with ξ_i ~ N(0, I_k)
@@ -52,20 +52,13 @@ struct HarmonicTrap {
 // (2D only; lengths in metres when γ and ρ_max are Weidmann's). Walls are not discounted: near a
 // wall or in a doorway the circle reaches outside the room and ρ_i is lower than the crowd's.
 struct DensitySpeed {
-  double gamma = 1.913;       // γ > 0, persons/length²
-  double max_density = 5.4;   // ρ_max > 0, persons/length²
-  double radius = 1.0;        // R > 0, the measuring circle (length); widens the neighbour lists
+  double gamma = 1.913;      // γ > 0, persons/length²
+  double max_density = 5.4;  // ρ_max > 0, persons/length²
+  double radius = 1.0;       // R > 0, the measuring circle (length); widens the neighbour lists
 };
 
 struct SelfPropulsion {
   double speed = 1.0;  // v0 ≥ 0, length/time: the mean desired speed
-  // σ_v ≥ 0: the desired speed of particle i is v0,i = v0 + σ_v z_i, z_i a standard normal
-  // truncated to [−3, 3] (rejection), drawn from (seed, id) (DesiredSpeed); 0: v0,i = v0 for
-  // all. Needs 3 σ_v ≤ v0 (no negative speeds). Helbing & Molnár (1995) use v0 = 1.34 m/s,
-  // σ_v = 0.26 m/s.
-  double speed_sd = 0.0;
-  // When set, the speed falls with the local density (Weidmann's fundamental diagram).
-  std::optional<DensitySpeed> density_speed;
   Vec3 target{0.0, 0.0, 0.0};
   // When set, the target is the segment [target, *target_end] and each particle heads for its
   // nearest point on it (a door).
@@ -73,6 +66,17 @@ struct SelfPropulsion {
   // When set (non-zero), a particle past the target, ⟨X_i − target, e⟩ > 0, walks at v0 along
   // e instead (a pedestrian who went through the door keeps walking away from the room).
   std::optional<Vec3> exit_direction;
+};
+
+// A pedestrian crowd's walking speeds: they scale SelfPropulsion's v0 per person.
+struct WalkingSpeeds {
+  // σ_v ≥ 0: the desired speed of particle i is v0,i = v0 + σ_v z_i, z_i a standard normal
+  // truncated to [−3, 3] (rejection), drawn from (seed, id) (DesiredSpeed); 0: v0,i = v0 for
+  // all. Needs 3 σ_v ≤ v0 (no negative speeds). Helbing & Molnár (1995) use v0 = 1.34 m/s,
+  // σ_v = 0.26 m/s.
+  double speed_sd = 0.0;
+  // When set, the speed falls with the local density (Weidmann's fundamental diagram).
+  std::optional<DensitySpeed> density;
 };
 
 struct PairAttraction {
@@ -84,6 +88,7 @@ struct Forces {
   std::optional<HarmonicTrap> trap;
   Vec3 constant_force{0.0, 0.0, 0.0};  // f
   std::optional<SelfPropulsion> propulsion;
+  WalkingSpeeds walking;  // per-person speeds of the propulsion (a crowd); default: v0 for all
   std::optional<PairAttraction> attraction;
   double diffusion = 0.0;  // D ≥ 0 (length²/time), the same for every particle; 0: no noise
 
