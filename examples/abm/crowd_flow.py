@@ -13,6 +13,7 @@ A run in which 90 % are not out by T counts as clogged. The specific flow J_s = 
 against the width b beside the bottleneck experiments (approximate bands, see docs/abm.md).
 
 Usage: crowd_flow.py MOREAU OUT_DIR [--widths B ...] [--seeds N] [--models M ...] [--jobs J]
+                     [--plot-only]
 Writes OUT_DIR/crowd_flow.csv (one row per run) and OUT_DIR/crowd_flow.png.
 """
 import argparse
@@ -97,7 +98,7 @@ def plot(rows, path):
             ax.plot([b] * len(js), js, ".", color=f"C{c}", alpha=0.4)
             clogged = sum(1 for r in mine if r[1] == b and math.isnan(r[3]))
             if clogged:
-                ax.plot([b], [0.05], "x", color=f"C{c}", ms=8)
+                ax.plot([b + 0.03 * (c - 1)], [0.1], "x", color=f"C{c}", ms=8)
             m = sum(js) / len(js) if js else float("nan")
             means.append(m)
             sds.append(math.sqrt(sum((j - m) ** 2 for j in js) / (len(js) - 1))
@@ -109,7 +110,7 @@ def plot(rows, path):
     ax.set_xlim(0.3, 2.6)
     ax.set_ylim(0, 7)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(fontsize=8, loc="center right")
     ax.set_title("200 pedestrians, radius 0.25 m; ×: clogged (90 % not out in 300 s)",
                  fontsize=9)
     fig.tight_layout()
@@ -124,8 +125,14 @@ def main():
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--models", nargs="+", choices=list(MODELS), default=list(MODELS))
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--plot-only", action="store_true", help="redraw from OUT_DIR/crowd_flow.csv")
     a = ap.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
+    if a.plot_only:
+        rows = [(r["model"], float(r["door_width"]), int(r["seed"]), float(r["flow"]))
+                for r in csv.DictReader(open(a.out / "crowd_flow.csv"))]
+        plot(rows, a.out / "crowd_flow.png")
+        return
     jobs = [(m, b, s) for m in a.models for b in a.widths for s in range(1, a.seeds + 1)]
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
         rows = list(pool.map(lambda j: run_one(a.moreau, a.out, *j), jobs))
