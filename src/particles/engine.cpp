@@ -41,7 +41,7 @@ struct Engine::Impl {
   int threads = 1;
   bool lexicographic = false;
   double rmax = 0.0;
-  double attraction_range = 0.0;
+  double attraction_range = 0.0;  // how far the lists reach beyond contact (PairListWidening)
   internal::PeriodicBox box;
 
   // The parts, each owning its data.
@@ -106,7 +106,7 @@ void Engine::Impl::Setup(std::span<const double> positions) {
   if (lexicographic) threads = 1;
   rmax = model.max_radius();
   attraction_range =
-      forces.attraction && forces.attraction->stiffness > 0.0 ? forces.attraction->range : 0.0;
+      PairListWidening(forces, *std::min_element(model.radius.begin(), model.radius.end()));
   box = internal::PeriodicBox::Of(model);
   ConfigureSkin();
   const bool uniform_radius = std::all_of(model.radius.begin(), model.radius.end(),
@@ -243,6 +243,9 @@ bool Engine::Impl::Step() {
     prediction->Attraction(store->current.data(), store->radius.data(), list, colouring, cells,
                            lexicographic, threads);
   }
+  if (prediction->measures_density()) {
+    prediction->LocalDensity(store->current.data(), list, colouring, cells, lexicographic, threads);
+  }
   double step_move = 0.0;
   std::int64_t bad = -1;
   Predict(&step_move, &bad);
@@ -301,6 +304,8 @@ void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const
     threads = std::clamp(n / 20000, 1, std::max(1, omp_get_max_threads()));
   }
   rmax = model.max_radius();
+  attraction_range =
+      PairListWidening(forces, *std::min_element(model.radius.begin(), model.radius.end()));
   ConfigureSkin();
   const bool uniform_radius = std::all_of(model.radius.begin(), model.radius.end(),
                                           [&](double r) { return r == model.radius.front(); });

@@ -1,5 +1,6 @@
 #include "moreau/particles/forces.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -9,6 +10,34 @@
 #include "moreau/common/random.h"
 
 namespace moreau::particles {
+
+namespace {
+
+// Separates the desired-speed stream from the Brownian noise of the same seed.
+constexpr std::uint64_t kDesiredSpeedStream = 0x510e527fade682d1ULL;
+
+void ValidateWalkingSpeeds(const WalkingSpeeds& w, const std::optional<SelfPropulsion>& p) {
+  if (w.speed_sd == 0.0 && !w.density) return;
+  if (!p) throw InputError("forces.walking needs forces.propulsion");
+  if (!(w.speed_sd >= 0.0) || !(3.0 * w.speed_sd <= p->speed)) {
+    throw InputError(fmt::format(
+        "forces.walking.speed_sd must be in [0, speed/3] = [0, {}] (got {}): the truncated "
+        "normal must give no negative speed",
+        p->speed / 3.0, w.speed_sd));
+  }
+  if (!w.density) return;
+  const DensitySpeed& d = *w.density;
+  const auto check = [](double v, const char* field) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw InputError(fmt::format("forces.walking.density.{} must be > 0 (got {})", field, v));
+    }
+  };
+  check(d.gamma, "gamma");
+  check(d.max_density, "max_density");
+  check(d.radius, "radius");
+}
+
+}  // namespace
 
 void Forces::Validate() const {
   auto finite3 = [](const Vec3& v) {
@@ -37,6 +66,7 @@ void Forces::Validate() const {
       throw InputError("forces.propulsion.target_end must be finite");
     }
   }
+  ValidateWalkingSpeeds(walking, propulsion);
   if (attraction) {
     if (!(attraction->stiffness >= 0.0) || !std::isfinite(attraction->stiffness)) {
       throw InputError(
@@ -74,6 +104,32 @@ void GaussianNoise(std::uint64_t seed, std::int64_t id, std::int64_t step, int k
     out[2 * block] = radius * std::cos(angle);
     if (2 * block + 1 < k) out[2 * block + 1] = radius * std::sin(angle);
   }
+}
+
+double DesiredSpeed(std::uint64_t seed, std::int64_t id, double mean, double sd) {
+  if (sd == 0.0) return mean;
+  for (std::int64_t m = 0;; ++m) {
+    double z[2];
+    GaussianNoise(seed ^ kDesiredSpeedStream, id, m, 2, z);
+    for (double zi : z) {
+      if (std::abs(zi) <= 3.0) return mean + sd * zi;
+    }
+  }
+}
+
+double WeidmannSpeedFactor(const DensitySpeed& law, double density) {
+  if (!(density > 0.0)) return 1.0;
+  if (density >= law.max_density) return 0.0;
+  return -std::expm1(-law.gamma * (1.0 / density - 1.0 / law.max_density));
+}
+
+double PairListWidening(const Forces& forces, double min_radius) {
+  double widening = 0.0;
+  if (forces.attraction && forces.attraction->stiffness > 0.0) widening = forces.attraction->range;
+  if (forces.propulsion && forces.walking.density) {
+    widening = std::max(widening, forces.walking.density->radius - 2.0 * min_radius);
+  }
+  return widening;
 }
 
 }  // namespace moreau::particles

@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
 
 namespace moreau::particles::internal {
 
@@ -30,6 +35,11 @@ DriftParameters::DriftParameters(const Forces& forces, int k, double h) {
   if (exit) {
     for (int a = 0; a < k; ++a) exit_direction[a] /= std::sqrt(n2);
   }
+  if (propulsion) {
+    speed_sd = forces.walking.speed_sd;
+    density = forces.walking.density.has_value();
+    if (density) density_law = *forces.walking.density;
+  }
   if (forces.attraction && forces.attraction->stiffness > 0.0) {
     attraction_stiffness = forces.attraction->stiffness;
     attraction_range = forces.attraction->range;
@@ -46,6 +56,16 @@ Prediction::Prediction(const Forces& forces, const PeriodicBox& box, int n, doub
       seed_(seed),
       uniform_mobility_(uniform_mobility) {
   if (attracts()) force_.assign(static_cast<std::size_t>(box.k) * static_cast<std::size_t>(n), 0.0);
+  if (measures_density()) {
+    if (box.k != 2) {
+      throw InputError(fmt::format(
+          "forces.walking.density: a density in persons per area needs dimension 2 "
+          "(got {})",
+          box.k));
+    }
+    neighbours_.assign(static_cast<std::size_t>(n), 0);
+    speed_factor_.assign(static_cast<std::size_t>(n), 1.0);
+  }
 }
 
 void GatherRows(const std::vector<int>& perm, int width, int threads, std::vector<double>* v,
@@ -65,6 +85,7 @@ void GatherRows(const std::vector<int>& perm, int width, int threads, std::vecto
 
 void Prediction::Reorder(const std::vector<int>& perm, int threads) {
   GatherRows(perm, box_.k, threads, &force_, &scratch_);
+  GatherRows(perm, 1, threads, &speed_factor_, &scratch_);
 }
 
 template <int K, bool P>
@@ -111,19 +132,63 @@ void Prediction::Attraction(const double* x, const double* radius, const Neighbo
   });
 }
 
+template <int K, bool P>
+void Prediction::LocalDensityImpl(const double* x, const NeighbourList& list,
+                                  const Colouring& colouring, const CellList& cells,
+                                  bool lexicographic, int threads) {
+  const double radius2 = parameters_.density_law.radius * parameters_.density_law.radius;
+  const int* row_start = list.row_start();
+  const int* nbr = list.neighbours();
+  int* count = neighbours_.data();
+  std::fill(neighbours_.begin(), neighbours_.end(), 0);
+  auto rows = [&](int begin, int end) {
+    for (int s = begin; s < end; ++s) {
+      for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
+        const int t = nbr[p];
+        double u[K];
+        list.Displacement<K, P>(x, s, t, p, u);
+        if (SquaredNorm<K>(u) < radius2) {
+          ++count[s];
+          ++count[t];
+        }
+      }
+    }
+  };
+  if (lexicographic) {
+    rows(0, n_);
+  } else {
+#pragma omp parallel num_threads(threads)
+    ForEachBlockByColour(colouring, cells, rows);
+  }
+  const double area = std::numbers::pi * radius2;
+  for (int s = 0; s < n_; ++s) {
+    const auto us = static_cast<std::size_t>(s);
+    speed_factor_[us] =
+        WeidmannSpeedFactor(parameters_.density_law, (1.0 + neighbours_[us]) / area);
+  }
+}
+
+void Prediction::LocalDensity(const double* x, const NeighbourList& list,
+                              const Colouring& colouring, const CellList& cells, bool lexicographic,
+                              int threads) {
+  DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
+    LocalDensityImpl<k, p>(x, list, colouring, cells, lexicographic, threads);
+  });
+}
+
 namespace {
 
 // The self-propulsion velocity v0 e of a particle at xw (wrapped), added to v. Inlined: a call in
 // the prediction loop would keep its running maximum in memory.
 template <int K>
 [[gnu::always_inline]] inline void AddPropulsion(const DriftParameters& d, const double* xw,
-                                                 double* v) {
+                                                 double speed, double* v) {
   double beyond = 0.0;
   if (d.exit) {
     for (int a = 0; a < K; ++a) beyond += (xw[a] - d.target[a]) * d.exit_direction[a];
   }
   if (beyond > 0.0) {
-    for (int a = 0; a < K; ++a) v[a] += d.v0 * d.exit_direction[a];
+    for (int a = 0; a < K; ++a) v[a] += speed * d.exit_direction[a];
     return;
   }
   double target[K];
@@ -142,7 +207,7 @@ template <int K>
   for (int a = 0; a < K; ++a) dx[a] = target[a] - xw[a];
   const double dist = std::sqrt(SquaredNorm<K>(dx));
   if (dist > 1e-12) {
-    for (int a = 0; a < K; ++a) v[a] += d.v0 * (dx[a] / dist);
+    for (int a = 0; a < K; ++a) v[a] += speed * (dx[a] / dist);
   }
 }
 
@@ -174,6 +239,8 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
   const int n = n_;
   const double* fa = force_.data();
   const bool attract = !force_.empty();
+  const double* factor = speed_factor_.empty() ? nullptr : speed_factor_.data();
+  const bool crowd_speeds = d.speed_sd > 0.0 || factor != nullptr;
   double worst = 0.0;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(max                    \
@@ -198,7 +265,14 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
     const double mu = uniform_mobility ? 1.0 : mobility[s];
     double v[K];
     for (int a = 0; a < K; ++a) v[a] = mu * F[a];
-    if (propulsion) AddPropulsion<K>(d, xw, v);
+    if (propulsion) {
+      double speed = d.v0;
+      if (crowd_speeds) {
+        speed = DesiredSpeed(seed, key != nullptr ? key[s] : id[s], d.v0, d.speed_sd);
+        if (factor != nullptr) speed *= factor[s];
+      }
+      AddPropulsion<K>(d, xw, speed, v);
+    }
     if (active != nullptr) {
       for (int a = 0; a < K; ++a) v[a] += active[K * s + a];
     }

@@ -1,6 +1,7 @@
 // The engine's prediction Y_i = X_i + h u_i(X) + √(2 D h) ξ_i (forces.h): the drift from the
-// trap, the constant force, the pair attraction (over the neighbour list) and self-propulsion,
-// and the counter-based noise ξ_i(seed, id, step). Per slot; the noise depends only on the ids.
+// trap, the constant force, the pair attraction (over the neighbour list) and self-propulsion
+// (with a crowd's desired speeds and density factor), and the counter-based noise
+// ξ_i(seed, id, step). Per slot; the noise and the desired speeds depend only on the ids.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +27,9 @@ struct DriftParameters {
   double target_end[3] = {0, 0, 0};
   bool exit = false;  // past the target the direction is exit_direction (normalised)
   double exit_direction[3] = {0, 0, 0};
+  double speed_sd = 0.0;  // σ_v of the desired speeds; 0: v0 for all
+  bool density = false;   // Weidmann's factor on the walking speed
+  DensitySpeed density_law;
   double attraction_stiffness = 0.0;
   double attraction_range = 0.0;  // > 0 when the attraction is on
   double sigma = 0.0;             // √(2 D h); 0 without noise
@@ -35,11 +39,18 @@ struct DriftParameters {
 
 class Prediction {
  public:
-  // n slots; uniform_mobility: every μ_i = 1 (the mobility loads are skipped).
+  // n slots; uniform_mobility: every μ_i = 1 (the mobility loads are skipped). Throws
+  // InputError for a density-dependent speed in a dimension other than 2.
   Prediction(const Forces& forces, const PeriodicBox& box, int n, double h, std::uint64_t seed,
              bool uniform_mobility);
 
   bool attracts() const { return parameters_.attraction_range > 0.0; }
+  bool measures_density() const { return parameters_.density; }
+  // Each slot's Weidmann factor φ(ρ_i) at x (storage order), ρ_i counted over the list's pairs
+  // closer than R (forces.h DensitySpeed): by colour in parallel, or (lexicographic) on one
+  // thread. Integer counts, so the factors do not depend on the thread count.
+  void LocalDensity(const double* x, const NeighbourList& list, const Colouring& colouring,
+                    const CellList& cells, bool lexicographic, int threads);
   // The attraction at x (storage order) over the list's pairs into the force buffer: by colour
   // in parallel, or (lexicographic) on one thread in row order.
   void Attraction(const double* x, const double* radius, const NeighbourList& list,
@@ -60,6 +71,9 @@ class Prediction {
   void AttractionImpl(const double* x, const double* radius, const NeighbourList& list,
                       const Colouring& colouring, const CellList& cells, bool lexicographic,
                       int threads);
+  template <int K, bool P>
+  void LocalDensityImpl(const double* x, const NeighbourList& list, const Colouring& colouring,
+                        const CellList& cells, bool lexicographic, int threads);
   template <int K, bool P, bool Noise>
   void PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
                    const double* active, const double* mobility, std::int64_t step, int threads,
@@ -71,7 +85,9 @@ class Prediction {
   double h_ = 0.0;
   std::uint64_t seed_ = 0;
   bool uniform_mobility_ = true;
-  std::vector<double> force_;  // k per slot, attraction only
+  std::vector<double> force_;         // k per slot, attraction only
+  std::vector<int> neighbours_;       // per slot, #{j : ‖X_i − X_j‖ < R}; density only
+  std::vector<double> speed_factor_;  // per slot, φ(ρ_i); density only
   std::vector<double> scratch_;
 };
 

@@ -127,3 +127,44 @@ BAD = [
 @pytest.mark.parametrize("name,text,key,reason", BAD, ids=[b[0] for b in BAD])
 def test_bad_abm_input(tmp_path, write_scenario, name, text, key, reason):
     assert_rejected(write_scenario(text), tmp_path / "out", key, reason)
+
+
+CROWD_SPEEDS = ["forces.propulsion_speed=1.34", "forces.propulsion_speed_sd=0.26",
+                "forces.density_radius=1.0"]
+
+
+def crowd_args(out, *sets):
+    args = ["run", ROOT / "examples/abm/crowd_exit.toml", "--out", out]
+    for s in ("problem.count=40", "problem.T=4") + sets:
+        args += ["--set", s]
+    return args
+
+
+def test_crowd_with_speed_distribution_and_weidmann_same_bits_on_one_and_two_threads(tmp_path):
+    hashes = []
+    for threads in (1, 2):
+        out = tmp_path / f"out{threads}"
+        r = run_cli(*crowd_args(out, *CROWD_SPEEDS, f"solver.threads={threads}"))
+        assert r.returncode == 0, r.stderr
+        hashes.append(json.load(open(out / "summary.json"))["positions_hash"])
+    assert hashes[0] == hashes[1]
+
+
+BAD_CROWD = [
+    (["forces.propulsion_speed_sd=0.6"], "forces", "forces.walking.speed_sd must be in [0, speed/3]"),
+    (["forces.propulsion_speed_sd=-0.1"], "forces", "forces.walking.speed_sd must be in"),
+    (["forces.density_radius=-1"], "forces", "forces.walking.density.radius must be > 0 (got -1)"),
+    (["forces.density_radius=1", "forces.density_max=0"], "forces",
+     "forces.walking.density.max_density must be > 0 (got 0)"),
+    (["forces.density_gamma=2"], "forces.density_radius", "required by forces.density_gamma"),
+]
+
+
+@pytest.mark.parametrize("sets,key,reason", BAD_CROWD, ids=[str(i) for i in range(len(BAD_CROWD))])
+def test_bad_crowd_speeds(tmp_path, sets, key, reason):
+    out = tmp_path / "out"
+    r = run_cli(*crowd_args(out, *sets))
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0] and reason in lines[0], r.stderr
+    assert not out.exists()

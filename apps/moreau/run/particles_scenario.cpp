@@ -251,6 +251,11 @@ void AddForceFields(FieldTable<S>& t) {
   sub.OptionalNumber("trap_gamma", &F::trap_gamma, Range::NonNegative(), "harmonic trap γ")
       .OptionalNumber("propulsion_speed", &F::propulsion_speed, Range::NonNegative(),
                       "walking speed v0")
+      .Number("propulsion_speed_sd", &F::propulsion_speed_sd, Range::NonNegative(), "σ_v of v0,i")
+      .OptionalNumber("density_radius", &F::density_radius, Range::Positive(),
+                      "R of ρ_i (Weidmann)")
+      .OptionalNumber("density_gamma", &F::density_gamma, Range::Positive(), "Weidmann γ (1.913)")
+      .OptionalNumber("density_max", &F::density_max, Range::Positive(), "Weidmann ρ_max (5.4)")
       .OptionalNumber("attraction_stiffness", &F::attraction_stiffness, Range::NonNegative(),
                       "pair attraction k")
       .OptionalNumber("attraction_range", &F::attraction_range, Range::Positive(), "its range ℓ")
@@ -369,6 +374,18 @@ void AddChecks(FieldTable<S>& t) {
                  throw InputError("needs forces.propulsion_speed (and no [room])");
                }
              })
+      .Check("forces.density_radius",
+             [](const S& s) {
+               const ParticleForceSettings& f = s.forces;
+               if ((f.density_radius || f.propulsion_speed_sd != 0.0) && !f.propulsion_speed &&
+                   !s.room) {
+                 throw InputError("needs forces.propulsion_speed or a [room]");
+               }
+               if ((f.density_gamma || f.density_max) && !f.density_radius) {
+                 throw InputError("required by forces.density_gamma and forces.density_max");
+               }
+               if (f.density_radius && s.dimension != 2) throw InputError("needs dimension 2");
+             })
       .Check("forces.attraction_range",
              [](const S& s) {
                if (s.forces.attraction_range && !s.forces.attraction_stiffness) {
@@ -457,6 +474,13 @@ particles::Forces ParticleScenario::MakeForces() const {
       p.target_end = in.target_end;
       f.propulsion = p;
     }
+  }
+  f.walking.speed_sd = in.propulsion_speed_sd;
+  if (in.density_radius) {
+    particles::DensitySpeed& law = f.walking.density.emplace();
+    law.radius = *in.density_radius;
+    law.gamma = in.density_gamma.value_or(law.gamma);
+    law.max_density = in.density_max.value_or(law.max_density);
   }
   if (in.attraction_stiffness) {
     f.attraction =

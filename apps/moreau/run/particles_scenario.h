@@ -25,6 +25,10 @@ struct ParticleForceSettings {
   particles::Vec3 trap_center{0.0, 0.0, 0.0};
   particles::Vec3 constant{0.0, 0.0, 0.0};     // a constant force f
   std::optional<double> propulsion_speed;      // self-propulsion when set (or with a room)
+  double propulsion_speed_sd = 0.0;            // σ_v of the desired speeds (a crowd)
+  std::optional<double> density_radius;        // R: Weidmann's speed–density law when set
+  std::optional<double> density_gamma;         // γ, default 1.913 /m²
+  std::optional<double> density_max;           // ρ_max, default 5.4 /m²
   std::optional<particles::Vec3> target;       // default: the origin
   std::optional<particles::Vec3> target_end;   // the target is a segment when set
   std::optional<double> attraction_stiffness;  // pair attraction when set

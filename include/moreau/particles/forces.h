@@ -13,6 +13,11 @@
 //              target T_i: a point, or the nearest point of a target segment (a door); zero when
 //              ‖T_i − X_i‖ ≤ 1e−12 (already there). A velocity, not scaled by μ_i. With an exit
 //              direction e, a particle with ⟨X_i − target, e⟩ > 0 gets v0 e/‖e‖ instead.
+//              A pedestrian crowd (docs/abm.md) replaces v0 by the person's own walking speed
+//                v_i = v0,i · φ(ρ_i)
+//              with v0,i the desired speed of person i (WalkingSpeeds::speed_sd: a truncated
+//              normal drawn from (seed, id)) and φ the density factor of Weidmann's fundamental
+//              diagram at the local density ρ_i (DensitySpeed); v0 and 1 when not set.
 // On periodic axes the trap and the target use the wrapped position.
 //
 // Brownian noise (Euler–Maruyama): after the drift, X_i += √(2 D h) ξ_i with ξ_i ~ N(0, I_k)
@@ -37,8 +42,23 @@ struct HarmonicTrap {
   Vec3 center{0.0, 0.0, 0.0};
 };
 
+// Weidmann's fundamental diagram (Weidmann 1993, the speed–density relation of pedestrians):
+// the walking speed falls with the local density ρ as
+//   φ(ρ) = 1 − exp(−γ (1/ρ − 1/ρ_max))   for 0 < ρ < ρ_max,   φ = 0 for ρ ≥ ρ_max,
+// v_i = v0,i φ(ρ_i). Weidmann's fit: γ = 1.913 persons/m², ρ_max = 5.4 persons/m² (with a free
+// speed of 1.34 m/s). The local density of person i is the count of people (i included) whose
+// centres lie within the measuring radius R of X_i, over the circle's area:
+//   ρ_i = (1 + #{j ≠ i : ‖X_i − X_j‖ < R}) / (π R²)
+// (2D only; lengths in metres when γ and ρ_max are Weidmann's). Walls are not discounted: near a
+// wall or in a doorway the circle reaches outside the room and ρ_i is lower than the crowd's.
+struct DensitySpeed {
+  double gamma = 1.913;      // γ > 0, persons/length²
+  double max_density = 5.4;  // ρ_max > 0, persons/length²
+  double radius = 1.0;       // R > 0, the measuring circle (length); widens the neighbour lists
+};
+
 struct SelfPropulsion {
-  double speed = 1.0;  // v0 ≥ 0, length/time
+  double speed = 1.0;  // v0 ≥ 0, length/time: the mean desired speed
   Vec3 target{0.0, 0.0, 0.0};
   // When set, the target is the segment [target, *target_end] and each particle heads for its
   // nearest point on it (a door).
@@ -46,6 +66,17 @@ struct SelfPropulsion {
   // When set (non-zero), a particle past the target, ⟨X_i − target, e⟩ > 0, walks at v0 along
   // e instead (a pedestrian who went through the door keeps walking away from the room).
   std::optional<Vec3> exit_direction;
+};
+
+// A pedestrian crowd's walking speeds: they scale SelfPropulsion's v0 per person.
+struct WalkingSpeeds {
+  // σ_v ≥ 0: the desired speed of particle i is v0,i = v0 + σ_v z_i, z_i a standard normal
+  // truncated to [−3, 3] (rejection), drawn from (seed, id) (DesiredSpeed); 0: v0,i = v0 for
+  // all. Needs 3 σ_v ≤ v0 (no negative speeds). Helbing & Molnár (1995) use v0 = 1.34 m/s,
+  // σ_v = 0.26 m/s.
+  double speed_sd = 0.0;
+  // When set, the speed falls with the local density (Weidmann's fundamental diagram).
+  std::optional<DensitySpeed> density;
 };
 
 struct PairAttraction {
@@ -57,6 +88,7 @@ struct Forces {
   std::optional<HarmonicTrap> trap;
   Vec3 constant_force{0.0, 0.0, 0.0};  // f
   std::optional<SelfPropulsion> propulsion;
+  WalkingSpeeds walking;  // per-person speeds of the propulsion (a crowd); default: v0 for all
   std::optional<PairAttraction> attraction;
   double diffusion = 0.0;  // D ≥ 0 (length²/time), the same for every particle; 0: no noise
 
@@ -66,5 +98,22 @@ struct Forces {
 
 // ξ ∈ R^k (k = 2 or 3 entries written to out) for (seed, id, step): the normals the engine adds.
 void GaussianNoise(std::uint64_t seed, std::int64_t id, std::int64_t step, int k, double* out);
+
+// The desired speed v0,i = mean + sd · z of particle id, z ~ N(0, 1) truncated to [−3, 3]: the
+// first of the normals GaussianNoise(seed ⊕ c, id, m, 2) for m = 0, 1, … (two per m, in order)
+// with |z| ≤ 3, c a constant that separates this stream from the Brownian noise. A pure function
+// of (seed, id); mean when sd = 0. The truncated normal has mean `mean` and standard deviation
+// sd · √(1 − 6 φ(3) / (2 Φ(3) − 1)) ≈ 0.9865 sd (φ, Φ: the standard normal density and
+// distribution function).
+double DesiredSpeed(std::uint64_t seed, std::int64_t id, double mean, double sd);
+
+// Weidmann's factor φ(ρ) = 1 − exp(−γ (1/ρ − 1/ρ_max)) for 0 < ρ < ρ_max, 0 for ρ ≥ ρ_max
+// (DensitySpeed); 1 for ρ ≤ 0.
+double WeidmannSpeedFactor(const DensitySpeed& law, double density);
+
+// How far the engine's neighbour lists reach beyond contact (r_i + r_j) for these forces: the
+// attraction range ℓ, and R − 2 r_min for the density circle (every pair closer than R is then
+// a candidate pair); the larger of the two, ≥ 0. min_radius: the smallest particle radius.
+double PairListWidening(const Forces& forces, double min_radius);
 
 }  // namespace moreau::particles
