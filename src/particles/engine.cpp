@@ -30,6 +30,10 @@ double Seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
+// The smallest radius (0 for an empty population: every particle may have left).
+double MinRadius(const ParticleModel& model) {
+  return model.radius.empty() ? 0.0 : *std::min_element(model.radius.begin(), model.radius.end());
+}
 }  // namespace
 
 struct Engine::Impl {
@@ -106,7 +110,7 @@ void Engine::Impl::Setup(std::span<const double> positions) {
   if (lexicographic) threads = 1;
   rmax = model.max_radius();
   attraction_range =
-      PairListWidening(forces, *std::min_element(model.radius.begin(), model.radius.end()));
+      PairListWidening(forces, MinRadius(model));
   box = internal::PeriodicBox::Of(model);
   ConfigureSkin();
   const bool uniform_radius = std::all_of(model.radius.begin(), model.radius.end(),
@@ -305,7 +309,7 @@ void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const
   }
   rmax = model.max_radius();
   attraction_range =
-      PairListWidening(forces, *std::min_element(model.radius.begin(), model.radius.end()));
+      PairListWidening(forces, MinRadius(model));
   ConfigureSkin();
   const bool uniform_radius = std::all_of(model.radius.begin(), model.radius.end(),
                                           [&](double r) { return r == model.radius.front(); });
