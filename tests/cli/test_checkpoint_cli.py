@@ -20,7 +20,7 @@ kind = "particles"
 dimension = 2
 count = 400
 radius = 0.5
-T = 6.0
+T = 4.0
 seed = 3
 
 [domain]
@@ -84,7 +84,7 @@ def test_resumed_run_has_the_bits_of_an_uninterrupted_one(tmp_path, threads):
     stopped = tmp_path / "stopped"
     checkpoint = tmp_path / "stopped.checkpoint" / "checkpoint.bin"
     run_killed_after_first_checkpoint(
-        ["run", path, "--out", stopped, "--checkpoint-every", 150, *t], checkpoint)
+        ["run", path, "--out", stopped, "--checkpoint-every", 100, *t], checkpoint)
     assert checkpoint.exists()
     # The resume may use another thread count: the bits do not depend on it.
     other = ["--set", f"solver.threads={3 - threads}"]
@@ -103,7 +103,7 @@ def test_checkpoints_keep_the_bits_and_continue_after_a_resume(tmp_path):
     r = run_cli("run", path, "--out", tmp_path / "a", "--checkpoint-every", 100)
     assert r.returncode == 0, r.stderr
     assert summary(tmp_path / "a")["positions_hash"] == summary(tmp_path / "whole")["positions_hash"]
-    # The last checkpoint (step 500 of 600), resumed twice: once with more checkpoints into the
+    # The last checkpoint (step 300 of 400), resumed twice: once with more checkpoints into the
     # same folder, then from the checkpoint that run left (the same step: nothing later).
     ck = tmp_path / "a.checkpoint"
     r = run_cli("run", path, "--out", tmp_path / "b", "--resume", ck, "--checkpoint-every", 50)
@@ -124,13 +124,13 @@ def assert_refused(args, needle):
 
 def test_corrupt_or_foreign_checkpoints_are_refused(tmp_path):
     path = tmp_path / "s.toml"
-    path.write_text(SCENARIO.replace("T = 6.0", "T = 1.0"))
+    path.write_text(SCENARIO.replace("T = 4.0", "T = 1.0"))
     r = run_cli("run", path, "--out", tmp_path / "a", "--checkpoint-every", 40)
     assert r.returncode == 0, r.stderr
     ck = tmp_path / "a.checkpoint"
     # Another scenario: a different seed.
     other = tmp_path / "other.toml"
-    other.write_text(SCENARIO.replace("T = 6.0", "T = 1.0").replace("seed = 3", "seed = 4"))
+    other.write_text(SCENARIO.replace("T = 4.0", "T = 1.0").replace("seed = 3", "seed = 4"))
     out = tmp_path / "refused"
     assert_refused(["run", other, "--out", out, "--resume", ck], "made for another scenario")
     assert_refused(["run", path, "--out", out, "--resume", ck, "--set", "forces.diffusion=0.2"],

@@ -23,12 +23,12 @@ struct Case {
   std::vector<double> x0;
 };
 
-// 2D: 300 disks in a box periodic in x with walls in y, drifting down with noise.
+// 2D: 200 disks in a box periodic in x with walls in y, drifting down with noise.
 Case Disks2d() {
   Case c;
   ParticleModel& m = c.model;
   SplitMix64 rng(11);
-  for (int i = 0; i < 300; ++i) m.radius.push_back(0.25 + 0.1 * rng.Uniform01());
+  for (int i = 0; i < 200; ++i) m.radius.push_back(0.25 + 0.1 * rng.Uniform01());
   m.periodic = {true, false, false};
   m.AddBoxWalls({0, 0, 0}, {14, 14, 0});  // walls in y only
   m.domain_lo = {0, 0, 0};
@@ -95,10 +95,10 @@ TEST(ParticleCheckpoint, ResumedRunIsBitIdenticalColoured2d) {
   o.block_cells = 2;
   o.threads = 1;
   const Case c = Disks2d();
-  ExpectResumeBitIdentical(c, o, 23, 70, 1);
-  ExpectResumeBitIdentical(c, o, 23, 70, 2);
+  ExpectResumeBitIdentical(c, o, 23, 50, 1);
+  ExpectResumeBitIdentical(c, o, 23, 50, 2);
   o.threads = 2;
-  ExpectResumeBitIdentical(c, o, 41, 70, 1);
+  ExpectResumeBitIdentical(c, o, 31, 50, 1);
 }
 
 TEST(ParticleCheckpoint, ResumedRunIsBitIdenticalLexicographicAndThroughAFile) {
@@ -155,10 +155,10 @@ TEST(ParticleCheckpoint, CorruptTruncatedOrForeignCheckpointsAreRefused) {
 
   // A state of another run (fewer particles, ids not a permutation) does not fit.
   Case small = c;
-  small.model.radius.resize(100);
-  small.x0.resize(200);
+  small.model.radius.resize(50);
+  small.x0.resize(100);
   Engine other(small.model, small.forces, o, small.x0);
-  ExpectInputError([&] { other.RestoreState(e.SaveState()); }, "300 particles in 2D");
+  ExpectInputError([&] { other.RestoreState(e.SaveState()); }, "200 particles in 2D");
   EngineState bad = e.SaveState();
   bad.slot_ids[0] = bad.slot_ids[1];
   Engine fresh(c.model, c.forces, o, c.x0);
