@@ -25,10 +25,11 @@ for target in scenario_fuzz c3d_fuzz; do
   esac
   mkdir -p "$build/corpus/$target"
   echo "fuzz: $target for ${seconds} s" >&2
+  seeds=("$build/seeds/$target")
+  [ -d "$root/fuzz/corpus/$target" ] && seeds+=("$root/fuzz/corpus/$target")
   if ! "$build/$target" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 \
       -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/findings/$target-" \
-      "$build/corpus/$target" "$root/fuzz/corpus/$target" "$build/seeds/$target" \
-      > "$build/$target.log" 2>&1; then
+      "$build/corpus/$target" "${seeds[@]}" > "$build/$target.log" 2>&1; then
     echo "fuzz: $target found a problem (log: $build/$target.log):" >&2
     grep -E 'ERROR|SUMMARY|Test unit written' "$build/$target.log" >&2 || tail -20 "$build/$target.log" >&2
     status=1
