@@ -4,16 +4,19 @@
 # set size (VmRSS of /proc/PID/status) once a second. After the warm-up (the first WARMUP
 # fraction of the samples, default 0.1) the RSS must stay within 5 % of its median: the check
 # prints the samples' range and exits 1 when it is wider.
-#   bench/soak.sh [MOREAU] [OUT_DIR]    (defaults: build/release/moreau, a temporary folder)
+#   bench/soak.sh [MOREAU] [OUT_DIR] [--set KEY=VALUE ...]
+#   (defaults: build/release/moreau, a temporary folder; further arguments go to `moreau run`,
+#   e.g. --set output.hdf5=false to soak the engine without the trajectory writer)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 moreau=${1:-$root/build/release/moreau}
 out=${2:-$(mktemp -d)}
+shift $(($# < 2 ? $# : 2))
 warmup=${WARMUP:-0.1}
 samples=$out/rss.csv
 
 "$moreau" run "$root/examples/disks_1e5.toml" --out "$out/run" --set forces.diffusion=0.1 \
-  --set problem.T=200.0 --set output.vtu=false > "$out/run.log" 2>&1 &
+  --set problem.T=200.0 --set output.vtu=false "$@" > "$out/run.log" 2>&1 &
 pid=$!
 start=$(date +%s.%N)
 echo "seconds,rss_kib" > "$samples"
