@@ -207,9 +207,9 @@ class FieldTable {
                         [ref, echo = f.echo](const S& s) { return echo(std::invoke(ref, s)); })
                   : nullptr});
     }
-    for (const auto& [key, check] : sub.checks()) {
-      checks_.emplace_back(Prefixed(prefix, key),
-                           [ref, check](const S& s) { check(std::invoke(ref, s)); });
+    for (const auto& item : sub.checks()) {  // no structured binding: clang 14 cannot capture one
+      checks_.emplace_back(Prefixed(prefix, item.first),
+                           [ref, check = item.second](const S& s) { check(std::invoke(ref, s)); });
     }
     return *this;
   }
@@ -219,7 +219,9 @@ class FieldTable {
       if (f.required && !scenario.Has(f.key)) scenario.Fail(f.key, "required key is missing");
       f.read(scenario, settings, f.key);
     }
-    for (const auto& [key, check] : checks_) WithKey(scenario, key, [&] { check(settings); });
+    for (const auto& [key, check] : checks_) {
+      WithKey(scenario, key, [&settings, &c = check] { c(settings); });
+    }
   }
 
   nlohmann::json Echo(const S& settings) const {
