@@ -3,13 +3,17 @@ JOBS     ?= 2
 export OMP_WAIT_POLICY ?= passive
 BUILD    ?= build/release
 ASAN     ?= build/asan
+FUZZ     ?= build/fuzz
+FUZZ_SECONDS ?= 600
+FUZZ_TEST_SECONDS ?= 25
 OUT      ?= out
 MOCAP_DATA ?= ../shared/data/mocap
 PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON) -DMOREAU_UNITY_BUILD=ON
 
-.PHONY: all deps build python test test-release test-asan test-clients demo bench format clean
+.PHONY: all deps build python test test-release test-asan test-clients test-fuzz fuzz fuzz-build demo \
+        bench format clean
 
 all: build
 
@@ -28,8 +32,8 @@ python: deps
 
 # Every test in Release (tests/python through ctest), then the unit tests again under
 # AddressSanitizer + UBSan, then the client suite (the outputs opened with ParaView, VTK, h5py
-# and numpy).
-test: test-release test-asan test-clients
+# and numpy), then each fuzz target for FUZZ_TEST_SECONDS.
+test: test-release test-asan test-clients test-fuzz
 
 test-release: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
@@ -45,6 +49,20 @@ test-asan: deps
 test-clients: build
 	@MOREAU_CLI=$(MOREAU) MOREAU_TESTS=$(BUILD)/moreau_tests MOREAU_ROOT=$(CURDIR) \
 	  $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
+
+# libFuzzer targets of the scenario and C3D readers (fuzz/, clang 14): `make fuzz` runs each for
+# FUZZ_SECONDS, `make test` for FUZZ_TEST_SECONDS; a finding fails the run (fuzz/run.sh).
+fuzz-build: deps
+	@cmake -S . -B $(FUZZ) -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++-14 \
+	  -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DMOREAU_FUZZ=ON \
+	  -DMOREAU_BUILD_BENCH=OFF -DMOREAU_BUILD_PYTHON=OFF -DMOREAU_MPI=OFF > /dev/null
+	@cmake --build $(FUZZ) -j $(JOBS) --target scenario_fuzz c3d_fuzz
+
+fuzz: fuzz-build
+	@./fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS) $(MOCAP_DATA)
+
+test-fuzz: fuzz-build
+	@./fuzz/run.sh $(FUZZ) $(FUZZ_TEST_SECONDS) $(MOCAP_DATA)
 
 # The flagship examples: studies and figures under out/.
 demo: build

@@ -240,9 +240,9 @@ class FieldTable {
                         [ref, echo = f.echo](const S& s) { return echo(std::invoke(ref, s)); })
                   : nullptr});
     }
-    for (const auto& [key, check] : sub.checks()) {
-      checks_.emplace_back(Prefixed(prefix, key),
-                           [ref, check](const S& s) { check(std::invoke(ref, s)); });
+    for (const auto& item : sub.checks()) {  // no structured binding: clang 14 cannot capture one
+      checks_.emplace_back(Prefixed(prefix, item.first),
+                           [ref, check = item.second](const S& s) { check(std::invoke(ref, s)); });
     }
     return *this;
   }
@@ -253,8 +253,10 @@ class FieldTable {
       if (f.required && !scenario.Has(f.key)) scenario.Fail(f.key, "required key is missing");
       NamingAllocations(scenario, f.key, [&] { f.read(scenario, settings, f.key); });
     }
-    for (const auto& [key, check] : checks_) {
-      NamingAllocations(scenario, key, [&] { WithKey(scenario, key, [&] { check(settings); }); });
+    for (const auto& entry : checks_) {  // no structured binding: clang 14 cannot capture one
+      const std::string& key = entry.first;
+      NamingAllocations(scenario, key,
+                        [&] { WithKey(scenario, key, [&] { entry.second(settings); }); });
     }
   }
 

@@ -106,20 +106,31 @@ bool CellList::Fit(const double* x, int n, const PeriodicBox& box, double reach,
     AxisRange(x, n, k, a, threads, &lo[a], &hi[a]);
   }
   if (KeepsGeometry(lo, hi, reach)) return false;
+  FitRecord fit;
+  std::copy(lo, lo + 3, fit.lo);
+  std::copy(hi, hi + 3, fit.hi);
+  fit.reach = reach;
+  Refit(fit, n, box, block_cells);
+  return true;
+}
+
+void CellList::Refit(const FitRecord& fit, int n, const PeriodicBox& box, int block_cells) {
+  const int k = box.k;
+  fit_ = fit;
   have_geometry_ = true;
-  reach_ = reach;
-  for (int a = 0; a < k; ++a) {
-    if (!box.periodic[a]) {
-      lo[a] -= 2.0 * reach;
-      hi[a] += 2.0 * reach;
-    }
+  reach_ = fit.reach;
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    const bool widen = a < k && !box.periodic[a];
+    lo[a] = widen ? fit.lo[a] - 2.0 * fit.reach : fit.lo[a];
+    hi[a] = widen ? fit.hi[a] + 2.0 * fit.reach : fit.hi[a];
   }
-  grid_.Fit(k, lo, hi, box, reach, std::max<std::int64_t>(64, 4 * static_cast<std::int64_t>(n)));
+  grid_.Fit(k, lo, hi, box, fit.reach,
+            std::max<std::int64_t>(64, 4 * static_cast<std::int64_t>(n)));
   ChooseBlocks(block_cells);
   RankBlocks();
   RankCells();
   cell_start_.assign(static_cast<std::size_t>(grid_.cells()) + 1, 0);
-  return true;
 }
 
 // Block edge: as given, or automatic from the cell count alone (never from the thread count): as

@@ -92,6 +92,15 @@ class CellList {
   // the geometry (and so the block ranks) changed.
   bool Fit(const double* x, int n, const PeriodicBox& box, double reach, int block_cells,
            int threads);
+  // The bounding box (before widening) and reach the current geometry was made for: with the
+  // same n and block_cells, Refit(fit()) gives the same geometry (a resumed run's).
+  struct FitRecord {
+    double lo[3] = {0.0, 0.0, 0.0};
+    double hi[3] = {0.0, 0.0, 0.0};
+    double reach = 0.0;
+  };
+  const FitRecord& fit() const { return fit_; }
+  void Refit(const FitRecord& fit, int n, const PeriodicBox& box, int block_cells);
   // Sorts the slots into cells: permutation()[q] for q in [cell_start(c), cell_start(c + 1)) are
   // the slots of the cell of rank c, by increasing id[slot]. Stable and the same for any thread
   // count.
@@ -127,6 +136,7 @@ class CellList {
   CellGrid grid_;
   bool have_geometry_ = false;
   double reach_ = 0.0;  // the reach the geometry was made for
+  FitRecord fit_;
   int nb_[3] = {1, 1, 1};
   int block_edge_ = 8;
   std::vector<std::int64_t> block_of_rank_;

@@ -14,12 +14,7 @@
 
 #include "moreau/common/error.h"
 #include "moreau/common/steps.h"
-#include "particles/cell_list.h"
-#include "particles/colouring.h"
-#include "particles/neighbour_list.h"
-#include "particles/particle_store.h"
-#include "particles/prediction.h"
-#include "particles/sweep.h"
+#include "particles/engine_impl.h"
 
 namespace moreau::particles {
 
@@ -35,50 +30,6 @@ double MinRadius(const ParticleModel& model) {
   return model.radius.empty() ? 0.0 : *std::min_element(model.radius.begin(), model.radius.end());
 }
 }  // namespace
-
-struct Engine::Impl {
-  ParticleModel model;
-  Forces forces;
-  EngineOptions options;
-  int k = 2;
-  int n = 0;
-  int threads = 1;
-  bool lexicographic = false;
-  double rmax = 0.0;
-  double attraction_range = 0.0;  // how far the lists reach beyond contact (PairListWidening)
-  internal::PeriodicBox box;
-
-  // The parts, each owning its data.
-  std::optional<internal::ParticleStore> store;
-  internal::CellList cells;
-  internal::Colouring colouring;
-  internal::NeighbourList list;
-  std::optional<internal::Prediction> prediction;
-  std::optional<internal::ProjectionSweep> sweep;
-
-  std::int64_t step = 0;
-  EngineStats stats;
-  Termination termination = Termination::kCompleted;
-  std::string message;
-  std::int64_t failed_step = -1;
-  std::int64_t failed_particle = -1;
-
-  void Setup(std::span<const double> positions);
-  void ConfigureSkin();
-  void Rebuild(std::vector<double>* at, std::int64_t at_step);
-  void Predict(double* max_move, std::int64_t* bad_id);
-  void SweepUntilAccepted(double moved, int sweeps, bool relax);
-  bool Step();
-  void Repopulate(std::span<const double> positions, std::span<const double> active);
-  int Relax(double tolerance, int max_sweeps);
-  void Fail(std::int64_t bad);
-  bool AcceptEach();
-  std::vector<double> path_scratch;
-  std::vector<double> sweep_start;  // the predicted positions before a single sweep
-  double MaxOverlap() const {
-    return internal::MaxPairOverlap(list, store->current.data(), store->radius.data(), n, threads);
-  }
-};
 
 void Engine::Impl::Setup(std::span<const double> positions) {
   options.Validate();
@@ -381,7 +332,15 @@ int Engine::Relax(double tolerance, int max_sweeps) {
 EngineSummary Engine::Run(double T, const EngineObserver& observer) {
   const std::int64_t steps = StepCount(T, impl_->options.h);
   if (observer) observer(*this);
-  for (std::int64_t i = 0; i < steps; ++i) {
+  return RunTo(impl_->step + steps, observer);
+}
+
+EngineSummary Engine::Continue(double T, const EngineObserver& observer) {
+  return RunTo(StepCount(T, impl_->options.h), observer);
+}
+
+EngineSummary Engine::RunTo(std::int64_t last_step, const EngineObserver& observer) {
+  while (impl_->step < last_step) {
     try {
       if (!Step()) break;
     } catch (const NumericalError& e) {  // the state is the last good one

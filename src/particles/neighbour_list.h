@@ -29,6 +29,14 @@ struct NeighbourListStats {
   std::int64_t shortest_rebuild_interval = -1;
 };
 
+// What a resumed run needs besides the build positions to continue the list's decisions.
+struct NeighbourListState {
+  double skin = 0.0;
+  double drift_bound = 0.0;
+  std::int64_t last_build_step = -1;
+  NeighbourListStats stats;
+};
+
 class NeighbourList {
  public:
   // n slots in `box`; skin > 0 (clamped to skin_limit, 0.99 of the room periodic axes leave);
@@ -77,6 +85,17 @@ class NeighbourList {
   // the skin if the list was built at this step's predicted positions already.
   bool PrepareRedo();
   void MarkPredicted() { built_here_ = false; }
+
+  // For checkpoints: the state, the positions of the last build (storage order, wrapped), and
+  // a restore (the skin before Build at reference(), everything after it).
+  NeighbourListState State() const { return {skin_, drift_bound_, last_build_step_, stats_}; }
+  void Restore(const NeighbourListState& state) {
+    skin_ = state.skin;
+    drift_bound_ = state.drift_bound;
+    last_build_step_ = state.last_build_step;
+    stats_ = state.stats;
+  }
+  const std::vector<double>& reference() const { return reference_; }
 
   const PeriodicBox& box() const { return box_; }
   double skin() const { return skin_; }

@@ -1,4 +1,5 @@
-// `moreau run SCENARIO.toml [--set key=value ...] [--out DIR] [--fix-overlaps]`: one simulation.
+// `moreau run SCENARIO.toml [--set key=value ...] [--out DIR] [--fix-overlaps]
+// [--checkpoint-every K] [--resume DIR]`: one simulation.
 // problem.kind = "particles" goes to the particle engine (particles_scenario → particles_run →
 // particles_report; with [[types]], an agent-based model: population_run); "sliding" and "disks"
 // to the paper's steppers (pbd_scenario → pbd_run → pbd_report).
@@ -18,6 +19,8 @@ namespace {
 
 struct RunArgs : ScenarioArgs {
   bool fix_overlaps = false;
+  std::int64_t checkpoint_every = 0;
+  std::string resume;
 };
 
 // Every input is read and checked, the engine set up on its initial state, before the output
@@ -31,8 +34,11 @@ int RunParticleScenario(Scenario& scenario, const RunArgs& args) {
     return RunPopulation(settings, population, scenario.path(), out);
   }
   ParticleSetup setup = SetUpParticleRun(settings, scenario);
+  const CheckpointPlan checkpoints = PlanCheckpoints(
+      settings, args.checkpoint_every, args.resume, args.OutDir(),
+      ScenarioFingerprint(args.scenario, args.overrides, args.fix_overlaps), setup.engine);
   OutputDir out(args.OutDir());
-  const ParticleRunResult result = RunParticles(settings, setup, out);
+  const ParticleRunResult result = RunParticles(settings, setup, out, checkpoints);
   return ReportParticleRun(settings, setup, result, scenario.path(), out);
 }
 
@@ -57,6 +63,14 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_flag("--fix-overlaps", args->fix_overlaps,
                 "Particle scenarios: project an overlapping initial state to a feasible one "
                 "(repeated PBD sweeps) instead of rejecting it");
+  cmd->add_option("--checkpoint-every", args->checkpoint_every,
+                  "Particle scenarios: save a checkpoint every K steps into <out>.checkpoint/ "
+                  "(or the --resume folder)")
+      ->type_name("K");
+  cmd->add_option("--resume", args->resume,
+                  "Particle scenarios: continue from DIR/checkpoint.bin (the same bits as a run "
+                  "that never stopped)")
+      ->type_name("DIR");
 }
 
 }  // namespace moreau::cli

@@ -5,10 +5,12 @@
 #include <memory>
 #include <numeric>
 #include <span>
+#include <tuple>
 
 #include <fmt/format.h>
 
 #include "field_table.h"
+#include "moreau/common/error.h"
 #include "moreau/common/steps.h"
 #include "moreau/io/trajectory.h"
 #include "moreau/particles/room.h"
@@ -63,6 +65,26 @@ class RunRecorder {
     last_step_ = step;
   }
 
+  // Checkpoints: frames are kept from now on; State() holds them, the snapshots and the last
+  // step seen; Resume writes a state's frames and takes its snapshots (a resumed run).
+  void KeepFrames() { keep_frames_ = true; }
+  nlohmann::json State() const {
+    return {{"frames", kept_}, {"snapshots", snapshots_}, {"last_step", last_step_}};
+  }
+  void Resume(const nlohmann::json& state) {
+    try {
+      for (const auto& f : state.at("frames")) {
+        const std::vector<double> x = f.at(2).get<std::vector<double>>();
+        if (x.size() != x_.size()) throw InputError("checkpoint: a frame does not fit the run");
+        WriteFrame(f.at(0).get<std::int64_t>(), f.at(1).get<double>(), x);
+      }
+      state.at("snapshots").get_to(snapshots_);
+      state.at("last_step").get_to(last_step_);
+    } catch (const nlohmann::json::exception&) {
+      throw InputError("checkpoint: the run's frames or snapshots are malformed");
+    }
+  }
+
   // After the run: the last good frame after a failure, the final snapshot, writers closed.
   ParticleRunResult Finish(const particles::EngineSummary& summary, double t,
                            std::vector<double> x) {
@@ -88,6 +110,7 @@ class RunRecorder {
     return false;
   }
   void WriteFrame(std::int64_t step, double t, std::span<const double> x) {
+    if (keep_frames_) kept_.push_back({step, t, std::vector<double>(x.begin(), x.end())});
     const io::ParticleFrame frame{
         step, t, model_.dimension, x.data(), ids_.data(), model_.radius.data(), model_.count()};
     if (hdf5_) hdf5_->Write(frame);
@@ -106,6 +129,8 @@ class RunRecorder {
   std::vector<std::pair<double, std::vector<double>>> snapshots_;
   std::int64_t last_step_ = 0;
   std::vector<double> x_;  // positions in id order for frames and snapshots
+  bool keep_frames_ = false;
+  std::vector<std::tuple<std::int64_t, double, std::vector<double>>> kept_;  // (step, t, x)
 };
 
 }  // namespace
@@ -144,18 +169,26 @@ ParticleSetup SetUpParticleRun(const ParticleScenario& scenario, const Scenario&
 }
 
 ParticleRunResult RunParticles(const ParticleScenario& scenario, ParticleSetup& setup,
-                               OutputDir& out) {
+                               OutputDir& out, const CheckpointPlan& checkpoints) {
   particles::Engine& engine = setup.engine;
   RunRecorder recorder(out, scenario, engine, setup.steps);
+  if (checkpoints.every > 0 || checkpoints.resumed) recorder.KeepFrames();
+  if (checkpoints.resumed) recorder.Resume(*checkpoints.resumed);
   ProgressBar progress("run", setup.steps);
   const StopScope stop_on_signal;  // SIGINT/SIGTERM: stop after the current step
+  const auto observe = [&](const particles::Engine& e) {
+    recorder.Observe(e);
+    progress.Update(e.step());
+    const std::int64_t step = e.step();
+    if (checkpoints.every > 0 && step > 0 && step < setup.steps && step % checkpoints.every == 0) {
+      WriteRunCheckpoint(checkpoints, e, recorder.State());
+    }
+    if (step < setup.steps) ThrowIfStopRequested();
+  };
   particles::EngineSummary summary;
   try {
-    summary = engine.Run(scenario.T, [&](const particles::Engine& e) {
-      recorder.Observe(e);
-      progress.Update(e.step());
-      if (e.step() < setup.steps) ThrowIfStopRequested();
-    });
+    summary = checkpoints.resumed ? engine.Continue(scenario.T, observe)
+                                  : engine.Run(scenario.T, observe);
   } catch (const StopAfterStep&) {
     summary = InterruptedSummary(engine.summary(), engine.step(), engine.time());
   }

@@ -11,6 +11,7 @@
 
 #include "moreau/particles/engine.h"
 #include "output.h"
+#include "run/particles_checkpoint.h"
 #include "run/particles_scenario.h"
 #include "scenario.h"
 
@@ -45,8 +46,11 @@ struct ParticleRunResult {
 };
 
 // Runs the engine over [0, T] (with a progress bar on a terminal), writing the trajectory into
-// `out` (staged); after a numerical failure the last good frame is written too.
+// `out` (staged); after a numerical failure the last good frame is written too. With
+// checkpoints.every > 0 a checkpoint every so many steps (the frames so far are kept in memory
+// for it); with checkpoints.resumed the engine is on the checkpoint's step already, and the
+// frames and snapshots it holds are written first.
 ParticleRunResult RunParticles(const ParticleScenario& scenario, ParticleSetup& setup,
-                               OutputDir& out);
+                               OutputDir& out, const CheckpointPlan& checkpoints = {});
 
 }  // namespace moreau::cli

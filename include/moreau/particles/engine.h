@@ -141,6 +141,7 @@ struct EngineSummary {
 };
 
 class Engine;
+struct EngineState;  // checkpoint.h
 
 // Called with the engine at step 0 (the initial state) and after every step taken. It reads
 // what it needs: step(), time(), Stored() (no copy) or CopyPositions / Positions (id order, a
@@ -195,6 +196,16 @@ class Engine {
   // non-finite position, or Step's NumericalError) with termination kNonFinite, the message
   // naming the step, and the last good state kept; never throws for it.
   EngineSummary Run(double T, const EngineObserver& observer = {});
+  // Like Run, from the current step up to step T/h, calling the observer after every step only
+  // (a resumed run: the current state was observed before the checkpoint).
+  EngineSummary Continue(double T, const EngineObserver& observer = {});
+
+  // Checkpoints (checkpoint.h): the state between two steps, and its restore on an engine made
+  // with the same model, forces and options (any thread count), after which the steps give the
+  // same bits as the engine that saved it. RestoreState throws InputError "checkpoint: …" when
+  // the state does not fit the engine (dimension, count, ids, sizes, non-finite values).
+  EngineState SaveState() const;
+  void RestoreState(const EngineState& state);
 
   // Positions (size k·N, id order, wrapped into the periodic domain).
   void CopyPositions(std::span<double> out) const;
@@ -225,6 +236,7 @@ class Engine {
   std::vector<std::pair<int, int>> CandidatePairs() const;
 
  private:
+  EngineSummary RunTo(std::int64_t last_step, const EngineObserver& observer);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Runs every fuzz target for SECONDS each: fuzz/run.sh BUILD_DIR SECONDS MOCAP_DATA_DIR
+#   seeds: fuzz/corpus/<target>/ (committed: hand-made seeds and every past finding), plus the
+#   scenario files of examples/ (scenario_fuzz) and the C3D files under 400 kB of MOCAP_DATA_DIR
+#   (c3d_fuzz), copied into BUILD_DIR/seeds/<target>/ at run time;
+#   working corpus: BUILD_DIR/corpus/<target>/ (grows from run to run);
+#   findings: BUILD_DIR/findings/<target>-crash-… (the run then fails).
+set -euo pipefail
+build=$1
+seconds=$2
+mocap=$3
+root=$(cd "$(dirname "$0")/.." && pwd)
+
+mkdir -p "$build/seeds/scenario_fuzz" "$build/seeds/c3d_fuzz" "$build/findings"
+find "$root/examples" -name '*.toml' -exec cp -f {} "$build/seeds/scenario_fuzz/" \;
+if [ -d "$mocap" ]; then
+  find "$mocap" -name '*.c3d' -size -400k -exec cp -f {} "$build/seeds/c3d_fuzz/" \;
+fi
+
+status=0
+for target in scenario_fuzz c3d_fuzz; do
+  case $target in
+    scenario_fuzz) max_len=16384 ;;
+    c3d_fuzz) max_len=131072 ;;
+  esac
+  mkdir -p "$build/corpus/$target"
+  echo "fuzz: $target for ${seconds} s" >&2
+  seeds=("$build/seeds/$target")
+  [ -d "$root/fuzz/corpus/$target" ] && seeds+=("$root/fuzz/corpus/$target")
+  if ! "$build/$target" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 \
+      -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/findings/$target-" \
+      "$build/corpus/$target" "${seeds[@]}" > "$build/$target.log" 2>&1; then
+    echo "fuzz: $target found a problem (log: $build/$target.log):" >&2
+    grep -E 'ERROR|SUMMARY|Test unit written' "$build/$target.log" >&2 || tail -20 "$build/$target.log" >&2
+    status=1
+  fi
+  grep -E '^stat::(number_of_executed_units|new_units_added|peak_rss_mb)' "$build/$target.log" \
+    | sed "s/^/fuzz: $target /" >&2 || true
+  echo "fuzz: $target corpus $(ls "$build/corpus/$target" | wc -l) files" >&2
+done
+exit $status

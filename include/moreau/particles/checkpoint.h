@@ -1,0 +1,52 @@
+// Checkpoints of the particle engine: everything a run needs to continue bit-for-bit as if it had
+// never stopped (the noise is a pure function of (seed, id, step), so the step index is its whole
+// state; the sweep order depends on the neighbour list's last build, so that is saved too).
+//
+// A checkpoint file is "MOREAUCK" (8 bytes), the payload size (8 bytes, little-endian), its
+// FNV-1a 64-bit hash (8 bytes), then the payload: CBOR of {"engine": the state, "run": what the
+// caller adds (its scenario fingerprint, its recorder's state)}. Doubles are stored as 64-bit
+// floats, so every bit comes back.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "moreau/particles/engine.h"
+
+namespace moreau::particles {
+
+// The engine between two steps (Engine::SaveState / RestoreState).
+struct EngineState {
+  int dimension = 2;              // k
+  int count = 0;                  // N
+  std::int64_t step = 0;          // steps taken
+  std::vector<int> slot_ids;      // N: the particle id of each storage slot
+  std::vector<double> current;    // k·N, storage order: positions (unwrapped between builds)
+  std::vector<double> reference;  // k·N, storage order: positions at the last list build
+  double skin = 0.0;              // Verlet skin now (a widened one relaxes later)
+  double drift_bound = 0.0;       // bound on ‖X_i − X_i^build‖ after the last step
+  std::int64_t last_build_step = -1;
+  std::int64_t shortest_rebuild_interval = -1;
+  double grid_lo[3] = {0.0, 0.0, 0.0};  // the bounding box the cell grid was fitted to
+  double grid_hi[3] = {0.0, 0.0, 0.0};
+  double grid_reach = 0.0;
+  EngineStats stats;  // counters carry on; timings too
+
+  nlohmann::json ToJson() const;
+  // Throws InputError naming the field for a missing or mistyped one.
+  static EngineState FromJson(const nlohmann::json& j);
+};
+
+// Writes the checkpoint atomically: into PATH.tmp, flushed, then renamed onto PATH. Throws
+// InputError naming the file when it cannot be written.
+void WriteCheckpoint(const std::filesystem::path& path, const EngineState& state,
+                     const nlohmann::json& run);
+
+// Reads a checkpoint; *run receives the caller's part. Throws InputError "FILE: checkpoint: …"
+// for a missing, truncated or corrupt file (bad magic, size or hash, or a malformed payload).
+EngineState ReadCheckpoint(const std::filesystem::path& path, nlohmann::json* run);
+
+}  // namespace moreau::particles
