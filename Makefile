@@ -12,7 +12,7 @@ PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON) -DMOREAU_UNITY_BUILD=ON
 
-.PHONY: all deps build python test test-release test-asan test-clients test-fuzz fuzz fuzz-build demo \
+.PHONY: all deps build python test test-build test-release test-asan test-clients test-fuzz fuzz fuzz-build demo \
         bench format clean
 
 all: build
@@ -35,7 +35,12 @@ python: deps
 # and numpy), then each fuzz target for FUZZ_TEST_SECONDS.
 test: test-release test-asan test-clients test-fuzz
 
-test-release: build
+# What the tests run (the benchmarks are built by `make build`/`make bench`, not by `make test`).
+test-build: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
+	@cmake --build $(BUILD) -j $(JOBS) --target moreau_cli moreau_tests moreau_python
+
+test-release: test-build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 test-asan: deps
@@ -46,7 +51,7 @@ test-asan: deps
 	  $(ASAN)/moreau_tests --gtest_brief=1 --gtest_filter=-*Slow*
 
 # Outputs opened with the programs people use (tests/clients; needs scripts/install-deps).
-test-clients: build
+test-clients: test-build
 	@MOREAU_CLI=$(MOREAU) MOREAU_TESTS=$(BUILD)/moreau_tests MOREAU_ROOT=$(CURDIR) \
 	  $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
 

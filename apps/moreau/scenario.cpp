@@ -40,20 +40,28 @@ toml::table ParseOverrideValue(const std::string& value) {
 
 const char* TypeName(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a number";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::table: return "a table";
-    default: return "a date or time";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    default:
+      return "a date or time";
   }
 }
 
 void CollectLeafKeys(const toml::table& table, const std::string& prefix,
                      std::vector<std::string>* keys) {
   for (const auto& [k, node] : table) {
-    const std::string full = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    const std::string full =
+        prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
     if (const toml::table* sub = node.as_table()) {
       CollectLeafKeys(*sub, full, keys);
     } else {
@@ -102,6 +110,18 @@ Scenario Scenario::Load(const std::string& path, const std::vector<std::string>&
   if (std::filesystem::is_directory(path, ec)) {
     throw InputError(fmt::format("{}: is a directory, not a scenario file", path));
   }
+  // toml++ can end the process when an allocation fails inside it (a bad_alloc through a noexcept
+  // function), so a file whose parsed tree clearly cannot fit is refused before parsing.
+  if (const auto bytes = std::filesystem::file_size(path, ec); !ec) {
+    constexpr double kParsedBytesPerFileByte = 32.0;  // measured: ≈ 30 for arrays of positions
+    const MemoryLimit limit = AvailableMemory();
+    const double need = kParsedBytesPerFileByte * static_cast<double>(bytes);
+    if (limit.bytes > 0 && need > static_cast<double>(limit.bytes)) {
+      throw OutOfMemoryError(fmt::format(
+          "{}: out of memory while reading the file (about {} as parsed TOML, {} available: {})",
+          path, FormatBytes(need), FormatBytes(static_cast<double>(limit.bytes)), limit.source));
+    }
+  }
   try {
     s.table_ = toml::parse_file(path);
   } catch (const std::bad_alloc&) {
@@ -111,8 +131,8 @@ Scenario Scenario::Load(const std::string& path, const std::vector<std::string>&
     if (where.line == 0) {
       throw InputError(fmt::format("{}: cannot read the file ({})", path, e.description()));
     }
-    throw InputError(fmt::format("{}: line {}, column {}: {}", path, where.line, where.column,
-                                 e.description()));
+    throw InputError(
+        fmt::format("{}: line {}, column {}: {}", path, where.line, where.column, e.description()));
   }
   s.ApplyOverrides(overrides);
   return s;
@@ -249,7 +269,8 @@ std::vector<double> Scenario::GetDoubleArray(std::string_view key,
   const toml::node* node = Find(key);
   if (node == nullptr) return fallback;
   const toml::array* arr = node->as_array();
-  if (arr == nullptr) Fail(key, fmt::format("expected an array of numbers, got {}", TypeName(*node)));
+  if (arr == nullptr)
+    Fail(key, fmt::format("expected an array of numbers, got {}", TypeName(*node)));
   std::vector<double> out;
   for (const toml::node& item : *arr) {
     if (auto v = item.value<double>()) {

@@ -60,8 +60,7 @@ void Engine::Impl::Setup(std::span<const double> positions) {
   lexicographic = options.order == SweepOrder::kLexicographic;
   if (lexicographic) threads = 1;
   rmax = model.max_radius();
-  attraction_range =
-      PairListWidening(forces, MinRadius(model));
+  attraction_range = PairListWidening(forces, MinRadius(model));
   box = internal::PeriodicBox::Of(model);
   ConfigureSkin();
   const bool uniform_radius = std::all_of(model.radius.begin(), model.radius.end(),
@@ -259,8 +258,7 @@ void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const
     threads = std::clamp(n / 20000, 1, std::max(1, omp_get_max_threads()));
   }
   rmax = model.max_radius();
-  attraction_range =
-      PairListWidening(forces, MinRadius(model));
+  attraction_range = PairListWidening(forces, MinRadius(model));
   ConfigureSkin();
   const bool uniform_radius = std::all_of(model.radius.begin(), model.radius.end(),
                                           [&](double r) { return r == model.radius.front(); });

@@ -151,11 +151,12 @@ def test_crowd_with_speed_distribution_and_weidmann_same_bits_on_one_and_two_thr
 
 
 BAD_CROWD = [
-    (["forces.propulsion_speed_sd=0.6"], "forces", "forces.walking.speed_sd must be in [0, speed/3]"),
-    (["forces.propulsion_speed_sd=-0.1"], "forces", "forces.walking.speed_sd must be in"),
-    (["forces.density_radius=-1"], "forces", "forces.walking.density.radius must be > 0 (got -1)"),
-    (["forces.density_radius=1", "forces.density_max=0"], "forces",
-     "forces.walking.density.max_density must be > 0 (got 0)"),
+    (["forces.propulsion_speed_sd=0.6"], "forces.propulsion_speed_sd",
+     "must be at most propulsion_speed / 3"),
+    (["forces.propulsion_speed_sd=-0.1"], "forces.propulsion_speed_sd", "must be ≥ 0 (got -0.1)"),
+    (["forces.density_radius=-1"], "forces.density_radius", "must be > 0 (got -1)"),
+    (["forces.density_radius=1", "forces.density_max=0"], "forces.density_max",
+     "must be > 0 (got 0)"),
     (["forces.density_gamma=2"], "forces.density_radius", "required by forces.density_gamma"),
 ]
 

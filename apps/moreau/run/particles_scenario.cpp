@@ -259,7 +259,15 @@ void AddForceFields(FieldTable<S>& t) {
       .OptionalNumber("attraction_stiffness", &F::attraction_stiffness, Range::NonNegative(),
                       "pair attraction k")
       .OptionalNumber("attraction_range", &F::attraction_range, Range::Positive(), "its range ℓ")
-      .Number("diffusion", &F::diffusion, Range::NonNegative(), "diffusion D (noise)");
+      .Number("diffusion", &F::diffusion, Range::NonNegative(), "diffusion D (noise)")
+      .Check("propulsion_speed_sd", [](const F& s) {
+        if (s.propulsion_speed && 3.0 * s.propulsion_speed_sd > *s.propulsion_speed) {
+          throw InputError(
+              fmt::format("must be at most propulsion_speed / 3 = {} (got {}): the "
+                          "truncated normal must give no negative speed",
+                          *s.propulsion_speed / 3.0, s.propulsion_speed_sd));
+        }
+      });
   t.Mount("forces", f, sub);
   AddVec(
       t, "forces.trap_center", [](auto& s) -> auto& { return s.forces.trap_center; },
