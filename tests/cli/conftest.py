@@ -8,6 +8,12 @@ import pytest
 CLI = os.environ.get("MOREAU_CLI", str(pathlib.Path(__file__).parents[2] / "build/release/moreau"))
 ROOT = pathlib.Path(os.environ.get("MOREAU_ROOT", pathlib.Path(__file__).parents[2]))
 
+# Example scenarios several test files start from.
+SLIDING = ROOT / "examples/sliding.toml"
+CROWD = ROOT / "examples/crowd.toml"
+NETWORK = ROOT / "examples/control/network_2d.toml"
+OSCILLATOR = ROOT / "examples/control/oscillator_1d.toml"
+
 
 def run_cli(*args, cwd=None):
     """Runs `moreau ARGS` and returns the CompletedProcess (text output)."""

@@ -6,12 +6,8 @@ import os
 import resource
 import subprocess
 
-from conftest import CLI, ROOT, rejected, run_cli
+from conftest import CLI, CROWD, NETWORK, OSCILLATOR, ROOT, SLIDING, rejected, run_cli
 
-SLIDING = ROOT / "examples/sliding.toml"
-CROWD = ROOT / "examples/crowd.toml"
-NETWORK = ROOT / "examples/control/network_2d.toml"
-OSCILLATOR = ROOT / "examples/control/oscillator_1d.toml"
 
 PARTICLES = """
 [problem]

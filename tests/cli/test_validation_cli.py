@@ -6,12 +6,8 @@ import json
 
 import pytest
 
-from conftest import ROOT, rejected, run_cli
+from conftest import CROWD, NETWORK, OSCILLATOR, ROOT, SLIDING, rejected, run_cli
 
-CROWD = ROOT / "examples/crowd.toml"
-NETWORK = ROOT / "examples/control/network_2d.toml"
-OSCILLATOR = ROOT / "examples/control/oscillator_1d.toml"
-SLIDING = ROOT / "examples/sliding.toml"
 
 BOX = """
 [problem]
