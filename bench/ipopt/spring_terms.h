@@ -1,6 +1,7 @@
 // Closed-form derivatives of one spring–damper of the control problem, for the IPOPT
-// transcription (benchmark only). With Δx = x_b − x_a, l = |Δx|, u = Δx / l, P = I − u uᵀ and
-// Δv = v_b − v_a, the force on node b is (spring_network.h)
+// transcription (benchmark only; header-only and free of IPOPT, so that
+// tests/control/ipopt_spring_terms_test.cpp checks it in every build). With Δx = x_b − x_a, l =
+// |Δx|, u = Δx / l, P = I − u uᵀ and Δv = v_b − v_a, the force on node b is (spring_network.h)
 //   F = κ L u − κ Δx − ξ u (u · Δv)          (−F on node a),
 // and for a multiplier vector e (e = ζ_b / m_b − ζ_a / m_a) the scalar e · F has the Hessian
 //   ∂²/∂Δx²  = κ L Q(e) − ξ [ (u·Δv) Q(e) + (e·u) Q(Δv) + (P e)(P Δv)ᵀ / l² + (P Δv)(P e)ᵀ / l² ],
@@ -9,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 
 namespace moreau::bench {
 
@@ -78,6 +80,15 @@ struct EntropyPenalty {
   double slope = 0.0;
   double curvature = 0.0;
 };
-bool ControlEntropy(double rest, double rest_min, double rest_max, EntropyPenalty& out);
+inline bool ControlEntropy(double rest, double rest_min, double rest_max, EntropyPenalty& out) {
+  const double range = rest_max - rest_min;
+  const double theta = (rest - rest_min) / range;
+  if (!(theta > 0.0 && theta < 1.0)) return false;
+  out.value =
+      0.5 * range * (theta * std::log(theta) + (1.0 - theta) * std::log1p(-theta) + std::log(2.0));
+  out.slope = 0.5 * (std::log(theta) - std::log1p(-theta));
+  out.curvature = 1.0 / (2.0 * range * theta * (1.0 - theta));
+  return true;
+}
 
 }  // namespace moreau::bench
