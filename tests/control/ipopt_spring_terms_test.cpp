@@ -2,7 +2,7 @@
 // (bench/ipopt/spring_terms.h, issue 11): the force Jacobian against central differences of the
 // library's dynamics, the Hessian against central differences of the Jacobian, and the entropy
 // penalty as the Legendre partner of the regularised minimum S^γ of hamiltonian.h.
-#include "../bench/ipopt/spring_terms.h"
+#include "../../bench/ipopt/spring_terms.h"
 
 #include <gtest/gtest.h>
 
