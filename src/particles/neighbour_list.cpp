@@ -23,87 +23,70 @@ void NeighbourList::Configure(const PeriodicBox& box, int n, double skin, double
 
 namespace {
 
-// The test of one candidate: f(t, image code) when slot t > s is within reach of slot s.
-template <int K, bool P, typename F>
-inline void Consider(int s, int t, const double* xs, double rs, const double* x,
-                     const double* radius, double extra, const PeriodicBox& box, F& f) {
-  if (t <= s) return;
-  double u[K];
-  int code = 13;
-  int weight = 1;
-  for (int a = 0; a < K; ++a) {
-    u[a] = xs[a] - x[K * t + a];
-    if constexpr (P) {
-      if (box.periodic[a]) {
-        if (u[a] > 0.5 * box.len[a]) {
-          u[a] -= box.len[a];
-          code += weight;
-        } else if (u[a] < -0.5 * box.len[a]) {
-          u[a] += box.len[a];
-          code -= weight;
-        }
-      }
-    }
-    weight *= 3;
-  }
-  const double r2 = SquaredNorm<K>(u);
-  const double c = rs + radius[t] + extra;
-  if (r2 < c * c) f(t, code);
-}
-
-// Calls f(t, image code) for the slots t > s within reach of slot s, in the list's order
-// (members or the brute-force loop; storage in cell order goes through CellRuns).
+// Calls f(t, image code) for the slots t > s within reach of slot s, in the list's order.
 template <int K, bool P, typename F>
 void VisitPartners(int s, const double* x, const double* radius, double extra,
                    const PeriodicBox& box, const CellList& cells, const int* members, int n,
                    bool brute_force, F&& f) {
   const double* xs = x + K * s;
   const double rs = radius[s];
+  auto consider = [&](int t) {
+    if (t <= s) return;
+    double u[K];
+    int code = 13;
+    int weight = 1;
+    for (int a = 0; a < K; ++a) {
+      u[a] = xs[a] - x[K * t + a];
+      if constexpr (P) {
+        if (box.periodic[a]) {
+          if (u[a] > 0.5 * box.len[a]) {
+            u[a] -= box.len[a];
+            code += weight;
+          } else if (u[a] < -0.5 * box.len[a]) {
+            u[a] += box.len[a];
+            code -= weight;
+          }
+        }
+      }
+      weight *= 3;
+    }
+    const double r2 = SquaredNorm<K>(u);
+    const double c = rs + radius[t] + extra;
+    if (r2 < c * c) f(t, code);
+  };
   if (brute_force) {
-    for (int t = s + 1; t < n; ++t) Consider<K, P>(s, t, xs, rs, x, radius, extra, box, f);
+    for (int t = s + 1; t < n; ++t) consider(t);
     return;
   }
-  cells.grid().ForEachAdjacentCell<K>(xs, [&](std::int64_t cell) {
-    const std::int64_t rank = cells.rank(cell);
-    const std::int64_t e = cells.cell_start(rank + 1);
-    for (std::int64_t q = cells.cell_start(rank); q < e; ++q) {
-      Consider<K, P>(s, members[q], xs, rs, x, radius, extra, box, f);
-    }
-  });
-}
-
-// Storage in cell order: the slot ranges of the cells adjacent to one cell, in the list's order
-// (z, y, x), cells of consecutive rank merged into one range (neighbours along x inside a
-// block). Every slot of a cell has the same ranges, so they are found once per cell.
-struct CellRuns {
-  std::int64_t begin[27];
-  std::int64_t end[27];
-  int count = 0;
-  std::int64_t cell_end = 0;  // the end of the slots of the cell itself
-
-  template <int K>
-  void Find(const double* xs, const CellList& cells) {
-    count = 0;
-    std::int64_t run_b = -1, run_e = -1;
-    auto close = [&] {
-      begin[count] = cells.cell_start(run_b);
-      end[count] = cells.cell_start(run_e);
-      ++count;
-    };
+  if (members != nullptr) {
     cells.grid().ForEachAdjacentCell<K>(xs, [&](std::int64_t cell) {
       const std::int64_t rank = cells.rank(cell);
-      if (rank == run_e) {
-        run_e = rank + 1;
-        return;
-      }
-      if (run_b >= 0) close();
-      run_b = rank;
-      run_e = rank + 1;
+      const std::int64_t e = cells.cell_start(rank + 1);
+      for (std::int64_t q = cells.cell_start(rank); q < e; ++q) consider(members[q]);
     });
-    close();
-    cell_end = cells.cell_start(cells.rank(cells.grid().CellOf(xs)) + 1);
+    return;
   }
-};
+  // Storage is in cell order: visit slot ranges, merging cells of consecutive rank (neighbours
+  // along x inside a block), and skip slots ≤ s (the half list).
+  std::int64_t run_b = -1, run_e = -1;
+  auto flush = [&] {
+    const std::int64_t e = cells.cell_start(run_e);
+    for (std::int64_t q = std::max<std::int64_t>(cells.cell_start(run_b), s + 1); q < e; ++q) {
+      consider(static_cast<int>(q));
+    }
+  };
+  cells.grid().ForEachAdjacentCell<K>(xs, [&](std::int64_t cell) {
+    const std::int64_t rank = cells.rank(cell);
+    if (rank == run_e) {
+      run_e = rank + 1;
+      return;
+    }
+    if (run_b >= 0) flush();
+    run_b = rank;
+    run_e = rank + 1;
+  });
+  flush();
+}
 
 // Insertion sort of buf[first …] by t, the image codes along (t is unique in a row).
 template <bool P>
@@ -143,27 +126,13 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
     std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
     buf.clear();
     img.clear();
-    auto add = [&](int t, int code) {
-      buf.push_back(t);
-      if constexpr (P) img.push_back(static_cast<std::uint8_t>(code));
-    };
-    CellRuns runs;
     for (int s = begin; s < end; ++s) {
       const std::size_t first = buf.size();
-      if (members != nullptr || brute_force) {
-        VisitPartners<K, P>(s, x, radius, extra, box_, cells, members, n, brute_force, add);
-      } else {
-        const double* xs = x + K * s;
-        if (s == begin || s >= runs.cell_end) runs.Find<K>(xs, cells);
-        const double rs = radius[s];
-        for (int j = 0; j < runs.count; ++j) {
-          const auto stop = static_cast<int>(runs.end[j]);
-          for (int t = static_cast<int>(std::max<std::int64_t>(runs.begin[j], s + 1)); t < stop;
-               ++t) {
-            Consider<K, P>(s, t, xs, rs, x, radius, extra, box_, add);
-          }
-        }
-      }
+      VisitPartners<K, P>(s, x, radius, extra, box_, cells, members, n, brute_force,
+                          [&](int t, int code) {
+                            buf.push_back(t);
+                            if constexpr (P) img.push_back(static_cast<std::uint8_t>(code));
+                          });
       row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(buf.size() - first);
       if (sort_rows) SortRow<P>(buf, img, first);
     }
@@ -171,23 +140,33 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
   Concatenate(P, chunks, threads);
 }
 
+// Row offsets: the chunks' totals are summed in chunk order, then every chunk turns its row
+// counts into offsets from its first row on, in parallel; then the rows are copied.
 void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
   const int n = n_;
-  row_start_[0] = 0;
-  std::int64_t total = 0;
-  for (int s = 0; s < n; ++s) {
-    total += row_start_[static_cast<std::size_t>(s) + 1];
-    if (total > std::numeric_limits<int>::max()) {
-      throw NumericalError(fmt::format("neighbour list with more than {} pairs is too large",
-                                       std::numeric_limits<int>::max()));
-    }
-    row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(total);
+  std::vector<std::int64_t> chunk_first(static_cast<std::size_t>(chunks) + 1, 0);
+  for (int q = 0; q < chunks; ++q) {
+    chunk_first[static_cast<std::size_t>(q) + 1] =
+        chunk_first[static_cast<std::size_t>(q)] +
+        static_cast<std::int64_t>(chunk_nbr_[static_cast<std::size_t>(q)].size());
+  }
+  const std::int64_t total = chunk_first[static_cast<std::size_t>(chunks)];
+  if (total > std::numeric_limits<int>::max()) {
+    throw NumericalError(fmt::format("neighbour list with more than {} pairs is too large",
+                                     std::numeric_limits<int>::max()));
   }
   nbr_.resize(static_cast<std::size_t>(total));
   if (periodic) image_.resize(static_cast<std::size_t>(total));
+  row_start_[0] = 0;
   ParallelFor(threads, 0, chunks, [&](std::int64_t q) {
     const int begin = static_cast<int>(q * n / chunks);
-    const auto at = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(begin)]);
+    const int end = static_cast<int>((q + 1) * n / chunks);
+    auto run = static_cast<int>(chunk_first[static_cast<std::size_t>(q)]);
+    for (int s = begin; s < end; ++s) {
+      run += row_start_[static_cast<std::size_t>(s) + 1];
+      row_start_[static_cast<std::size_t>(s) + 1] = run;
+    }
+    const auto at = static_cast<std::size_t>(chunk_first[static_cast<std::size_t>(q)]);
     const std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
     std::copy(buf.begin(), buf.end(), nbr_.begin() + static_cast<std::ptrdiff_t>(at));
     if (periodic) {
