@@ -125,8 +125,10 @@ void CellList::Refit(const FitRecord& fit, int n, const PeriodicBox& box, int bl
     lo[a] = widen ? fit.lo[a] - 2.0 * fit.reach : fit.lo[a];
     hi[a] = widen ? fit.hi[a] + 2.0 * fit.reach : fit.hi[a];
   }
+  // At most max(64, 4n) cells, and fewer than 2^31 (32-bit ranks and offsets).
   grid_.Fit(k, lo, hi, box, fit.reach,
-            std::max<std::int64_t>(64, 4 * static_cast<std::int64_t>(n)));
+            std::min<std::int64_t>(std::max<std::int64_t>(64, 4 * static_cast<std::int64_t>(n)),
+                                   std::numeric_limits<std::int32_t>::max() - 1));
   ChooseBlocks(block_cells);
   RankBlocks();
   RankCells();
@@ -218,8 +220,8 @@ void CellList::RankCells() {
         const std::int64_t b = (static_cast<std::int64_t>(bz) * nb_[1] + by) * nb_[0] + bx;
         const std::int64_t r = rank_of_block_[static_cast<std::size_t>(b)];
         cell_rank_[static_cast<std::size_t>(grid_.Index(xx, y, z))] =
-            block_cell_begin_[static_cast<std::size_t>(r)] +
-            (static_cast<std::int64_t>(lz) * wy + ly) * wx + lx;
+            static_cast<std::int32_t>(block_cell_begin_[static_cast<std::size_t>(r)] +
+                                      (static_cast<std::int64_t>(lz) * wy + ly) * wx + lx);
       }
     }
   }
@@ -249,7 +251,7 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
   std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
   InTeam(T, [&] {
     const int t = omp_get_thread_num();
-    std::int64_t* cnt = count_scratch_.data() + static_cast<std::size_t>(t) * ucells;
+    std::int32_t* cnt = count_scratch_.data() + static_cast<std::size_t>(t) * ucells;
     std::fill(cnt, cnt + cells, 0);
     const int sb = static_cast<int>(static_cast<std::int64_t>(t) * n / T);
     const int se = static_cast<int>(static_cast<std::int64_t>(t + 1) * n / T);
@@ -270,12 +272,12 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
       partial[static_cast<std::size_t>(u) + 1] += partial[static_cast<std::size_t>(u)];
     std::int64_t run = partial[static_cast<std::size_t>(t)];
     for (std::int64_t c = cb; c < ce; ++c) {
-      cell_start_[static_cast<std::size_t>(c)] = run;
+      cell_start_[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(run);
       for (int u = 0; u < T; ++u) {
-        std::int64_t& v =
+        std::int32_t& v =
             count_scratch_[static_cast<std::size_t>(u) * ucells + static_cast<std::size_t>(c)];
         const std::int64_t count = v;
-        v = run;
+        v = static_cast<std::int32_t>(run);
         run += count;
       }
     }

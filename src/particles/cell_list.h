@@ -86,10 +86,10 @@ class CellList {
  public:
   // Fits the grid to x (n points, box.k coordinates, wrapped) for pairs closer than `reach`:
   // non-periodic axes cover the bounding box widened by 2·reach on each side, at most
-  // max(64, 4n) cells. The previous geometry is kept while it covers the box, is not much
-  // larger (≤ 1.5 span + 8 reach) and was made for the same reach. block_cells > 0 fixes the
-  // block edge; 0 picks it from the cell count (EngineOptions::block_cells). Returns true when
-  // the geometry (and so the block ranks) changed.
+  // max(64, 4n) cells (and fewer than 2^31). The previous geometry is kept while it covers the box,
+  // is not much larger (≤ 1.5 span + 8 reach) and was made for the same reach. block_cells > 0
+  // fixes the block edge; 0 picks it from the cell count (EngineOptions::block_cells). Returns true
+  // when the geometry (and so the block ranks) changed.
   bool Fit(const double* x, int n, const PeriodicBox& box, double reach, int block_cells,
            int threads);
   // The bounding box (before widening) and reach the current geometry was made for: with the
@@ -142,11 +142,12 @@ class CellList {
   std::vector<std::int64_t> block_of_rank_;
   std::vector<std::int64_t> rank_of_block_;
   std::vector<std::int64_t> block_cell_begin_;  // size blocks + 1
-  std::vector<std::int64_t> cell_rank_;         // row-major cell → rank
-  std::vector<std::int64_t> cell_start_;        // rank → first entry of perm_; size cells + 1
-  std::vector<int> key_;                        // per slot: the rank of its cell
+  // 32-bit: fewer than 2^31 cells (Refit) and slots; half the memory of 64-bit entries.
+  std::vector<std::int32_t> cell_rank_;   // row-major cell → rank
+  std::vector<std::int32_t> cell_start_;  // rank → first entry of perm_; size cells + 1
+  std::vector<int> key_;                  // per slot: the rank of its cell
   std::vector<int> perm_;
-  std::vector<std::int64_t> count_scratch_;
+  std::vector<std::int32_t> count_scratch_;
 };
 
 // Morton code of the cell/block coordinates c (k of them, < 2^21 each).

@@ -143,7 +143,6 @@ void Engine::Impl::SweepUntilAccepted(double moved, int sweeps, bool relax) {
     std::int64_t proj = 0;
     // The sum over sweeps of the longest path bounds every particle's path in this step.
     double max_path = 0.0;
-    if (sweeps == 1) sweep_start = store->predicted;
     for (int s = 0; s < sweeps; ++s) {
       max_path += sweep->Sweep(store->predicted.data(), store->radius.data(), list, colouring,
                                cells, lexicographic, threads, &proj);
@@ -182,6 +181,7 @@ void Engine::Impl::SweepUntilAccepted(double moved, int sweeps, bool relax) {
 
 // The list's per-particle acceptance (NeighbourList::AcceptEach) with the last sweep's paths.
 bool Engine::Impl::AcceptEach() {
+  sweep->StartPositions(store->predicted.data(), &sweep_start);
   path_scratch.resize(static_cast<std::size_t>(n));
   for (int s = 0; s < n; ++s) path_scratch[static_cast<std::size_t>(s)] = sweep->PathOf(s);
   return list.AcceptEach(sweep_start.data(), store->predicted.data(), store->radius.data(),

@@ -140,23 +140,33 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
   Concatenate(P, chunks, threads);
 }
 
+// Row offsets: the chunks' totals are summed in chunk order, then every chunk turns its row
+// counts into offsets from its first row on, in parallel; then the rows are copied.
 void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
   const int n = n_;
-  row_start_[0] = 0;
-  std::int64_t total = 0;
-  for (int s = 0; s < n; ++s) {
-    total += row_start_[static_cast<std::size_t>(s) + 1];
-    if (total > std::numeric_limits<int>::max()) {
-      throw NumericalError(fmt::format("neighbour list with more than {} pairs is too large",
-                                       std::numeric_limits<int>::max()));
-    }
-    row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(total);
+  std::vector<std::int64_t> chunk_first(static_cast<std::size_t>(chunks) + 1, 0);
+  for (int q = 0; q < chunks; ++q) {
+    chunk_first[static_cast<std::size_t>(q) + 1] =
+        chunk_first[static_cast<std::size_t>(q)] +
+        static_cast<std::int64_t>(chunk_nbr_[static_cast<std::size_t>(q)].size());
+  }
+  const std::int64_t total = chunk_first[static_cast<std::size_t>(chunks)];
+  if (total > std::numeric_limits<int>::max()) {
+    throw NumericalError(fmt::format("neighbour list with more than {} pairs is too large",
+                                     std::numeric_limits<int>::max()));
   }
   nbr_.resize(static_cast<std::size_t>(total));
   if (periodic) image_.resize(static_cast<std::size_t>(total));
+  row_start_[0] = 0;
   ParallelFor(threads, 0, chunks, [&](std::int64_t q) {
     const int begin = static_cast<int>(q * n / chunks);
-    const auto at = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(begin)]);
+    const int end = static_cast<int>((q + 1) * n / chunks);
+    auto run = static_cast<int>(chunk_first[static_cast<std::size_t>(q)]);
+    for (int s = begin; s < end; ++s) {
+      run += row_start_[static_cast<std::size_t>(s) + 1];
+      row_start_[static_cast<std::size_t>(s) + 1] = run;
+    }
+    const auto at = static_cast<std::size_t>(chunk_first[static_cast<std::size_t>(q)]);
     const std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
     std::copy(buf.begin(), buf.end(), nbr_.begin() + static_cast<std::ptrdiff_t>(at));
     if (periodic) {

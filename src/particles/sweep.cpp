@@ -21,6 +21,7 @@ ProjectionSweep::ProjectionSweep(const ParticleModel& model, bool uniform_radius
   }
   fixed_sets_ = static_cast<int>(model.walls.size() + model.spheres.size() + model.segments.size());
   path_.assign(static_cast<std::size_t>(n_), 0.0);
+  start_.assign(static_cast<std::size_t>(k_) * static_cast<std::size_t>(n_), 0.0);
   stamp_.assign(static_cast<std::size_t>(n_), 0);
 }
 
@@ -60,12 +61,14 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
       const double c = U ? uniform_c : ri + radius[t];
       const double r2 = SquaredNorm<K>(u);
       if (r2 >= (U ? uniform_c2 : c * c)) continue;
+      KeepStart<K>(t, xt);
       const double d = ProjectOverlappingPair<K>(xs, xt, u, r2, c);
       add += d;
       local_max = std::max(local_max, AddPath(t, d));
       ++moved;
     }
     if (add > 0.0) {
+      KeepStart<K>(s, xs_mem);
       for (int a = 0; a < K; ++a) xs_mem[a] = xs[a];
       local_max = std::max(local_max, AddPath(s, add));
     }
@@ -85,6 +88,8 @@ void ProjectionSweep::SweepFixed(int begin, int end, double* x, const double* ra
   for (int s = begin; s < end; ++s) {
     double* xs = x + K * s;
     const double r = radius[s];
+    double before[K];
+    for (int a = 0; a < K; ++a) before[a] = xs[a];
     double add = 0.0;
     auto count = [&](double d) {
       if (d > 0.0) {
@@ -106,7 +111,10 @@ void ProjectionSweep::SweepFixed(int begin, int end, double* x, const double* ra
                                      &seg_b_[static_cast<std::size_t>(2 * g)], r));
       }
     }
-    if (add > 0.0) local_max = std::max(local_max, AddPath(s, add));
+    if (add > 0.0) {
+      KeepStart<K>(s, before);
+      local_max = std::max(local_max, AddPath(s, add));
+    }
   }
   *max_path = local_max;
   *proj += moved;
@@ -158,6 +166,17 @@ double ProjectionSweep::Sweep(double* x, const double* radius, const NeighbourLi
   return DispatchDimensionPeriodic(k_, list.box().any, [&](auto kk, auto p) {
     return SweepImpl<kk, p>(x, radius, list, colouring, cells, lexicographic, threads, projections);
   });
+}
+
+void ProjectionSweep::StartPositions(const double* x, std::vector<double>* start) const {
+  const int k = k_;
+  start->resize(static_cast<std::size_t>(k) * static_cast<std::size_t>(n_));
+  double* out = start->data();
+  for (int s = 0; s < n_; ++s) {
+    const bool moved = stamp_[static_cast<std::size_t>(s)] == sweep_id_;
+    const double* from = moved ? start_.data() + static_cast<std::ptrdiff_t>(k) * s : x + k * s;
+    for (int a = 0; a < k; ++a) out[k * s + a] = from[a];
+  }
 }
 
 double ProjectionSweep::MaxFixedViolation(const double* x, const double* radius) const {

@@ -9,7 +9,8 @@
 //
 // Path bounds: the sweep adds the length of every projection move to the moved particle's path
 // (per sweep, reset lazily by a sweep stamp) and returns the longest path, which bounds how far
-// any particle moved in the sweep (the neighbour list's no-missed-contact bound).
+// any particle moved in the sweep (the neighbour list's no-missed-contact bound). The position of
+// a slot before its first move in the sweep is kept beside its path (StartPositions).
 #pragma once
 
 #include <cstdint>
@@ -37,6 +38,10 @@ class ProjectionSweep {
     const auto us = static_cast<std::size_t>(s);
     return stamp_[us] == sweep_id_ ? path_[us] : 0.0;
   }
+  // The positions before the last sweep, given x after it: a slot's position before its first
+  // move in the sweep (kept by the sweep, only for the slots it moved), else x. The same values
+  // as a copy of x taken before the sweep, without copying every step.
+  void StartPositions(const double* x, std::vector<double>* start) const;
   // Sets visited per sweep besides the pairs: N · (walls + obstacles).
   int fixed_sets() const { return fixed_sets_; }
   // The largest violation of a wall or obstacle at x (0 when none is violated).
@@ -53,6 +58,13 @@ class ProjectionSweep {
   template <int K>
   void SweepFixed(int begin, int end, double* x, const double* radius, double* max_path,
                   std::int64_t* proj);
+  // Before slot s first moves in this sweep (not yet stamped): keep its position.
+  template <int K>
+  void KeepStart(int s, const double* xs) {
+    if (stamp_[static_cast<std::size_t>(s)] == sweep_id_) return;
+    double* keep = start_.data() + static_cast<std::ptrdiff_t>(K) * s;
+    for (int a = 0; a < K; ++a) keep[a] = xs[a];
+  }
   double AddPath(int s, double d) {
     const auto us = static_cast<std::size_t>(s);
     if (stamp_[us] != sweep_id_) {
@@ -71,6 +83,7 @@ class ProjectionSweep {
   std::vector<double> wall_n_, wall_b_, sphere_c_, sphere_r_, seg_a_, seg_b_;
   int fixed_sets_ = 0;
   std::vector<double> path_;
+  std::vector<double> start_;  // k per slot: the position before the slot's first move
   std::vector<std::uint32_t> stamp_;
   std::uint32_t sweep_id_ = 0;
 };

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <set>
 #include <utility>
@@ -56,6 +58,35 @@ PairSet ListPairs(const NeighbourList& list, const std::vector<int>& id) {
   return pairs;
 }
 
+// The configuration stored in cell order, as the engine keeps it: slot s holds particle
+// slot_id[s] of c.
+struct CellOrdered {
+  PeriodicBox box;
+  CellList cells;
+  std::vector<double> x, radius;
+  std::vector<int> slot_id;
+
+  CellOrdered(const RandomConfiguration& c, double skin, int threads)
+      : box(PeriodicBox::Of(c.model)) {
+    const int n = c.model.count();
+    const int k = c.model.dimension;
+    std::vector<int> id(static_cast<std::size_t>(n));
+    std::iota(id.begin(), id.end(), 0);
+    cells.Fit(c.x.data(), n, box, 2.0 * c.model.max_radius() + skin, 0, threads);
+    cells.Sort(c.x.data(), id.data(), n, threads);
+    x.resize(c.x.size());
+    radius.resize(static_cast<std::size_t>(n));
+    slot_id.resize(static_cast<std::size_t>(n));
+    for (int s = 0; s < n; ++s) {
+      const int o = cells.permutation()[static_cast<std::size_t>(s)];
+      for (int a = 0; a < k; ++a)
+        x[static_cast<std::size_t>(k * s + a)] = c.x[static_cast<std::size_t>(k * o + a)];
+      radius[static_cast<std::size_t>(s)] = c.model.radius[static_cast<std::size_t>(o)];
+      slot_id[static_cast<std::size_t>(s)] = o;
+    }
+  }
+};
+
 void CheckAgainstBruteForce(const RandomConfiguration& c, double skin) {
   const int n = c.model.count();
   const PairSet expected = BruteForcePairs(c, skin);
@@ -73,24 +104,11 @@ void CheckAgainstBruteForce(const RandomConfiguration& c, double skin) {
     }
   }
   // The engine's way: storage reordered into cell order, the list over slot ranges.
-  const PeriodicBox box = PeriodicBox::Of(c.model);
-  CellList cells;
-  cells.Fit(c.x.data(), n, box, 2.0 * c.model.max_radius() + skin, 0, 2);
-  cells.Sort(c.x.data(), id.data(), n, 2);
-  const int k = c.model.dimension;
-  std::vector<double> x(c.x.size()), radius(static_cast<std::size_t>(n));
-  std::vector<int> slot_id(static_cast<std::size_t>(n));
-  for (int s = 0; s < n; ++s) {
-    const int o = cells.permutation()[static_cast<std::size_t>(s)];
-    for (int a = 0; a < k; ++a)
-      x[static_cast<std::size_t>(k * s + a)] = c.x[static_cast<std::size_t>(k * o + a)];
-    radius[static_cast<std::size_t>(s)] = c.model.radius[static_cast<std::size_t>(o)];
-    slot_id[static_cast<std::size_t>(s)] = o;
-  }
+  const CellOrdered o(c, skin, 2);
   NeighbourList ordered;
-  ordered.Configure(box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
-  ordered.Build(x.data(), radius.data(), cells, nullptr, false, false, 0, 2);
-  EXPECT_EQ(ListPairs(ordered, slot_id), expected);
+  ordered.Configure(o.box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
+  ordered.Build(o.x.data(), o.radius.data(), o.cells, nullptr, false, false, 0, 2);
+  EXPECT_EQ(ListPairs(ordered, o.slot_id), expected);
   EXPECT_EQ(ordered.stats().candidate_pairs, static_cast<std::int64_t>(expected.size()));
 }
 
@@ -139,6 +157,43 @@ TEST(ParticleNeighbourList, SkinBoundAndStatistics) {
              1);
   EXPECT_EQ(list.stats().builds, 3);
   EXPECT_EQ(list.stats().shortest_rebuild_interval, 2);
+}
+
+// The engine's build (storage in cell order, cell ranges found once per cell, chunks of slots
+// on the threads) gives the same rows in the same order for 1, 2 and 3 threads, and the same as
+// visiting every slot's adjacent cells one by one (the members path with members[q] = q).
+TEST(ParticleNeighbourList, ParallelBuildEqualsSerialBuildEntryByEntry) {
+  const RandomConfiguration configs[] = {
+      RandomConfiguration(2, {false, false, false}, 3000, 70.0, 21),
+      RandomConfiguration(2, {true, true, false}, 3000, 70.0, 22),
+      RandomConfiguration(3, {true, false, true}, 2000, 18.0, 23)};
+  for (const RandomConfiguration& c : configs) {
+    const int n = c.model.count();
+    const double skin = 0.35;
+    const CellOrdered o(c, skin, 1);
+    std::vector<int> identity(static_cast<std::size_t>(n));
+    std::iota(identity.begin(), identity.end(), 0);
+    auto build = [&](const int* members, int threads) {
+      NeighbourList list;
+      list.Configure(o.box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
+      list.Build(o.x.data(), o.radius.data(), o.cells, members, false, false, 0, threads);
+      return list;
+    };
+    const NeighbourList serial = build(identity.data(), 1);
+    const std::vector<int> rows(serial.row_start(), serial.row_start() + n + 1);
+    const std::vector<int> nbr(serial.neighbours(), serial.neighbours() + serial.pairs());
+    ASSERT_GT(serial.pairs(), n / 2);
+    for (int threads : {1, 2, 3}) {
+      const NeighbourList list = build(nullptr, threads);
+      EXPECT_EQ(std::vector<int>(list.row_start(), list.row_start() + n + 1), rows) << threads;
+      EXPECT_EQ(std::vector<int>(list.neighbours(), list.neighbours() + list.pairs()), nbr)
+          << threads;
+      if (o.box.any) {
+        EXPECT_TRUE(std::equal(list.images(), list.images() + list.pairs(), serial.images()))
+            << threads;
+      }
+    }
+  }
 }
 
 }  // namespace
