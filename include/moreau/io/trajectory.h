@@ -60,7 +60,8 @@ struct Hdf5TrajectoryOptions {
   // Deflate level 0 … 9 of every dataset, after the byte-shuffle filter; 0 stores raw chunks.
   int compression = 0;
 
-  // Throws InputError "compression must be in 0 … 9 (got 12)" (the field, the value, the reason).
+  // Throws InputError "compression must be in 0 … 9 (…), got 12" (the field, the reason, the
+  // value), or when compression > 0 and the HDF5 library lacks the deflate filter.
   void Validate() const;
 };
 
