@@ -96,7 +96,7 @@ std::array<hsize_t, 2> ChunkShape(std::int64_t count, hsize_t bytes_per_particle
 
 class Hdf5TrajectoryWriter final : public TrajectoryWriter {
  public:
-  explicit Hdf5TrajectoryWriter(const std::filesystem::path& path);
+  Hdf5TrajectoryWriter(const std::filesystem::path& path, const Hdf5TrajectoryOptions& options);
   ~Hdf5TrajectoryWriter() override {
     try {
       Close();
@@ -137,6 +137,8 @@ class Hdf5TrajectoryWriter final : public TrajectoryWriter {
 
   std::filesystem::path path_;
   std::filesystem::path xdmf_path_;
+  Hdf5TrajectoryOptions options_;
+  hid_t position_type_;  // file type of /positions: float64 or float32
   Handle file_;
   Handle time_, step_, count_, positions_, ids_, radii_, connectivity_;
   bool closed_ = false;
@@ -147,8 +149,14 @@ class Hdf5TrajectoryWriter final : public TrajectoryWriter {
   std::vector<std::int64_t> indices_;        // workspace: connectivity values
 };
 
-Hdf5TrajectoryWriter::Hdf5TrajectoryWriter(const std::filesystem::path& path)
-    : path_(path), xdmf_path_(std::filesystem::path(path).replace_extension(".xdmf")) {
+Hdf5TrajectoryWriter::Hdf5TrajectoryWriter(const std::filesystem::path& path,
+                                           const Hdf5TrajectoryOptions& options)
+    : path_(path),
+      xdmf_path_(std::filesystem::path(path).replace_extension(".xdmf")),
+      options_(options),
+      position_type_(options.precision == TrajectoryPrecision::kSingle ? H5T_IEEE_F32LE
+                                                                       : H5T_IEEE_F64LE) {
+  options_.Validate();
   if (path_.extension() == ".xdmf") {
     throw InputError(
         fmt::format("HDF5 trajectory path {} must not end in .xdmf (that name is "
@@ -199,6 +207,11 @@ Handle Hdf5TrajectoryWriter::CreateExtensible(hid_t location, const char* name, 
   Check(properties.get(), what);
   Check(H5Pset_chunk(properties.get(), static_cast<int>(rank), chunk.data()), what);
   Check(H5Pset_fill_value(properties.get(), memory_type, fill), what);
+  if (options_.compression > 0) {
+    // Shuffling groups the bytes of equal significance, which deflate then compresses far better.
+    Check(H5Pset_shuffle(properties.get()), what);
+    Check(H5Pset_deflate(properties.get(), static_cast<unsigned>(options_.compression)), what);
+  }
   // No modification times in the file: the same run gives the same bytes.
   Check(H5Pset_obj_track_times(properties.get(), false), what);
   Handle dataset(H5Dcreate2(location, name, file_type, space.get(), H5P_DEFAULT, properties.get(),
@@ -299,10 +312,10 @@ void Hdf5TrajectoryWriter::WriteStringAttribute(const char* name, const std::str
 
 void Hdf5TrajectoryWriter::CreateParticleDatasets(const ParticleFrame& frame) {
   const auto k = static_cast<hsize_t>(frame.dimension);
-  const auto [frames_xk, rows_xk] = ChunkShape(frame.count, 8 * k);
+  const auto [frames_xk, rows_xk] = ChunkShape(frame.count, H5Tget_size(position_type_) * k);
   const auto [frames_x1, rows_x1] = ChunkShape(frame.count, 8);
   const hid_t file = file_.get();
-  positions_ = CreateExtensible(file, "positions", H5T_IEEE_F64LE, {frames_xk, rows_xk, k}, 1,
+  positions_ = CreateExtensible(file, "positions", position_type_, {frames_xk, rows_xk, k}, 1,
                                 H5T_NATIVE_DOUBLE, &kMissingValue);
   ids_ = CreateExtensible(file, "ids", H5T_STD_I64LE, {frames_x1, rows_x1}, 0, H5T_NATIVE_INT64,
                           &kMissingId);
@@ -336,7 +349,7 @@ void Hdf5TrajectoryWriter::WriteFrameViews(std::size_t index, std::int64_t count
   const hsize_t frames = index + 1, f = index, rows = static_cast<hsize_t>(rows_);
   const auto n = static_cast<hsize_t>(count), k = static_cast<hsize_t>(dimension_);
   const hid_t g = group.get();
-  CreateView(g, "positions", H5T_IEEE_F64LE, "/positions", {frames, rows, k}, {f, 0, 0}, {1, n, k});
+  CreateView(g, "positions", position_type_, "/positions", {frames, rows, k}, {f, 0, 0}, {1, n, k});
   CreateView(g, "radii", H5T_IEEE_F64LE, "/radii", {frames, rows}, {f, 0}, {1, n});
   CreateView(g, "ids", H5T_STD_I64LE, "/ids", {frames, rows}, {f, 0}, {1, n});
   CreateView(g, "connectivity", H5T_STD_I64LE, "/connectivity", {rows}, {0}, {n});
@@ -382,14 +395,37 @@ void Hdf5TrajectoryWriter::Close() {
     ok = h->Reset() && ok;
   }
   Check(ok ? 0 : -1, "closing the file");
-  internal::WriteWholeFile(
-      xdmf_path_, internal::XdmfSidecarText(path_.filename().string(), dimension_, frames_));
+  internal::WriteWholeFile(xdmf_path_, internal::XdmfSidecarText(
+                                           path_.filename().string(), dimension_,
+                                           static_cast<int>(H5Tget_size(position_type_)), frames_));
 }
 
 }  // namespace
 
-std::unique_ptr<TrajectoryWriter> MakeHdf5Writer(const std::filesystem::path& path) {
-  return std::make_unique<Hdf5TrajectoryWriter>(path);
+std::string_view TrajectoryPrecisionName(TrajectoryPrecision precision) {
+  return precision == TrajectoryPrecision::kSingle ? "single" : "double";
+}
+
+TrajectoryPrecision ParseTrajectoryPrecision(std::string_view name) {
+  if (name == "double") return TrajectoryPrecision::kDouble;
+  if (name == "single") return TrajectoryPrecision::kSingle;
+  throw InputError(fmt::format("unknown precision '{}' (expected double or single)", name));
+}
+
+void Hdf5TrajectoryOptions::Validate() const {
+  if (compression < 0 || compression > 9) {
+    throw InputError(
+        fmt::format("compression must be in 0 … 9 (a deflate level; 0 stores raw chunks), got {}",
+                    compression));
+  }
+  if (compression > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) <= 0) {
+    throw InputError("compression needs HDF5's deflate filter, which this HDF5 library lacks");
+  }
+}
+
+std::unique_ptr<TrajectoryWriter> MakeHdf5Writer(const std::filesystem::path& path,
+                                                 const Hdf5TrajectoryOptions& options) {
+  return std::make_unique<Hdf5TrajectoryWriter>(path, options);
 }
 
 }  // namespace moreau::io

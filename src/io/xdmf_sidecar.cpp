@@ -8,16 +8,17 @@ namespace moreau::io::internal {
 namespace {
 
 // A plain HDF DataItem for dataset `dataset` of the frame's group.
+// `bytes`: the Precision attribute (8 or 4).
 std::string HdfItem(const std::string& dimensions, const char* number_type, const std::string& h5,
-                    const std::string& group, const char* dataset) {
+                    const std::string& group, const char* dataset, int bytes = 8) {
   return fmt::format(
-      "          <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"8\" "
+      "          <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" "
       "Format=\"HDF\">{}:{}/{}</DataItem>\n",
-      dimensions, number_type, h5, group, dataset);
+      dimensions, number_type, bytes, h5, group, dataset);
 }
 
-void AppendFrameGrid(std::string& out, const std::string& h5, int k, std::size_t index,
-                     const XdmfFrame& frame) {
+void AppendFrameGrid(std::string& out, const std::string& h5, int k, int position_bytes,
+                     std::size_t index, const XdmfFrame& frame) {
   const std::string group = XdmfFrameGroup(index);
   const std::string n = std::to_string(frame.count);
   out += fmt::format("      <Grid Name=\"frame_{:06d}\" GridType=\"Uniform\">\n", index);
@@ -29,7 +30,7 @@ void AppendFrameGrid(std::string& out, const std::string& h5, int k, std::size_t
   out += HdfItem(n, "Int", h5, group, "connectivity");
   out += "        </Topology>\n";
   out += fmt::format("        <Geometry GeometryType=\"{}\">\n", k == 2 ? "XY" : "XYZ");
-  out += HdfItem(fmt::format("{} {}", n, k), "Float", h5, group, "positions");
+  out += HdfItem(fmt::format("{} {}", n, k), "Float", h5, group, "positions", position_bytes);
   out += "        </Geometry>\n";
   out += "        <Attribute Name=\"radius\" AttributeType=\"Scalar\" Center=\"Node\">\n";
   out += HdfItem(n, "Float", h5, group, "radii");
@@ -44,7 +45,7 @@ void AppendFrameGrid(std::string& out, const std::string& h5, int k, std::size_t
 
 std::string XdmfFrameGroup(std::size_t index) { return fmt::format("/xdmf/frame_{:06d}", index); }
 
-std::string XdmfSidecarText(const std::string& h5_name, int dimension,
+std::string XdmfSidecarText(const std::string& h5_name, int dimension, int position_bytes,
                             const std::vector<XdmfFrame>& frames) {
   const std::string h5 = XmlEscape(h5_name);
   std::string out;
@@ -54,7 +55,7 @@ std::string XdmfSidecarText(const std::string& h5_name, int dimension,
   out += "  <Domain>\n";
   out += "    <Grid Name=\"trajectory\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t f = 0; f < frames.size(); ++f) {
-    if (frames[f].count > 0) AppendFrameGrid(out, h5, dimension, f, frames[f]);
+    if (frames[f].count > 0) AppendFrameGrid(out, h5, dimension, position_bytes, f, frames[f]);
   }
   out += "    </Grid>\n";
   out += "  </Domain>\n";

@@ -23,7 +23,8 @@ std::string XdmfFrameGroup(std::size_t index);
 // on them, while plain items open in the XDMF 2 and both XDMF 3 readers. Frames with N = 0 are
 // left out (the XDMF 2 reader crashes on every form of empty grid tried); the grid of frame f
 // keeps the name frame_FFFFFF.
-std::string XdmfSidecarText(const std::string& h5_name, int dimension,
+// `position_bytes` (8 or 4) is the Precision of the positions' items.
+std::string XdmfSidecarText(const std::string& h5_name, int dimension, int position_bytes,
                             const std::vector<XdmfFrame>& frames);
 
 }  // namespace moreau::io::internal

@@ -1,7 +1,8 @@
 """Trajectories whose particle count changes from frame to frame (growing, dividing, dying,
 an empty frame), as the HDF5 writer writes them: the unit tests of tests/io write the samples
-(Hdf5Writer.ChangingParticleCount… in 2D, Hdf5Writer.GrowingPastOneChunk… in 3D) and this suite
-opens them with h5py and ParaView's three XDMF readers."""
+(Hdf5Writer.ChangingParticleCount… in 2D, Hdf5Writer.GrowingPastOneChunk… in 3D, and the same
+with float32 positions and/or deflate: Hdf5Writer.SinglePrecision…, Hdf5Writer.Compression…) and
+this suite opens them with h5py and ParaView's three XDMF readers."""
 import os
 import subprocess
 
@@ -11,14 +12,16 @@ import pytest
 
 from conftest import UNIT_TESTS, XDMF_READERS, paraview_read
 
-SAMPLES = {"t": 2, "grow": 3}  # file stem → dimension
+SAMPLES = {"t": 2, "grow": 3, "single": 2, "single3d": 3, "deflate": 2, "single_deflate": 3}
+SINGLE = {"single", "single3d", "single_deflate"}  # float32 positions; ParaView keeps them float32
 
 
 @pytest.fixture(scope="module")
 def samples(tmp_path_factory):
     out = tmp_path_factory.mktemp("samples")
     r = subprocess.run(
-        [UNIT_TESTS, "--gtest_filter=Hdf5Writer.ChangingParticleCount*:Hdf5Writer.Growing*"],
+        [UNIT_TESTS, "--gtest_filter=Hdf5Writer.ChangingParticleCount*:Hdf5Writer.Growing*:"
+         "Hdf5Writer.SinglePrecision*:Hdf5Writer.Compression*"],
         capture_output=True, text=True, timeout=120, env={**os.environ, "MOREAU_IO_SAMPLE_DIR": str(out)})
     assert r.returncode == 0, r.stdout[-3000:]
     return out
@@ -64,6 +67,7 @@ def test_paraview_xdmf_reader_opens_every_nonempty_frame(samples, paraview, stem
         n = data["count"][f]
         points = result[f"points_{i}"]
         assert points.shape == (n, 3) and int(result[f"cells_{i}"]) == n
+        assert points.dtype == (np.float32 if stem in SINGLE else np.float64)
         np.testing.assert_array_equal(points[:, :k], data["positions"][f, :n])
         np.testing.assert_array_equal(result[f"radius_{i}"], data["radii"][f, :n])
         np.testing.assert_array_equal(result[f"id_{i}"], data["ids"][f, :n])

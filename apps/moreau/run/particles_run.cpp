@@ -35,7 +35,7 @@ class RunRecorder {
     std::iota(ids_.begin(), ids_.end(), 0);
     if (output_.hdf5) {
       out.Stage("trajectory.xdmf");
-      hdf5_ = io::MakeHdf5Writer(out.Stage("trajectory.h5"));
+      hdf5_ = io::MakeHdf5Writer(out.Stage("trajectory.h5"), output_.trajectory);
     }
     if (output_.vtu) {
       const std::filesystem::path dir = out.Stage("vtu");

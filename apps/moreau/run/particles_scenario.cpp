@@ -305,6 +305,14 @@ void AddOutputFields(FieldTable<S>& t) {
   AddFlag(
       t, "output.hdf5", [](auto& s) -> auto& { return s.output.hdf5; },
       [](const S&) { return true; }, "trajectory.h5 + trajectory.xdmf");
+  t.Choice(
+       "output.precision", [](auto& s) -> auto& { return s.output.trajectory.precision; },
+       io::ParseTrajectoryPrecision, io::TrajectoryPrecisionName, "double, single",
+       "positions in trajectory.h5 as float64 or float32")
+      .Integer(
+          "output.compression", [](auto& s) -> auto& { return s.output.trajectory.compression; },
+          Range::Closed(0, 9), "deflate level of trajectory.h5 (0: none)")
+      .Check("output.compression", [](const S& s) { s.output.trajectory.Validate(); });
   AddFlag(
       t, "output.vtu", [](auto& s) -> auto& { return s.output.vtu; },
       [](const S& s) { return s.count <= 100000; }, "vtu/frame.pvd");

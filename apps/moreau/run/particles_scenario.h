@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "field_table.h"
+#include "moreau/io/trajectory.h"
 #include "moreau/particles/engine.h"
 #include "moreau/particles/population.h"
 #include "moreau/particles/room.h"
@@ -43,6 +44,8 @@ struct ParticleOutputSettings {
   bool vtu = true;                     // default: count ≤ 100000
   bool snapshots = true;               // snapshots.png, 2D only; default: count ≤ 200000
   std::vector<double> snapshot_times;  // at most four; empty: the first and the last frame
+  // output.precision and output.compression: how trajectory.h5 stores its data.
+  io::Hdf5TrajectoryOptions trajectory;
 };
 
 // [[types]], [population] and initial.types: an agent-based model (docs/abm.md) when types are

@@ -12,8 +12,8 @@
 #include "moreau/common/steps.h"
 #include "moreau/io/trajectory.h"
 #include "progress.h"
-#include "signals.h"
 #include "run/particles_run.h"
+#include "signals.h"
 
 namespace moreau::cli {
 namespace {
@@ -52,12 +52,13 @@ std::string AgentsCsv(const particles::Population& p) {
 // agents' positions, stable ids and radii at the rule steps that cross a multiple of the stride.
 class FrameWriter {
  public:
-  FrameWriter(OutputDir& out, bool hdf5, bool vtu, std::int64_t stride) : stride_(stride) {
-    if (hdf5) {
+  FrameWriter(OutputDir& out, const ParticleOutputSettings& output, std::int64_t stride)
+      : stride_(stride) {
+    if (output.hdf5) {
       out.Stage("trajectory.xdmf");  // the sidecar the HDF5 writer completes at Close()
-      writers_.push_back(io::MakeHdf5Writer(out.Stage("trajectory.h5")));
+      writers_.push_back(io::MakeHdf5Writer(out.Stage("trajectory.h5"), output.trajectory));
     }
-    if (vtu) {
+    if (output.vtu) {
       const std::filesystem::path dir = out.Stage("vtu");
       std::filesystem::create_directories(dir);
       writers_.push_back(io::MakeVtuSeriesWriter(dir, "frame"));
@@ -111,7 +112,7 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
   const particles::PopulationRules rules = scenario.MakeRules();
   const std::int64_t steps = StepCount(scenario.T, scenario.solver.h);
   FrameWriter frames(
-      out, scenario.output.hdf5, scenario.output.vtu,
+      out, scenario.output,
       scenario.output.stride > 0 ? scenario.output.stride : std::max<std::int64_t>(1, steps / 100));
   std::string csv = CsvHeader(rules);
   std::int64_t observed = 0;

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 
 namespace moreau::io {
 
@@ -44,12 +45,33 @@ class TrajectoryWriter {
   virtual void Close() = 0;
 };
 
+// How /positions is stored in an HDF5 trajectory: float64, or float32 (a relative rounding of
+// at most 2^−24 ≈ 6·10^−8 per coordinate, half the bytes). Frames are given in double either way.
+enum class TrajectoryPrecision { kDouble, kSingle };
+// "double", "single"; Parse throws InputError for other names.
+std::string_view TrajectoryPrecisionName(TrajectoryPrecision precision);
+TrajectoryPrecision ParseTrajectoryPrecision(std::string_view name);
+
+// Storage settings of an HDF5 trajectory. Readers need nothing extra: the type and the filters are
+// recorded in the file (h5py, ParaView and the XDMF sidecar read every combination).
+struct Hdf5TrajectoryOptions {
+  // float64 or float32 /positions (and its per-frame views); the other datasets keep their types.
+  TrajectoryPrecision precision = TrajectoryPrecision::kDouble;
+  // Deflate level 0 … 9 of every dataset, after the byte-shuffle filter; 0 stores raw chunks.
+  int compression = 0;
+
+  // Throws InputError "compression must be in 0 … 9 (…), got 12" (the field, the reason, the
+  // value), or when compression > 0 and the HDF5 library lacks the deflate filter.
+  void Validate() const;
+};
+
 // HDF5 trajectory at `path` (e.g. out/trajectory.h5), created (truncated) now, plus an XDMF 3
 // sidecar next to it with the extension replaced by .xdmf (out/trajectory.xdmf), written at
 // Close(). Format version 2; F frames, N_f particles in frame f, R = max_f N_f rows, dimension k
 // (fixed by the first frame; another k throws InputError). Datasets, all chunked and extensible:
 //   /time (F) float64, /step (F) int64, /count (F) int64 = N_f,
-//   /positions (F×R×k) float64, /ids (F×R) int64, /radii (F×R) float64: frame f in rows
+//   /positions (F×R×k) float64 (float32 with single precision), /ids (F×R) int64,
+//   /radii (F×R) float64: frame f in rows
 //     0 … N_f−1; rows N_f … R−1 read as NaN (positions, radii) and −1 (ids);
 //   /connectivity (R) int64 = 0, 1, …, R−1;
 //   /xdmf/frame_FFFFFF/{positions, radii, ids, connectivity}: virtual datasets (HDF5 ≥ 1.10)
@@ -58,9 +80,12 @@ class TrajectoryWriter {
 // With a fixed N the arrays are F×N×k, F×N as in format version 1.
 // The file is flushed after every frame, so it stays readable up to the last frame written even
 // if the run stops without Close().
-// Throws InputError if the parent directory does not exist, if `path` ends in .xdmf, or if the
-// file cannot be created.
-std::unique_ptr<TrajectoryWriter> MakeHdf5Writer(const std::filesystem::path& path);
+// With options.precision = kSingle, /positions and its views are float32 (the sidecar declares
+// Precision="4"); with options.compression > 0 every dataset is shuffled and deflated.
+// Throws InputError if the options are invalid, if the parent directory does not exist, if `path`
+// ends in .xdmf, or if the file cannot be created.
+std::unique_ptr<TrajectoryWriter> MakeHdf5Writer(const std::filesystem::path& path,
+                                                 const Hdf5TrajectoryOptions& options = {});
 
 // VTU series in the existing directory `dir`: frame i is written at once to
 // DIR/PREFIX_iiiiii.vtu (six digits or more), an UnstructuredGrid of N VTK_VERTEX cells with
