@@ -25,6 +25,7 @@
 #include <numbers>
 #include <vector>
 
+#include <time.h>
 #include <unistd.h>
 
 #include "moreau/common/hash.h"
@@ -86,17 +87,30 @@ void Report(benchmark::State& state, int n) {
 
 // The engine of the benchmark workload: disks of radius kRadius in the trap −x, overlap monitor
 // off, the lattice start feasible by construction (not re-checked).
-Engine MakeWorkloadEngine(const Workload& w, int threads) {
+// diffusion: D (0: no noise); monitor: the overlap monitor.
+Engine MakeWorkloadEngine(const Workload& w, int threads, double diffusion = 0.0,
+                          bool monitor = false) {
   ParticleModel model;
   model.radius.assign(static_cast<std::size_t>(w.n), kRadius);
   Forces forces;
   forces.trap = HarmonicTrap{1.0, {0.0, 0.0, 0.0}};
+  forces.diffusion = diffusion;
   EngineOptions options;
   options.h = w.h;
   options.threads = threads;
-  options.monitor_overlap = false;
+  options.monitor_overlap = monitor;
   options.check_initial_state = false;
   return Engine(model, forces, options, w.x0);
+}
+
+// The noise of the noise benchmarks: √(2 D h) = 0.005 per component and step, the drift's
+// largest step (h = 0.01/L), so D = 0.005² / (2h) grows with L.
+double NoiseDiffusion(const Workload& w) { return 0.005 * 0.005 / (2.0 * w.h); }
+
+double CpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 void BM_Engine(benchmark::State& state) {
@@ -279,6 +293,108 @@ void BM_Disks1e6(benchmark::State& state) {
   Report(state, 1000000);
 }
 
+// Engines on the same workload advancing in alternating bursts of 5 steps, each burst timed in
+// wall-clock and process CPU time, so all see the same machine. Returns per engine the seconds
+// per step (wall, CPU).
+struct BurstTimes {
+  std::vector<double> wall, cpu;
+  std::int64_t steps = 0;
+};
+
+template <typename Benchmark>
+BurstTimes InterleavedBursts(benchmark::State& state, std::vector<Engine>& engines,
+                             const Benchmark& extra) {
+  using Clock = std::chrono::steady_clock;
+  BurstTimes t;
+  t.wall.assign(engines.size(), 0.0);
+  t.cpu.assign(engines.size(), 0.0);
+  for (Engine& e : engines) {
+    for (int i = 0; i < 3; ++i) e.Step();  // warm up (first-touch, caches)
+  }
+  for (auto _ : state) {
+    for (std::size_t k = 0; k < engines.size(); ++k) {
+      const auto a = Clock::now();
+      const double c = CpuSeconds();
+      for (int i = 0; i < 5; ++i) {
+        if (!engines[k].Step()) state.SkipWithError("non-finite state");
+        extra(k, engines[k]);
+      }
+      t.cpu[k] += CpuSeconds() - c;
+      t.wall[k] += std::chrono::duration<double>(Clock::now() - a).count();
+    }
+    t.steps += 5;
+  }
+  return t;
+}
+
+// Brownian noise against none (issue 11): the noiseless and the noisy engine (√(2Dh) = 0.005)
+// interleaved. Counters: ms per step (wall and CPU) of each, their ratios, and the noisy engine's
+// share of prediction (drift + noise), list builds and sweeps.
+void BM_NoiseInterleaved(benchmark::State& state) {
+  const Workload w = MakeWorkload(SideFor(state.range(0)));
+  const int threads = static_cast<int>(state.range(1));
+  std::vector<Engine> engines;
+  engines.push_back(MakeWorkloadEngine(w, threads));
+  engines.push_back(MakeWorkloadEngine(w, threads, NoiseDiffusion(w)));
+  const BurstTimes t = InterleavedBursts(state, engines, [](std::size_t, const Engine&) {});
+  const auto steps = static_cast<double>(t.steps);
+  state.counters["ms_per_step_plain"] = 1e3 * t.wall[0] / steps;
+  state.counters["ms_per_step_noise"] = 1e3 * t.wall[1] / steps;
+  state.counters["ratio"] = t.wall[1] / t.wall[0];
+  state.counters["cpu_ms_per_step_plain"] = 1e3 * t.cpu[0] / steps;
+  state.counters["cpu_ms_per_step_noise"] = 1e3 * t.cpu[1] / steps;
+  state.counters["cpu_ratio"] = t.cpu[1] / t.cpu[0];
+  const auto p = engines[0].summary().stats;
+  const auto q = engines[1].summary().stats;
+  state.counters["noise_prediction_ms"] = 1e3 * q.force_seconds / static_cast<double>(q.steps);
+  state.counters["plain_prediction_ms"] = 1e3 * p.force_seconds / static_cast<double>(p.steps);
+  state.counters["noise_lists_ms"] = 1e3 * q.neighbour_seconds / static_cast<double>(q.steps);
+  state.counters["plain_lists_ms"] = 1e3 * p.neighbour_seconds / static_cast<double>(p.steps);
+  state.counters["noise_sweep_ms"] = 1e3 * q.sweep_seconds / static_cast<double>(q.steps);
+  state.counters["plain_sweep_ms"] = 1e3 * p.sweep_seconds / static_cast<double>(p.steps);
+  state.counters["noise_builds"] = static_cast<double>(q.neighbour_list_builds);
+  state.counters["plain_builds"] = static_cast<double>(p.neighbour_list_builds);
+}
+
+// The overlap monitor's cost (issue 11), noiseless and noisy: an engine without the monitor, one
+// with it, and one without it followed by the pass over every pair after each step (the monitor
+// before issue 11), interleaved. Counters: ms per step of each, the monitor's share of the
+// monitored step, the full pass's cost per step, and the check that the monitor's value equals the
+// full pass's at every step (mismatches, must be 0).
+void BM_MonitorInterleaved(benchmark::State& state) {
+  const Workload w = MakeWorkload(SideFor(state.range(0)));
+  const int threads = static_cast<int>(state.range(1));
+  const double diffusion = state.range(2) != 0 ? NoiseDiffusion(w) : 0.0;
+  std::vector<Engine> engines;
+  engines.push_back(MakeWorkloadEngine(w, threads, diffusion));
+  engines.push_back(MakeWorkloadEngine(w, threads, diffusion, true));
+  engines.push_back(MakeWorkloadEngine(w, threads, diffusion));
+  using Clock = std::chrono::steady_clock;
+  double full_pass = 0.0;
+  std::int64_t mismatches = 0;
+  std::vector<double> monitored;  // engine 1's value per step (engine 2 has the same states)
+  std::size_t compared = 0;
+  const BurstTimes t = InterleavedBursts(state, engines, [&](std::size_t k, const Engine& e) {
+    if (k == 1) monitored.push_back(e.summary().stats.last_overlap);
+    if (k == 2) {
+      const auto a = Clock::now();
+      const double worst = e.MaxPairOverlap();
+      full_pass += std::chrono::duration<double>(Clock::now() - a).count();
+      if (compared >= monitored.size() || worst != monitored[compared]) ++mismatches;
+      ++compared;
+    }
+  });
+  const auto steps = static_cast<double>(t.steps);
+  const auto s = engines[1].summary().stats;
+  state.counters["ms_per_step_off"] = 1e3 * t.wall[0] / steps;
+  state.counters["ms_per_step_on"] = 1e3 * t.wall[1] / steps;
+  state.counters["ms_per_step_full_pass"] = 1e3 * t.wall[2] / steps;
+  state.counters["monitor_share"] = s.monitor_seconds / s.total_seconds;
+  state.counters["monitor_ms"] = 1e3 * s.monitor_seconds / static_cast<double>(s.steps);
+  state.counters["full_pass_ms"] = 1e3 * full_pass / steps;
+  state.counters["mismatches"] = static_cast<double>(mismatches);
+}
+
 // Machine check: a trivially parallel loop (no memory traffic, no barriers but one), timed with
 // 1 and 2 threads in the same run. On the shared 2-core machines other jobs often hold a core;
 // this control shows how much parallel speedup the machine offered at the time.
@@ -300,6 +416,19 @@ BENCHMARK(BM_ThreadSpeedupInterleaved)
     ->Arg(100000)
     ->Arg(1000000)
     ->ArgName("N")
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(20);
+
+BENCHMARK(BM_NoiseInterleaved)
+    ->ArgsProduct({{100000, 1000000}, {1, 2}})
+    ->ArgNames({"N", "threads"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(20);
+BENCHMARK(BM_MonitorInterleaved)
+    ->ArgsProduct({{100000, 1000000}, {2}, {0, 1}})
+    ->ArgNames({"N", "threads", "noise"})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(20);

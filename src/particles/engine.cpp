@@ -120,7 +120,7 @@ void Engine::Impl::Predict(double* max_move, std::int64_t* bad_id) {
   prediction->Predict(store->current.data(), store->predicted.data(), store->id.data(),
                       store->noise_key.empty() ? nullptr : store->noise_key.data(),
                       store->active.empty() ? nullptr : store->active.data(),
-                      store->mobility.data(), step, threads, max_move, bad_id);
+                      store->mobility.data(), step, threads, max_move, bad_id, &max_coordinate);
 }
 
 void Engine::Impl::Fail(std::int64_t bad) {
@@ -144,8 +144,10 @@ void Engine::Impl::SweepUntilAccepted(double moved, int sweeps, bool relax) {
     // The sum over sweeps of the longest path bounds every particle's path in this step.
     double max_path = 0.0;
     for (int s = 0; s < sweeps; ++s) {
+      const bool monitored = s == sweeps - 1 && !relax && options.monitor_overlap;
       max_path += sweep->Sweep(store->predicted.data(), store->radius.data(), list, colouring,
-                               cells, lexicographic, threads, &proj);
+                               cells, lexicographic, threads, &proj,
+                               monitored ? monitor.Prepare(threads) : nullptr);
     }
     stats.sweep_seconds += Seconds(ts, Clock::now());
     const std::int64_t fixed = static_cast<std::int64_t>(n) * sweep->fixed_sets();
@@ -222,7 +224,8 @@ bool Engine::Impl::Step() {
   stats.time = static_cast<double>(step) * options.h;
   if (options.monitor_overlap) {
     const auto tm = Clock::now();
-    stats.last_overlap = MaxOverlap();
+    stats.last_overlap = monitor.Measure(list, store->current.data(), store->radius.data(), n,
+                                         threads, max_coordinate, rmax);
     stats.max_overlap = std::max(stats.max_overlap, stats.last_overlap);
     stats.monitor_seconds += Seconds(tm, Clock::now());
   }

@@ -10,6 +10,7 @@
 #include "particles/cell_list.h"
 #include "particles/colouring.h"
 #include "particles/neighbour_list.h"
+#include "particles/overlap_monitor.h"
 #include "particles/particle_store.h"
 #include "particles/prediction.h"
 #include "particles/sweep.h"
@@ -35,6 +36,8 @@ struct Engine::Impl {
   internal::NeighbourList list;
   std::optional<internal::Prediction> prediction;
   std::optional<internal::ProjectionSweep> sweep;
+  internal::OverlapMonitor monitor;  // after each step (options.monitor_overlap)
+  double max_coordinate = 0.0;       // the last prediction's largest |Y_i,a|
 
   std::int64_t step = 0;
   EngineStats stats;
@@ -56,6 +59,8 @@ struct Engine::Impl {
   bool AcceptEach();
   std::vector<double> path_scratch;
   std::vector<double> sweep_start;  // the predicted positions before a single sweep
+  // The largest pair overlap at the current positions, by a pass over every pair (the monitor
+  // after a step needs fewer: overlap_monitor.h).
   double MaxOverlap() const {
     return internal::MaxPairOverlap(list, store->current.data(), store->radius.data(), n, threads);
   }

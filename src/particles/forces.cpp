@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
-#include "moreau/common/random.h"
 
 namespace moreau::particles {
 
@@ -80,29 +78,6 @@ void Forces::Validate() const {
   }
   if (!(diffusion >= 0.0) || !std::isfinite(diffusion)) {
     throw InputError(fmt::format("forces.diffusion must be ≥ 0 (got {})", diffusion));
-  }
-}
-
-void GaussianNoise(std::uint64_t seed, std::int64_t id, std::int64_t step, int k, double* out) {
-  const std::array<std::uint32_t, 2> key{static_cast<std::uint32_t>(seed),
-                                         static_cast<std::uint32_t>(seed >> 32)};
-  const auto ustep = static_cast<std::uint64_t>(step);
-  for (int block = 0; 2 * block < k; ++block) {
-    const auto w =
-        Philox4x32({static_cast<std::uint32_t>(id),
-                    static_cast<std::uint32_t>(block) |
-                        static_cast<std::uint32_t>(static_cast<std::uint64_t>(id) >> 32 << 2),
-                    static_cast<std::uint32_t>(ustep), static_cast<std::uint32_t>(ustep >> 32)},
-                   key);
-    // Two uniforms in (0, 1) from 53 bits each (the +0.5 keeps them off 0 and 1).
-    const std::uint64_t a = (static_cast<std::uint64_t>(w[0]) << 32 | w[1]) >> 11;
-    const std::uint64_t b = (static_cast<std::uint64_t>(w[2]) << 32 | w[3]) >> 11;
-    const double u1 = (static_cast<double>(a) + 0.5) * 0x1.0p-53;
-    const double u2 = (static_cast<double>(b) + 0.5) * 0x1.0p-53;
-    const double radius = std::sqrt(-2.0 * std::log(u1));
-    const double angle = 2.0 * std::numbers::pi * u2;
-    out[2 * block] = radius * std::cos(angle);
-    if (2 * block + 1 < k) out[2 * block + 1] = radius * std::sin(angle);
   }
 }
 

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "particles/noise.h"
 
 namespace moreau::particles::internal {
 
@@ -58,10 +59,10 @@ Prediction::Prediction(const Forces& forces, const PeriodicBox& box, int n, doub
   if (attracts()) force_.assign(static_cast<std::size_t>(box.k) * static_cast<std::size_t>(n), 0.0);
   if (measures_density()) {
     if (box.k != 2) {
-      throw InputError(fmt::format(
-          "forces.walking.density: a density in persons per area needs dimension 2 "
-          "(got {})",
-          box.k));
+      throw InputError(
+          fmt::format("forces.walking.density: a density in persons per area needs dimension 2 "
+                      "(got {})",
+                      box.k));
     }
     neighbours_.assign(static_cast<std::size_t>(n), 0);
     speed_factor_.assign(static_cast<std::size_t>(n), 1.0);
@@ -216,7 +217,8 @@ template <int K>
 template <int K, bool P, bool Noise>
 void Prediction::PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
                              const double* active, const double* mobility, std::int64_t step,
-                             int threads, double* max_move, std::int64_t* bad_id) const {
+                             int threads, double* max_move, std::int64_t* bad_id,
+                             double* max_coordinate) const {
   // Plain local scalars, not members or a struct: they stay in registers or the loop's operands
   // (a member or a struct copy could alias y or crowd out the running maximum).
   const DriftParameters& d = parameters_;
@@ -241,75 +243,94 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
   const bool attract = !force_.empty();
   const double* factor = speed_factor_.empty() ? nullptr : speed_factor_.data();
   const bool crowd_speeds = d.speed_sd > 0.0 || factor != nullptr;
-  double worst = 0.0;
+  double worst = 0.0, extent = 0.0;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(max                    \
-                                                                         : worst) reduction(min \
-                                                                                            : bad)
-  for (int s = 0; s < n; ++s) {
-    double xw[K];
-    for (int a = 0; a < K; ++a) {
-      xw[a] = x[K * s + a];
-      if constexpr (P) {
-        if (wrap_axis[a]) xw[a] = Wrap(xw[a], lo[a], len[a]);
-      }
-    }
-    double F[K];
-    for (int a = 0; a < K; ++a) F[a] = trap ? -gamma * (xw[a] - center[a]) : 0.0;
-    if (any_constant) {
-      for (int a = 0; a < K; ++a) F[a] += f0[a];
-    }
-    if (attract) {
-      for (int a = 0; a < K; ++a) F[a] += fa[K * s + a];
-    }
-    const double mu = uniform_mobility ? 1.0 : mobility[s];
-    double v[K];
-    for (int a = 0; a < K; ++a) v[a] = mu * F[a];
-    if (propulsion) {
-      double speed = d.v0;
-      if (crowd_speeds) {
-        speed = DesiredSpeed(seed, key != nullptr ? key[s] : id[s], d.v0, d.speed_sd);
-        if (factor != nullptr) speed *= factor[s];
-      }
-      AddPropulsion<K>(d, xw, speed, v);
-    }
-    if (active != nullptr) {
-      for (int a = 0; a < K; ++a) v[a] += active[K * s + a];
-    }
-    double yy[K];
-    for (int a = 0; a < K; ++a) yy[a] = x[K * s + a] + h * v[a];
+  // Batches of kNoiseBatch slots: the noise of a batch is drawn first, in one vectorised loop
+  // (noise.h), then the drift loop adds it. The batches are fixed by the slots, not the threads.
+  const int batches = (n + kNoiseBatch - 1) / kNoiseBatch;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max              \
+                                                                         : worst, extent) \
+    reduction(min                                                                         \
+              : bad)
+  for (int batch = 0; batch < batches; ++batch) {
+    const int begin = batch * kNoiseBatch;
+    const int end = std::min(n, begin + kNoiseBatch);
+    [[maybe_unused]] double xi[3 * kNoiseBatch];
     if constexpr (Noise) {
-      double xi[3];
-      GaussianNoise(seed, key != nullptr ? key[s] : id[s], step, K, xi);
-      for (int a = 0; a < K; ++a) yy[a] += sigma * xi[a];
+      std::int64_t keys[kNoiseBatch];
+      for (int s = begin; s < end; ++s) keys[s - begin] = key != nullptr ? key[s] : id[s];
+      GaussianNoiseBatch(seed, keys, step, K, end - begin, kNoiseBatch, xi);
     }
-    double d2 = 0.0;
-    bool finite = true;
-    for (int a = 0; a < K; ++a) {
-      y[K * s + a] = yy[a];
-      finite = finite && std::isfinite(yy[a]);
-      const double dd = yy[a] - x[K * s + a];
-      d2 += dd * dd;
-    }
-    if (!finite) {
-      bad = std::min<std::int64_t>(bad, id[s]);
-    } else {
-      worst = std::max(worst, d2);
+    for (int s = begin; s < end; ++s) {
+      double xw[K];
+      for (int a = 0; a < K; ++a) {
+        xw[a] = x[K * s + a];
+        if constexpr (P) {
+          if (wrap_axis[a]) xw[a] = Wrap(xw[a], lo[a], len[a]);
+        }
+      }
+      double F[K];
+      for (int a = 0; a < K; ++a) F[a] = trap ? -gamma * (xw[a] - center[a]) : 0.0;
+      if (any_constant) {
+        for (int a = 0; a < K; ++a) F[a] += f0[a];
+      }
+      if (attract) {
+        for (int a = 0; a < K; ++a) F[a] += fa[K * s + a];
+      }
+      const double mu = uniform_mobility ? 1.0 : mobility[s];
+      double v[K];
+      for (int a = 0; a < K; ++a) v[a] = mu * F[a];
+      if (propulsion) {
+        double speed = d.v0;
+        if (crowd_speeds) {
+          speed = DesiredSpeed(seed, key != nullptr ? key[s] : id[s], d.v0, d.speed_sd);
+          if (factor != nullptr) speed *= factor[s];
+        }
+        AddPropulsion<K>(d, xw, speed, v);
+      }
+      if (active != nullptr) {
+        for (int a = 0; a < K; ++a) v[a] += active[K * s + a];
+      }
+      double yy[K];
+      for (int a = 0; a < K; ++a) yy[a] = x[K * s + a] + h * v[a];
+      if constexpr (Noise) {
+        for (int a = 0; a < K; ++a) yy[a] += sigma * xi[a * kNoiseBatch + (s - begin)];
+      }
+      double d2 = 0.0, far = 0.0;
+      bool finite = true;
+      for (int a = 0; a < K; ++a) {
+        y[K * s + a] = yy[a];
+        finite = finite && std::isfinite(yy[a]);
+        const double dd = yy[a] - x[K * s + a];
+        d2 += dd * dd;
+        far = std::max(far, std::abs(yy[a]));
+      }
+      if (!finite) {
+        bad = std::min<std::int64_t>(bad, id[s]);
+      } else {
+        worst = std::max(worst, d2);
+        extent = std::max(extent, far);
+      }
     }
   }
   *max_move = std::sqrt(worst);
+  if (max_coordinate != nullptr) *max_coordinate = extent;
   *bad_id = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
 }
 
 void Prediction::Predict(const double* x, double* y, const int* id, const std::int64_t* key,
                          const double* active, const double* mobility, std::int64_t step,
-                         int threads, double* max_move, std::int64_t* bad_id) const {
-  // Without noise the loop makes no call, so its running maximum stays in a register.
+                         int threads, double* max_move, std::int64_t* bad_id,
+                         double* max_coordinate) const {
+  // Without noise the loop makes no call, so its running maximum stays in a register; with noise
+  // the batch's draw comes before its drift loop.
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
     if (parameters_.sigma > 0.0) {
-      PredictImpl<k, p, true>(x, y, id, key, active, mobility, step, threads, max_move, bad_id);
+      PredictImpl<k, p, true>(x, y, id, key, active, mobility, step, threads, max_move, bad_id,
+                              max_coordinate);
     } else {
-      PredictImpl<k, p, false>(x, y, id, key, active, mobility, step, threads, max_move, bad_id);
+      PredictImpl<k, p, false>(x, y, id, key, active, mobility, step, threads, max_move, bad_id,
+                               max_coordinate);
     }
   });
 }

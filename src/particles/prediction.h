@@ -57,12 +57,13 @@ class Prediction {
                   const Colouring& colouring, const CellList& cells, bool lexicographic,
                   int threads);
   // y = the predicted positions of x for the step from t_step to t_{step+1}. *max_move: the
-  // largest ‖Y_i − X_i‖ over finite rows; *bad_id: the smallest id with a non-finite Y_i, or −1.
-  // key: per slot the noise key (null: the id); active: k per slot, a velocity added to the
-  // drift (null: none).
+  // largest ‖Y_i − X_i‖ over finite rows; *bad_id: the smallest id with a non-finite Y_i, or −1;
+  // *max_coordinate (optional): the largest |Y_i,a| over finite rows. key: per slot the noise
+  // key (null: the id); active: k per slot, a velocity added to the drift (null: none). The noise
+  // is drawn in batches of kNoiseBatch slots (noise.h).
   void Predict(const double* x, double* y, const int* id, const std::int64_t* key,
                const double* active, const double* mobility, std::int64_t step, int threads,
-               double* max_move, std::int64_t* bad_id) const;
+               double* max_move, std::int64_t* bad_id, double* max_coordinate = nullptr) const;
   // The force buffer follows a reordering of the slots (new slot s holds old slot perm[s]).
   void Reorder(const std::vector<int>& perm, int threads);
 
@@ -77,7 +78,7 @@ class Prediction {
   template <int K, bool P, bool Noise>
   void PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
                    const double* active, const double* mobility, std::int64_t step, int threads,
-                   double* max_move, std::int64_t* bad_id) const;
+                   double* max_move, std::int64_t* bad_id, double* max_coordinate) const;
 
   DriftParameters parameters_;
   PeriodicBox box_;

@@ -1,5 +1,7 @@
 #include "particles/sweep.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -27,15 +29,18 @@ ProjectionSweep::ProjectionSweep(const ParticleModel& model, bool uniform_radius
 
 // The pairs of rows [begin, end). X_s stays in registers over its row (the pairs (s, ·) are
 // consecutive and no other pair touches X_s in between) and is written back only if it moved.
-template <int K, bool P, bool U>
+// R: rows with a pair closer than c + margin are appended to *near.
+template <int K, bool P, bool U, bool R>
 void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* radius,
-                                const NeighbourList& list, double* max_path, std::int64_t* proj) {
+                                const NeighbourList& list, double* max_path, std::int64_t* proj,
+                                double margin, std::vector<int>* near) {
   const int* rs = list.row_start();
   const int* nb = list.neighbours();
   const std::uint8_t* image = list.images();
   const double(*shift)[3] = list.box().shift;
   const double uniform_c = 2.0 * radius[0];  // r_i + r_j when all radii are equal (exact)
   const double uniform_c2 = uniform_c * uniform_c;
+  const double uniform_near2 = (uniform_c + margin) * (uniform_c + margin);
   double local_max = *max_path;
   std::int64_t moved = 0;
   for (int s = begin; s < end; ++s) {
@@ -47,6 +52,7 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
     for (int a = 0; a < K; ++a) xs[a] = xs_mem[a];
     const double ri = U ? 0.0 : radius[s];
     double add = 0.0;
+    bool near_row = false;
     for (; p < e; ++p) {
       const int t = nb[p];
       double* xt = x + K * t;
@@ -60,6 +66,7 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
       }
       const double c = U ? uniform_c : ri + radius[t];
       const double r2 = SquaredNorm<K>(u);
+      if constexpr (R) near_row |= r2 < (U ? uniform_near2 : (c + margin) * (c + margin));
       if (r2 >= (U ? uniform_c2 : c * c)) continue;
       KeepStart<K>(t, xt);
       const double d = ProjectOverlappingPair<K>(xs, xt, u, r2, c);
@@ -71,6 +78,9 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
       KeepStart<K>(s, xs_mem);
       for (int a = 0; a < K; ++a) xs_mem[a] = xs[a];
       local_max = std::max(local_max, AddPath(s, add));
+    }
+    if constexpr (R) {
+      if (near_row) near->push_back(s);
     }
   }
   *max_path = local_max;
@@ -123,13 +133,23 @@ void ProjectionSweep::SweepFixed(int begin, int end, double* x, const double* ra
 template <int K, bool P>
 double ProjectionSweep::SweepImpl(double* x, const double* radius, const NeighbourList& list,
                                   const Colouring& colouring, const CellList& cells,
-                                  bool lexicographic, int threads, std::int64_t* projections) {
+                                  bool lexicographic, int threads, std::int64_t* projections,
+                                  NearContactRows* near) {
   const int n = n_;
+  const double margin = near != nullptr ? near->margin : 0.0;
   auto rows = [&](int begin, int end, double* max_path, std::int64_t* proj) {
+    std::vector<int>* mine =
+        near != nullptr ? &near->rows[static_cast<std::size_t>(omp_get_thread_num())] : nullptr;
     if (uniform_radius_) {
-      SweepRows<K, P, true>(begin, end, x, radius, list, max_path, proj);
+      if (mine != nullptr) {
+        SweepRows<K, P, true, true>(begin, end, x, radius, list, max_path, proj, margin, mine);
+      } else {
+        SweepRows<K, P, true, false>(begin, end, x, radius, list, max_path, proj, 0.0, nullptr);
+      }
+    } else if (mine != nullptr) {
+      SweepRows<K, P, false, true>(begin, end, x, radius, list, max_path, proj, margin, mine);
     } else {
-      SweepRows<K, P, false>(begin, end, x, radius, list, max_path, proj);
+      SweepRows<K, P, false, false>(begin, end, x, radius, list, max_path, proj, 0.0, nullptr);
     }
   };
   double max_path = 0.0;
@@ -138,6 +158,7 @@ double ProjectionSweep::SweepImpl(double* x, const double* radius, const Neighbo
     rows(0, n, &max_path, &proj);
     if (fixed_sets_ > 0) SweepFixed<K>(0, n, x, radius, &max_path, &proj);
     *projections += proj;
+    if (near != nullptr) near->max_path = max_path;
     return max_path;
   }
 #pragma omp parallel num_threads(threads) reduction(max : max_path) reduction(+ : proj)
@@ -152,19 +173,21 @@ double ProjectionSweep::SweepImpl(double* x, const double* radius, const Neighbo
     }
   }
   *projections += proj;
+  if (near != nullptr) near->max_path = max_path;
   return max_path;
 }
 
 double ProjectionSweep::Sweep(double* x, const double* radius, const NeighbourList& list,
                               const Colouring& colouring, const CellList& cells, bool lexicographic,
-                              int threads, std::int64_t* projections) {
+                              int threads, std::int64_t* projections, NearContactRows* near) {
   ++sweep_id_;
   if (sweep_id_ == 0) {  // wrapped around: clear the stamps
     std::fill(stamp_.begin(), stamp_.end(), 0);
     sweep_id_ = 1;
   }
   return DispatchDimensionPeriodic(k_, list.box().any, [&](auto kk, auto p) {
-    return SweepImpl<kk, p>(x, radius, list, colouring, cells, lexicographic, threads, projections);
+    return SweepImpl<kk, p>(x, radius, list, colouring, cells, lexicographic, threads, projections,
+                            near);
   });
 }
 

@@ -21,6 +21,15 @@
 
 namespace moreau::particles::internal {
 
+// What a sweep records for the overlap monitor (overlap_monitor.h): the rows with a pair closer
+// than r_s + r_t + margin when the sweep visited it (each thread its own list), and the sweep's
+// longest path.
+struct NearContactRows {
+  double margin = 0.0;
+  std::vector<std::vector<int>> rows;  // per thread
+  double max_path = 0.0;
+};
+
 class ProjectionSweep {
  public:
   // The fixed sets of the model (walls normalised) and n path slots; uniform_radius: all r_i
@@ -28,10 +37,11 @@ class ProjectionSweep {
   ProjectionSweep(const ParticleModel& model, bool uniform_radius);
 
   // One sweep over x (storage order); adds the number of projections that moved a particle to
-  // *projections and returns the longest path.
+  // *projections and returns the longest path. near (optional): the rows near contact are
+  // appended to near->rows[thread] (sized ≥ threads) and near->max_path is set.
   double Sweep(double* x, const double* radius, const NeighbourList& list,
                const Colouring& colouring, const CellList& cells, bool lexicographic, int threads,
-               std::int64_t* projections);
+               std::int64_t* projections, NearContactRows* near = nullptr);
 
   // The length of the projection moves applied to slot s in the last sweep.
   double PathOf(int s) const {
@@ -51,10 +61,10 @@ class ProjectionSweep {
   template <int K, bool P>
   double SweepImpl(double* x, const double* radius, const NeighbourList& list,
                    const Colouring& colouring, const CellList& cells, bool lexicographic,
-                   int threads, std::int64_t* projections);
-  template <int K, bool P, bool U>
+                   int threads, std::int64_t* projections, NearContactRows* near);
+  template <int K, bool P, bool U, bool R>
   void SweepRows(int begin, int end, double* x, const double* radius, const NeighbourList& list,
-                 double* max_path, std::int64_t* proj);
+                 double* max_path, std::int64_t* proj, double margin, std::vector<int>* near);
   template <int K>
   void SweepFixed(int begin, int end, double* x, const double* radius, double* max_path,
                   std::int64_t* proj);

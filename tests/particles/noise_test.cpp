@@ -1,9 +1,13 @@
-// The counter-based generator: Philox known answers, and the Euler–Maruyama increments.
+// The counter-based generator: Philox known answers, the noise stream's distribution (moments and
+// a Kolmogorov–Smirnov test), its batches, and the Euler–Maruyama increments.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "moreau/common/random.h"
+#include "particles/noise.h"
 #include "particles/test_util.h"
 
 namespace moreau::particles {
@@ -30,6 +34,66 @@ TEST(ParticleNoise, DependsOnlyOnSeedIdAndStep) {
   EXPECT_NE(a[0], c[0]);
   GaussianNoise(7, 13, 3, 3, c);
   EXPECT_NE(a[0], c[0]);
+}
+
+// The batches (the engine's prediction) give GaussianNoise's bits for every key: ids beyond 2^32,
+// negative keys and steps, both dimensions, any batch length.
+TEST(ParticleNoise, BatchesGiveTheSameBitsAsSingleDraws) {
+  std::vector<std::int64_t> keys;
+  for (std::int64_t i = 0; i < 300; ++i) keys.push_back(i);
+  for (std::int64_t i = 0; i < 300; ++i) keys.push_back((std::int64_t{1} << 33) + 7 * i - i * i);
+  for (const int k : {2, 3}) {
+    for (const std::int64_t step : {std::int64_t{0}, std::int64_t{-1}, std::int64_t{1} << 40}) {
+      for (const int m : {1, 3, 600}) {
+        const int stride = m + 5;
+        std::vector<double> out(static_cast<std::size_t>(3 * stride), 0.0);
+        internal::GaussianNoiseBatch(11, keys.data(), step, k, m, stride, out.data());
+        for (int i = 0; i < m; ++i) {
+          double xi[3];
+          GaussianNoise(11, keys[static_cast<std::size_t>(i)], step, k, xi);
+          for (int a = 0; a < k; ++a) {
+            ASSERT_EQ(out[static_cast<std::size_t>(a * stride + i)], xi[a])
+                << "k " << k << " step " << step << " m " << m << " i " << i << " a " << a;
+          }
+        }
+      }
+    }
+  }
+}
+
+// 10^6 normals of the stream (ξ_0, ξ_1 of ids 0 … 5·10^5 − 1 at one step, seed fixed): the sample
+// mean, variance and excess kurtosis within 5 standard errors of 0, 1, 0 (standard errors √(1/M),
+// √(2/M), √(24/M)), and the Kolmogorov–Smirnov distance to the normal law below the 1e−6 quantile
+// of Kolmogorov's distribution: P(√M D > λ) ≈ 2 exp(−2 λ²) gives λ = √(ln(2e6)/2) = 2.69.
+TEST(ParticleNoise, StreamIsStandardNormalByMomentsAndKolmogorovSmirnov) {
+  const int pairs = 500000;
+  std::vector<std::int64_t> keys(static_cast<std::size_t>(pairs));
+  for (int i = 0; i < pairs; ++i) keys[static_cast<std::size_t>(i)] = i;
+  std::vector<double> z(static_cast<std::size_t>(2 * pairs));
+  internal::GaussianNoiseBatch(20261202, keys.data(), 3, 2, pairs, pairs, z.data());
+  const double M = static_cast<double>(z.size());
+  double sum = 0.0;
+  for (double v : z) sum += v;
+  const double mean = sum / M;
+  double m2 = 0.0, m4 = 0.0;
+  for (double v : z) {
+    const double d2 = (v - mean) * (v - mean);
+    m2 += d2;
+    m4 += d2 * d2;
+  }
+  m2 /= M;
+  m4 /= M;
+  EXPECT_LT(std::abs(mean), 5.0 / std::sqrt(M));
+  EXPECT_LT(std::abs(m2 - 1.0), 5.0 * std::sqrt(2.0 / M));
+  EXPECT_LT(std::abs(m4 / (m2 * m2) - 3.0), 5.0 * std::sqrt(24.0 / M));
+  std::sort(z.begin(), z.end());
+  double d = 0.0;
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    const double cdf = 0.5 * std::erfc(-z[i] / std::sqrt(2.0));
+    d = std::max({d, static_cast<double>(i + 1) / M - cdf, cdf - static_cast<double>(i) / M});
+  }
+  const double lambda = std::sqrt(0.5 * std::log(2.0 / 1e-6));
+  EXPECT_LT(d, lambda / std::sqrt(M)) << "KS distance " << d;
 }
 
 // Free particles (no constraint can act: far apart, no walls) for one step: the displacement is

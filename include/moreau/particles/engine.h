@@ -88,8 +88,9 @@ struct EngineOptions {
                                 // s > 1 repeats the sweep s times (PNGS truncated at s sweeps),
                                 // which shrinks the overlaps of deep contact chains (crowds
                                 // pressing on a door) at s times the sweep cost.
-  bool monitor_overlap = true;  // track the max pair overlap after every step (one extra
-                                // read-only pass over the candidate pairs)
+  bool monitor_overlap = true;  // track the max pair overlap after every step, exactly: over
+                                // the rows the step's last sweep found near contact, or a pass
+                                // over all candidate pairs when those might not hold them all
   bool check_initial_state = true;  // CheckInitialState(model, positions, initial_tolerance)
   double initial_tolerance = 1e-9;
   std::int64_t memory_limit_bytes = 0;  // for CheckParticleMemory; 0: AvailableMemory()

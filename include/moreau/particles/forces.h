@@ -25,8 +25,11 @@
 // (Salmon et al., SC'11) with key = seed and counter = (id low, block + 4 · (id high), step low,
 // step high) (id low/high: its 32-bit halves; ids below 2^32 have id high = 0), where
 // step k = 0, 1, … is the step from t_k to t_{k+1} and block 0 gives ξ_0, ξ_1, block 1 gives ξ_2:
-// its four 32-bit words make two uniforms in (0, 1), then two normals by Box–Muller. The noise of
-// a particle depends only on (seed, id, step), never on threads, storage order or other particles.
+// its first three 32-bit words make two normals by BoxMullerNormals (common/random.h: a uniform of
+// 52 bits for the radius, 32 bits for the angle, a few ulp from the exact transform; the fourth
+// word is unused). The noise of a particle depends only on (seed, id, step), never on threads,
+// storage order, batch or other particles. (Before issue 11 the words made two 53-bit uniforms
+// and libm's log, cos and sin gave the normals: noisy runs then had other bits.)
 #pragma once
 
 #include <array>

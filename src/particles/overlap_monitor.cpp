@@ -1,0 +1,73 @@
+#include "particles/overlap_monitor.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace moreau::particles::internal {
+
+namespace {
+
+// The largest overlap over the pairs of the given rows, computed as MaxPairOverlap does.
+template <int K, bool P>
+double RowsOverlap(const NeighbourList& list, const double* x, const double* radius,
+                   const std::vector<int>& rows) {
+  const int* row_start = list.row_start();
+  const int* nbr = list.neighbours();
+  double worst = 0.0;
+  for (const int s : rows) {
+    const double ri = radius[s];
+    for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
+      const int t = nbr[p];
+      double u[K];
+      list.Displacement<K, P>(x, s, t, p, u);
+      const double c = ri + radius[t];
+      const double r2 = SquaredNorm<K>(u);
+      if (r2 >= c * c) continue;
+      worst = std::max(worst, c - std::sqrt(r2));
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+NearContactRows* OverlapMonitor::Prepare(int threads) {
+  near_.rows.resize(static_cast<std::size_t>(std::max(1, threads)));
+  for (std::vector<int>& r : near_.rows) r.clear();
+  near_.margin = margin_;
+  near_.max_path = 0.0;
+  prepared_ = true;
+  return &near_;
+}
+
+double OverlapMonitor::Measure(const NeighbourList& list, const double* x, const double* radius,
+                               int n, int threads, double max_coordinate, double rmax) {
+  const PeriodicBox& box = list.box();
+  double scale = max_coordinate + near_.max_path + 2.0 * rmax + list.skin();
+  for (int a = 0; a < box.k; ++a) scale += box.len[a];
+  const double slack = 0x1.0p-30 * scale;
+  const double path = near_.max_path;
+  // No move at all (path 0): every pair kept its visited distance, so the recorded rows (margin
+  // ≥ 0) hold every overlap.
+  const bool screened = prepared_ && (path == 0.0 || 2.0 * path + slack <= near_.margin);
+  double worst = 0.0;
+  if (screened) {
+    const int lists = static_cast<int>(near_.rows.size());
+    DispatchDimensionPeriodic(box.k, box.any, [&](auto kk, auto p) {
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst)
+      for (int t = 0; t < lists; ++t) {
+        worst = std::max(
+            worst, RowsOverlap<kk, p>(list, x, radius, near_.rows[static_cast<std::size_t>(t)]));
+      }
+    });
+    ++screened_steps_;
+  } else {
+    worst = MaxPairOverlap(list, x, radius, n, threads);
+    ++full_steps_;
+  }
+  if (prepared_) margin_ = std::max(4.0 * path, 0.5 * margin_) + 2.0 * slack;
+  prepared_ = false;
+  return worst;
+}
+
+}  // namespace moreau::particles::internal
