@@ -102,11 +102,16 @@ nlohmann::json ContinuationRecord::ToJson() const {
 }
 
 std::string ContinuationSummary::BriefReport() const {
+  std::string on_grids;  // "; grids 512 (54 it.) -> 1024 (3 it.)" when there is more than one
+  for (std::size_t k = 0; grids.size() > 1 && k < grids.size(); ++k) {
+    on_grids += fmt::format("{}{} ({} it.)", k == 0 ? "; grids " : " -> ", grids[k].steps,
+                            grids[k].newton_iterations);
+  }
   return fmt::format(
       "continuation: {} after {} Newton solves ({} iterations, {:.2f} s); "
-      "reached p = {:.4g}, s = {:.4g}, gamma = {:.3g}{}{}",
+      "reached p = {:.4g}, s = {:.4g}, gamma = {:.3g}{}{}{}",
       moreau::ToString(termination), newton_solves, newton_iterations, total_seconds, path_fraction,
-      stiffness_scale, gamma, message.empty() ? "" : ": ", message);
+      stiffness_scale, gamma, on_grids, message.empty() ? "" : ": ", message);
 }
 
 nlohmann::json ContinuationSummary::ToJson() const {
