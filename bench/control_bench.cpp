@@ -1,10 +1,17 @@
 // Time per Newton iteration of the Symplectic Pontryagin solver on the arm model (thesis 9.2),
 // N = 512 … 16384: the structure-exploiting Riccati solve against Eigen SparseLU (factorise +
-// solve of the same Jacobian), and the residual + Jacobian evaluation for scale.
+// solve of the same Jacobian), and the residual + Jacobian evaluation for scale. ArmSolve: the
+// whole solve from the documented start of examples/control/arm_2d.toml at N = 1024 and 4096,
+// 1 and 2 threads, coarse-to-fine (c2f = 1, the default) against the plain path (every stage on
+// the requested grid, c2f = 0), with the max difference of the controls from the plain path's.
 //
 //   build/release/control_bench --benchmark_counters_tabular=true
+//   build/release/control_bench --benchmark_filter=ArmSolve --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <cstdlib>
 #include <map>
 #include <memory>
 
@@ -79,6 +86,108 @@ BENCHMARK(BM_ResidualAndJacobian)
     ->Range(512, 16384)
     ->Unit(benchmark::kMillisecond);
 
+// Process CPU time (all threads), seconds.
+double ProcessCpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// [continuation], [fixed_point] and [newton] of examples/control/arm_2d.toml.
+ContinuationOptions DocumentedStart(bool coarse_to_fine, int threads) {
+  ContinuationOptions o;
+  o.path_start = 0.1;
+  o.path_increase = 0.5;
+  o.stiffness_start = 0.5;
+  o.stiffness_increase = 0.5;
+  o.gamma_start = 1.0;
+  o.gamma_decrease = 0.1;
+  o.min_increase = 1e-4;
+  o.max_solves = 200;
+  o.fixed_point.sweeps = 0;
+  o.newton.residual_tolerance = 1e-10;
+  o.newton.max_iterations = 40;
+  o.newton.threads = threads;
+  if (!coarse_to_fine) o.coarse_steps = 0;
+  return o;
+}
+
+const ProblemFamily& ArmFamily() {
+  static const ProblemFamily family = [](double p) { return MakeArmProblem(ArmExample{}, p); };
+  return family;
+}
+
+// Controls of the plain path at N (solved once, with 2 threads: the comparison reference).
+std::map<int, Eigen::MatrixXd>& PlainControlCache() {
+  static std::map<int, Eigen::MatrixXd> cache;
+  return cache;
+}
+
+const Eigen::MatrixXd& PlainControls(int steps) {
+  auto& slot = PlainControlCache()[steps];
+  if (slot.size() == 0) {
+    Eigen::VectorXd y;
+    SolveWithContinuation(ArmFamily(), steps, DocumentedStart(false, 2), y);
+    slot = EffectiveControls(PontryaginDiscretization(ArmFamily()(1.0), steps), y);
+  }
+  return slot;
+}
+
+void BM_ArmSolve(benchmark::State& state) {
+  const int steps = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  const bool coarse_to_fine = state.range(2) != 0;
+  const ContinuationOptions options = DocumentedStart(coarse_to_fine, threads);
+  Eigen::VectorXd y;
+  ContinuationSummary summary;
+  double cpu = 0.0;
+  for (auto _ : state) {
+    const double cpu0 = ProcessCpuSeconds();
+    summary = SolveWithContinuation(ArmFamily(), steps, options, y);
+    cpu += ProcessCpuSeconds() - cpu0;
+  }
+  if (!summary.ok()) state.SkipWithError(summary.message.c_str());
+  const PontryaginDiscretization disc(ArmFamily()(1.0), steps);
+  const Eigen::MatrixXd controls = EffectiveControls(disc, y);
+  if (!coarse_to_fine && threads == 2) PlainControlCache()[steps] = controls;
+  PontryaginWorkspace ws;
+  Eigen::VectorXd residual;
+  state.counters["residual"] = EvaluateResidual(disc, y, ws, residual);
+  state.counters["max_control_diff"] = (controls - PlainControls(steps)).lpNorm<Eigen::Infinity>();
+  state.counters["newton_iterations"] = summary.newton_iterations;
+  state.counters["fine_iterations"] = summary.grids.back().newton_iterations;
+  state.counters["grids"] = static_cast<double>(summary.grids.size());
+  state.counters["cpu_s"] = cpu / static_cast<double>(state.iterations());
+}
+
+// Plain 2-thread cases first: they fill the comparison cache.
+BENCHMARK(BM_ArmSolve)
+    ->Name("ArmSolve")
+    ->ArgNames({"N", "threads", "c2f"})
+    ->Args({1024, 2, 0})
+    ->Args({1024, 1, 0})
+    ->Args({1024, 1, 1})
+    ->Args({1024, 2, 1})
+    ->Args({4096, 2, 0})
+    ->Args({4096, 1, 0})
+    ->Args({4096, 1, 1})
+    ->Args({4096, 2, 1})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
-BENCHMARK_MAIN();
+// OMP_WAIT_POLICY=passive unless the caller chose a policy (see bench/particles_bench.cpp).
+int main(int argc, char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
+    setenv("OMP_WAIT_POLICY", "passive", 1);
+    execv("/proc/self/exe", argv);  // returns only on failure: carry on with the default
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

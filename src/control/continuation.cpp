@@ -59,6 +59,10 @@ void ContinuationOptions::Validate() const {
     fail("min_increase", fmt::format("must be in (0, 1), got {}", min_increase));
   }
   if (max_solves < 1) fail("max_solves", fmt::format("must be >= 1, got {}", max_solves));
+  if (coarse_steps < 0) fail("coarse_steps", fmt::format("must be >= 0, got {}", coarse_steps));
+  if (refine_factor < 2) {
+    fail("refine_factor", fmt::format("must be >= 2, got {}", refine_factor));
+  }
   fixed_point.Validate();
   newton.Validate();
 }
@@ -72,12 +76,22 @@ nlohmann::json ContinuationOptions::ToJson() const {
           {"gamma_decrease", gamma_decrease},
           {"min_increase", min_increase},
           {"max_solves", max_solves},
+          {"coarse_steps", coarse_steps},
+          {"refine_factor", refine_factor},
           {"fixed_point", fixed_point.ToJson()},
           {"newton", newton.ToJson()}};
 }
 
+nlohmann::json GridRecord::ToJson() const {
+  return {{"steps", steps},
+          {"newton_solves", newton_solves},
+          {"newton_iterations", newton_iterations},
+          {"total_seconds", total_seconds}};
+}
+
 nlohmann::json ContinuationRecord::ToJson() const {
   return {{"stage", stage},
+          {"steps", steps},
           {"path_fraction", path_fraction},
           {"stiffness_scale", stiffness_scale},
           {"gamma", gamma},
@@ -88,17 +102,25 @@ nlohmann::json ContinuationRecord::ToJson() const {
 }
 
 std::string ContinuationSummary::BriefReport() const {
+  std::string on_grids;  // "; grids 512 (54 it.) -> 1024 (3 it.)" when there is more than one
+  for (std::size_t k = 0; grids.size() > 1 && k < grids.size(); ++k) {
+    on_grids += fmt::format("{}{} ({} it.)", k == 0 ? "; grids " : " -> ", grids[k].steps,
+                            grids[k].newton_iterations);
+  }
   return fmt::format(
       "continuation: {} after {} Newton solves ({} iterations, {:.2f} s); "
-      "reached p = {:.4g}, s = {:.4g}, gamma = {:.3g}{}{}",
-      moreau::ToString(termination), newton_solves, newton_iterations, total_seconds,
-      path_fraction, stiffness_scale, gamma, message.empty() ? "" : ": ", message);
+      "reached p = {:.4g}, s = {:.4g}, gamma = {:.3g}{}{}{}",
+      moreau::ToString(termination), newton_solves, newton_iterations, total_seconds, path_fraction,
+      stiffness_scale, gamma, on_grids, message.empty() ? "" : ": ", message);
 }
 
 nlohmann::json ContinuationSummary::ToJson() const {
   nlohmann::json j = SummaryJson(termination, message, total_seconds);
   j["newton_solves"] = newton_solves;
   j["newton_iterations"] = newton_iterations;
+  nlohmann::json grid_records = nlohmann::json::array();
+  for (const GridRecord& g : grids) grid_records.push_back(g.ToJson());
+  j["grids"] = std::move(grid_records);
   j["reached"] = {
       {"path_fraction", path_fraction}, {"stiffness_scale", stiffness_scale}, {"gamma", gamma}};
   nlohmann::json records = nlohmann::json::array();
@@ -144,16 +166,24 @@ namespace {
 // One continuation: the Newton solves at (p, s, γ), recorded in the summary.
 class ContinuationRun {
  public:
-  ContinuationRun(const ProblemFamily& family, int steps, const ContinuationOptions& options,
+  ContinuationRun(const ProblemFamily& family, const ContinuationOptions& options,
                   Eigen::VectorXd& y)
-      : family_(family), steps_(steps), options_(options), y_(y) {
+      : family_(family), options_(options), y_(y) {
     summary_.options = options;
     y_.resize(0);
   }
 
+  // Later attempts solve on N steps (a new grid record).
+  void SetGrid(int steps) {
+    steps_ = steps;
+    summary_.grids.push_back(GridRecord{steps, 0, 0, 0.0});
+  }
+  int steps() const { return steps_; }
+
   // One Newton solve at (p, s, γ) from `guess` (the fixed-point sweep on the reference when it
   // has the wrong size); on success y = the solution.
   bool Attempt(const char* stage, double p, double s, double gamma, Eigen::VectorXd guess) {
+    const Stopwatch stopwatch;
     const TrackingProblem problem = ContinuationProblem(family_, p, s, gamma);
     const PontryaginDiscretization disc(problem, steps_);
     if (guess.size() != disc.unknowns()) {
@@ -162,8 +192,13 @@ class ContinuationRun {
     NewtonSummary ns = SolveNewton(disc, options_.newton, guess);
     ++summary_.newton_solves;
     summary_.newton_iterations += ns.iterations;
+    GridRecord& grid = summary_.grids.back();
+    ++grid.newton_solves;
+    grid.newton_iterations += ns.iterations;
+    grid.total_seconds += stopwatch.Seconds();
     ContinuationRecord record;
     record.stage = stage;
+    record.steps = steps_;
     record.path_fraction = p;
     record.stiffness_scale = s;
     record.gamma = gamma;
@@ -174,7 +209,8 @@ class ContinuationRun {
     summary_.path.push_back(record);
     const bool ok = ns.ok();
     summary_.last_newton = std::move(ns);
-    if (ok || y_.size() == 0) y_ = guess;  // keep the best iterate if nothing was accepted yet
+    // Keep the best iterate when nothing was accepted on this grid yet.
+    if (ok || y_.size() != guess.size()) y_ = guess;
     if (ok) {
       summary_.path_fraction = p;
       summary_.stiffness_scale = s;
@@ -203,7 +239,7 @@ class ContinuationRun {
 
  private:
   const ProblemFamily& family_;
-  int steps_;
+  int steps_ = 0;
   const ContinuationOptions& options_;
   Eigen::VectorXd& y_;
   ContinuationSummary summary_;
@@ -213,9 +249,8 @@ class ContinuationRun {
 // Raises `value` towards 1 by factors (1 + c), halving c on failure. Returns the reason it gave
 // up, or an empty string once value = 1.
 template <typename TryValue>
-std::string IncreaseToOne(ContinuationRun& run, const char* stage, const char* what,
-                          double& value, double coefficient, double min_increase,
-                          TryValue try_value) {
+std::string IncreaseToOne(ContinuationRun& run, const char* stage, const char* what, double& value,
+                          double coefficient, double min_increase, TryValue try_value) {
   while (value < 1.0) {
     if (!run.BudgetLeft()) {
       return fmt::format("Newton solve budget exhausted in the {} stage", stage);
@@ -235,35 +270,30 @@ std::string IncreaseToOne(ContinuationRun& run, const char* stage, const char* w
 
 }  // namespace
 
-ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps,
-                                          const ContinuationOptions& options, Eigen::VectorXd& y,
-                                          const Eigen::VectorXd* warm) {
-  options.Validate();
-  ContinuationRun run(family, steps, options, y);
-  const double gamma_target = family(1.0).gamma();
+namespace {
+
+// The continuation stages on the run's current grid, from `first` at the start parameters.
+// Returns why it failed, or an empty string when the target problem was solved.
+std::string RunStages(ContinuationRun& run, const ContinuationOptions& options, double gamma_target,
+                      const Eigen::VectorXd& first) {
   double p = options.path_start;
   double s = options.stiffness_start;
   double gamma = std::max(options.gamma_start, gamma_target);
-
-  Eigen::VectorXd first = (warm != nullptr) ? *warm : Eigen::VectorXd();
   if (!run.Attempt("initial", p, s, gamma, first)) {
-    return run.Finish(false, fmt::format("the initial problem (p = {}, s = {}, gamma = {}) did "
-                                         "not converge: {}",
-                                         p, s, gamma, run.last_newton().message));
+    return fmt::format("the initial problem (p = {}, s = {}, gamma = {}) did not converge: {}", p,
+                       s, gamma, run.last_newton().message);
   }
   std::string failure =
       IncreaseToOne(run, "path", "p = ", p, options.path_increase, options.min_increase,
                     [&](double trial) { return run.Attempt("path", trial, s, gamma, run.y()); });
-  if (!failure.empty()) return run.Finish(false, failure);
+  if (!failure.empty()) return failure;
   failure = IncreaseToOne(
       run, "stiffness", "scale ", s, options.stiffness_increase, options.min_increase,
       [&](double trial) { return run.Attempt("stiffness", p, trial, gamma, run.y()); });
-  if (!failure.empty()) return run.Finish(false, failure);
+  if (!failure.empty()) return failure;
   double cd = options.gamma_decrease;
   while (gamma > gamma_target) {
-    if (!run.BudgetLeft()) {
-      return run.Finish(false, "Newton solve budget exhausted in the gamma stage");
-    }
+    if (!run.BudgetLeft()) return "Newton solve budget exhausted in the gamma stage";
     double trial = gamma * cd;
     if (trial <= gamma_target * (1.0 + 1e-12)) trial = gamma_target;
     if (run.Attempt("gamma", p, s, trial, run.y())) {
@@ -271,11 +301,59 @@ ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps
     } else {
       cd = std::sqrt(cd);
       if (1.0 - cd < options.min_increase) {
-        return run.Finish(false, fmt::format("gamma continuation stalled at gamma = {}", gamma));
+        return fmt::format("gamma continuation stalled at gamma = {}", gamma);
       }
     }
   }
-  return run.Finish(true, "");
+  return "";
+}
+
+// The stages on grids[0], then Newton on each finer grid from the prolonged solution. Returns
+// false (y unusable) when a solve fails.
+bool SolveCoarseToFine(const ProblemFamily& family, const std::vector<int>& grids,
+                       const ContinuationOptions& options, ContinuationRun& run) {
+  const TrackingProblem target = family(1.0);
+  run.SetGrid(grids.front());
+  if (!RunStages(run, options, target.gamma(), Eigen::VectorXd()).empty()) return false;
+  for (std::size_t k = 1; k < grids.size(); ++k) {
+    if (!run.BudgetLeft()) return false;
+    const PontryaginDiscretization coarse(target, grids[k - 1]);
+    const PontryaginDiscretization fine(target, grids[k]);
+    run.SetGrid(grids[k]);
+    if (!run.Attempt("refine", 1.0, 1.0, target.gamma(),
+                     InterpolateSolution(coarse, run.y(), fine))) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<int> ContinuationGrids(int steps, const ContinuationOptions& options, bool warm) {
+  std::vector<int> grids = {steps};
+  if (warm || options.coarse_steps <= 0) return grids;
+  while (grids.back() > options.coarse_steps) {
+    grids.push_back((grids.back() + options.refine_factor - 1) / options.refine_factor);
+  }
+  std::reverse(grids.begin(), grids.end());
+  return grids;
+}
+
+ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps,
+                                          const ContinuationOptions& options, Eigen::VectorXd& y,
+                                          const Eigen::VectorXd* warm) {
+  options.Validate();
+  ContinuationRun run(family, options, y);
+  const std::vector<int> grids = ContinuationGrids(steps, options, warm != nullptr);
+  if (grids.size() > 1 && SolveCoarseToFine(family, grids, options, run)) {
+    return run.Finish(true, "");
+  }
+  // The plain path (also the fallback when the coarse-to-fine path failed).
+  run.SetGrid(steps);
+  const Eigen::VectorXd first = (warm != nullptr) ? *warm : Eigen::VectorXd();
+  const std::string failure = RunStages(run, options, family(1.0).gamma(), first);
+  return run.Finish(failure.empty(), failure);
 }
 
 Eigen::VectorXd InterpolateSolution(const PontryaginDiscretization& from, const Eigen::VectorXd& y,

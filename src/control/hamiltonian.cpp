@@ -3,144 +3,102 @@
 #include <algorithm>
 #include <cmath>
 
-#include "control/jet.h"
+#include "control/hamiltonian_internal.h"
+#include "control/spring_term.h"
 
 namespace moreau::control {
 namespace {
-
-using internal::Apply;
-using internal::Jet2;
-
-// One local variable of a spring term as a linear combination of at most two global variables
-// (index into the stacked (z, ρ) vector of size 2n) plus a constant (fixed nodes).
-struct LocalMap {
-  int count = 0;
-  int index[2] = {0, 0};
-  double coef[2] = {0.0, 0.0};
-  void Add(int i, double c) {
-    index[count] = i;
-    coef[count] = c;
-    ++count;
-  }
-};
-
-// Per-spring local quantities: Δx, Δv, e (d each) with their maps to (z, ρ).
-struct SpringLocal {
-  double dx[3] = {0, 0, 0};
-  double dv[3] = {0, 0, 0};
-  double e[3] = {0, 0, 0};
-  LocalMap map[9];
-};
-
-void GatherSpring(const SpringNetwork& net, const Instant& instant, const Eigen::VectorXd& z,
-                  const Eigen::VectorXd& rho, const NetworkSpring& sp, SpringLocal& loc) {
-  const int d = net.dimension();
-  const int n = net.state_size();
-  for (int i = 0; i < 3 * d; ++i) loc.map[i] = LocalMap{};
-  const int ends[2] = {sp.a, sp.b};
-  const double sign[2] = {-1.0, 1.0};
-  for (int side = 0; side < 2; ++side) {
-    const int j = ends[side];
-    const int k = net.free_index(j);
-    const double s = sign[side];
-    for (int i = 0; i < d; ++i) {
-      if (k < 0) {
-        loc.dx[i] += s * instant.fixed_position[d * j + i];
-        loc.dv[i] += s * instant.fixed_velocity[d * j + i];
-      } else {
-        const int base = 2 * d * k;
-        const double inv_m = 1.0 / net.node(j).mass;
-        loc.dx[i] += s * z[base + i];
-        loc.dv[i] += s * z[base + d + i];
-        loc.e[i] += s * inv_m * rho[base + d + i];
-        loc.map[i].Add(base + i, s);
-        loc.map[d + i].Add(base + d + i, s);
-        loc.map[2 * d + i].Add(n + base + d + i, s * inv_m);
-      }
-    }
-  }
-}
 
 double LogCosh(double y) {
   const double a = std::abs(y);
   return a + std::log1p(std::exp(-2.0 * a)) - std::log(2.0);
 }
 
-// φ(Δx, Δv, e) = S^γ(κ e·u) − κ e·Δx − ξ (e·u)(u·Δv) with its derivatives in the 3d local
-// variables (Δx, Δv, e).
+// One spring's local variables Δx, Δv, e (hamiltonian.h) and where its free ends sit in z and ρ.
 template <int D>
-Jet2<3 * D> SpringJet(const SpringLocal& loc, const NetworkSpring& sp, double gamma) {
-  using J = Jet2<3 * D>;
-  J dx[D], dv[D], e[D];
-  for (int i = 0; i < D; ++i) {
-    dx[i] = J::Variable(loc.dx[i], i);
-    dv[i] = J::Variable(loc.dv[i], D + i);
-    e[i] = J::Variable(loc.e[i], 2 * D + i);
+struct SpringGather {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  Vec dx = Vec::Zero(), dv = Vec::Zero(), e = Vec::Zero();
+  int ends = 0;                  // free ends (1 or 2)
+  int base[2] = {0, 0};          // 2 d k: the ends' x block; v (and ζ) at base + d
+  double sign[2] = {0.0, 0.0};   // −1 for node a, +1 for node b
+  double scale[2] = {0.0, 0.0};  // sign / mass: ∂e/∂ζ
+};
+
+template <int D>
+void Gather(const SpringNetwork& net, const Instant& instant, const Eigen::VectorXd& z,
+            const Eigen::VectorXd& rho, const NetworkSpring& sp, SpringGather<D>& g) {
+  const int ends[2] = {sp.a, sp.b};
+  for (int side = 0; side < 2; ++side) {
+    const int j = ends[side];
+    const int k = net.free_index(j);
+    const double s = side == 0 ? -1.0 : 1.0;
+    if (k < 0) {
+      g.dx += s * instant.fixed_position.segment<D>(D * j);
+      g.dv += s * instant.fixed_velocity.segment<D>(D * j);
+      continue;
+    }
+    const int base = 2 * D * k;
+    const double scale = s / net.node(j).mass;
+    g.dx += s * z.segment<D>(base);
+    g.dv += s * z.segment<D>(base + D);
+    g.e += scale * rho.segment<D>(base + D);
+    g.base[g.ends] = base;
+    g.sign[g.ends] = s;
+    g.scale[g.ends] = scale;
+    ++g.ends;
   }
-  J l2 = dx[0] * dx[0];
-  J edx = e[0] * dx[0];
-  J dxdv = dx[0] * dv[0];
-  for (int i = 1; i < D; ++i) {
-    l2 = l2 + dx[i] * dx[i];
-    edx = edx + e[i] * dx[i];
-    dxdv = dxdv + dx[i] * dv[i];
+}
+
+// Adds one spring's φ (spring_term.h) and its derivatives, mapped to (z, ρ) through
+// Δx = Σ ±x, Δv = Σ ±v, e = Σ ±ζ/m, into `out`.
+template <int D>
+void ScatterSpring(const SpringGather<D>& g, const internal::SpringTerm<D>& t, bool hessian,
+                   HamiltonianEval& out) {
+  out.value += t.value;
+  for (int i = 0; i < g.ends; ++i) {
+    const int xi = g.base[i], vi = g.base[i] + D;
+    out.dz.segment<D>(xi) += g.sign[i] * t.gx;
+    out.dz.segment<D>(vi) += g.sign[i] * t.gv;
+    out.drho.segment<D>(vi) += g.scale[i] * t.ge;
+    if (!hessian) continue;
+    for (int j = 0; j < g.ends; ++j) {
+      const int xj = g.base[j], vj = g.base[j] + D;
+      const double ss = g.sign[i] * g.sign[j];
+      out.zz.block<D, D>(xi, xj) += ss * t.xx;
+      out.zz.block<D, D>(xi, vj) += ss * t.xv;
+      out.zz.block<D, D>(vi, xj) += ss * t.xv.transpose();
+      const double es = g.scale[i] * g.sign[j];
+      out.rho_z.block<D, D>(vi, xj) += es * t.xe.transpose();
+      out.rho_z.block<D, D>(vi, vj) += es * t.ve.transpose();
+      out.rho_rho.block<D, D>(vi, vj) += g.scale[i] * g.scale[j] * t.ee;
+    }
   }
-  const double q = l2.v;
-  const double inv_l = 1.0 / std::sqrt(q);
-  const J rinv_l = Apply(l2, inv_l, -0.5 * inv_l / q, 0.75 * inv_l / (q * q));
-  const J rinv_l2 = Apply(l2, 1.0 / q, -1.0 / (q * q), 2.0 / (q * q * q));
-  const J p = sp.stiffness * (edx * rinv_l);
-  const SmoothMin s = RegularizedSpringMin(p.v, sp.rest_min, sp.rest_max, gamma);
-  const J smin = Apply(p, s.value, s.slope, s.curvature);
-  return smin - sp.stiffness * edx - sp.damping * (edx * dxdv * rinv_l2);
 }
 
 template <int D>
 void AddSprings(const TrackingProblem& problem, const Instant& instant, const Eigen::VectorXd& z,
                 const Eigen::VectorXd& rho, HamiltonianOrder order, HamiltonianEval& out) {
+  const bool hessian = order == HamiltonianOrder::kHessian;
+  internal::SpringTerm<D> term;
+  for (const NetworkSpring& sp : problem.network().springs()) {
+    SpringGather<D> g;
+    Gather<D>(problem.network(), instant, z, rho, sp, g);
+    internal::EvaluateSpringTerm<D>(g.dx, g.dv, g.e, sp, problem.gamma(), hessian, term);
+    ScatterSpring<D>(g, term, hessian, out);
+  }
+}
+
+template <int D>
+void SwitchingFunctionsOf(const TrackingProblem& problem, const Instant& instant,
+                          const Eigen::VectorXd& z, const Eigen::VectorXd& rho,
+                          Eigen::VectorXd& p) {
   const SpringNetwork& net = problem.network();
-  const int n = net.state_size();
-  SpringLocal loc;
-  for (const NetworkSpring& sp : net.springs()) {
-    loc = SpringLocal{};
-    GatherSpring(net, instant, z, rho, sp, loc);
-    const Jet2<3 * D> phi = SpringJet<D>(loc, sp, problem.gamma());
-    out.value += phi.v;
-    for (int a = 0; a < 3 * D; ++a) {
-      const LocalMap& ma = loc.map[a];
-      for (int r = 0; r < ma.count; ++r) {
-        const int gi = ma.index[r];
-        const double g = ma.coef[r] * phi.g[a];
-        if (gi < n) {
-          out.dz[gi] += g;
-        } else {
-          out.drho[gi - n] += g;
-        }
-      }
-    }
-    if (order != HamiltonianOrder::kHessian) continue;
-    for (int a = 0; a < 3 * D; ++a) {
-      const LocalMap& ma = loc.map[a];
-      for (int b = 0; b < 3 * D; ++b) {
-        const LocalMap& mb = loc.map[b];
-        const double hab = phi.h(a, b);
-        if (hab == 0.0) continue;
-        for (int r = 0; r < ma.count; ++r) {
-          for (int c = 0; c < mb.count; ++c) {
-            const int gi = ma.index[r], gj = mb.index[c];
-            const double v = ma.coef[r] * mb.coef[c] * hab;
-            if (gi < n && gj < n) {
-              out.zz(gi, gj) += v;
-            } else if (gi >= n && gj < n) {
-              out.rho_z(gi - n, gj) += v;
-            } else if (gi >= n && gj >= n) {
-              out.rho_rho(gi - n, gj - n) += v;
-            }
-            // (z row, ρ column) entries are the transpose of rho_z; added from the other order.
-          }
-        }
-      }
-    }
+  p.setZero(net.num_springs());
+  for (int s = 0; s < net.num_springs(); ++s) {
+    SpringGather<D> g;
+    Gather<D>(net, instant, z, rho, net.spring(s), g);
+    p[s] = net.spring(s).stiffness * g.e.dot(g.dx) / g.dx.norm();
   }
 }
 
@@ -181,9 +139,11 @@ SmoothMin RegularizedSpringMin(double p, double rest_min, double rest_max, doubl
   return s;
 }
 
-void EvaluateRegularizedHamiltonian(const TrackingProblem& problem, const Instant& instant,
-                                    const Eigen::VectorXd& z, const Eigen::VectorXd& rho,
-                                    HamiltonianOrder order, HamiltonianEval& out) {
+namespace internal {
+
+void AddTransportAndCost(const TrackingProblem& problem, const Instant& instant,
+                         const Eigen::VectorXd& z, const Eigen::VectorXd& rho,
+                         HamiltonianOrder order, HamiltonianEval& out) {
   const SpringNetwork& net = problem.network();
   const int d = net.dimension();
   const int n = net.state_size();
@@ -218,7 +178,15 @@ void EvaluateRegularizedHamiltonian(const TrackingProblem& problem, const Instan
       }
     }
   }
-  switch (d) {
+}
+
+}  // namespace internal
+
+void EvaluateRegularizedHamiltonian(const TrackingProblem& problem, const Instant& instant,
+                                    const Eigen::VectorXd& z, const Eigen::VectorXd& rho,
+                                    HamiltonianOrder order, HamiltonianEval& out) {
+  internal::AddTransportAndCost(problem, instant, z, rho, order, out);
+  switch (problem.network().dimension()) {
     case 1:
       AddSprings<1>(problem, instant, z, rho, order, out);
       break;
@@ -234,19 +202,16 @@ void EvaluateRegularizedHamiltonian(const TrackingProblem& problem, const Instan
 
 void SwitchingFunctions(const TrackingProblem& problem, const Instant& instant,
                         const Eigen::VectorXd& z, const Eigen::VectorXd& rho, Eigen::VectorXd& p) {
-  const SpringNetwork& net = problem.network();
-  const int d = net.dimension();
-  p.setZero(net.num_springs());
-  SpringLocal loc;
-  for (int s = 0; s < net.num_springs(); ++s) {
-    loc = SpringLocal{};
-    GatherSpring(net, instant, z, rho, net.spring(s), loc);
-    double l2 = 0.0, edx = 0.0;
-    for (int i = 0; i < d; ++i) {
-      l2 += loc.dx[i] * loc.dx[i];
-      edx += loc.e[i] * loc.dx[i];
-    }
-    p[s] = net.spring(s).stiffness * edx / std::sqrt(l2);
+  switch (problem.network().dimension()) {
+    case 1:
+      SwitchingFunctionsOf<1>(problem, instant, z, rho, p);
+      break;
+    case 2:
+      SwitchingFunctionsOf<2>(problem, instant, z, rho, p);
+      break;
+    default:
+      SwitchingFunctionsOf<3>(problem, instant, z, rho, p);
+      break;
   }
 }
 

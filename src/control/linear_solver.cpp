@@ -19,9 +19,103 @@ const char* ToString(LinearSolverType type) {
 LinearSolverType ParseLinearSolverType(const std::string& text) {
   if (text == "riccati") return LinearSolverType::kRiccati;
   if (text == "sparse_lu") return LinearSolverType::kSparseLU;
-  throw InputError(
-      fmt::format("unknown linear solver '{}' (expected riccati or sparse_lu)", text));
+  throw InputError(fmt::format("unknown linear solver '{}' (expected riccati or sparse_lu)", text));
 }
+
+namespace {
+
+// The Riccati sweeps on n × n blocks, with S = n known at compile time for the common state sizes
+// (fixed-size Eigen products and LU are unrolled and vectorised) or S = Eigen::Dynamic. The
+// blocks stay in dynamic storage and are viewed through maps.
+template <int S>
+struct RiccatiKernel {
+  using Mat = Eigen::Matrix<double, S, S>;
+  using Vec = Eigen::Matrix<double, S, 1>;
+  using MatMap = Eigen::Map<Mat>;
+  using ConstMatMap = Eigen::Map<const Mat>;
+  using VecMap = Eigen::Map<Vec>;
+  using ConstVecMap = Eigen::Map<const Vec>;
+
+  // P_n, K_n and M_n⁻¹ for n = N−1 … 0 (p[N] given). False on a singular or non-finite block.
+  static bool Factorize(const PontryaginJacobian& J, int n, std::vector<Eigen::MatrixXd>& p,
+                        std::vector<Eigen::MatrixXd>& k, std::vector<Eigen::MatrixXd>& m_inv) {
+    Mat m(n, n), ptk(n, n);
+    for (std::size_t s = k.size(); s-- > 0;) {
+      const ConstMatMap A(J.A[s].data(), n, n), B(J.B[s].data(), n, n), C(J.C[s].data(), n, n);
+      const ConstMatMap p_next(p[s + 1].data(), n, n);
+      m.noalias() = -B * p_next;
+      m.diagonal().array() += 1.0;
+      const Eigen::PartialPivLU<Mat> lu(m);
+      if (!(lu.rcond() > 1e-14)) return false;
+      m_inv[s].resize(n, n);
+      k[s].resize(n, n);
+      p[s].resize(n, n);
+      MatMap(m_inv[s].data(), n, n) = lu.inverse();
+      MatMap K(k[s].data(), n, n);
+      K = lu.solve(A);
+      ptk.noalias() = p_next * K;
+      MatMap P(p[s].data(), n, n);
+      P = C;
+      P.noalias() += A.transpose() * ptk;
+      if (!P.allFinite()) return false;
+    }
+    return true;
+  }
+
+  // Backward sweep for q_n, v_n, then forward for δz, δρ (x in the layout of pontryagin.h).
+  static void Solve(const PontryaginJacobian& J, int n, const std::vector<Eigen::MatrixXd>& p,
+                    const std::vector<Eigen::MatrixXd>& k,
+                    const std::vector<Eigen::MatrixXd>& m_inv, const Eigen::VectorXd& rhs,
+                    std::vector<Eigen::VectorXd>& q, std::vector<Eigen::VectorXd>& v,
+                    Eigen::VectorXd& x) {
+    const std::size_t N = k.size();
+    Vec tmp(n), tmp2(n);
+    q[N].setZero(n);
+    for (std::size_t s = N; s-- > 0;) {
+      const Eigen::Index off = 2 * n * static_cast<Eigen::Index>(s);
+      const ConstVecMap q_next(q[s + 1].data(), n);
+      tmp = rhs.segment(off, n);
+      tmp.noalias() += ConstMatMap(J.B[s].data(), n, n) * q_next;
+      v[s].resize(n);
+      VecMap(v[s].data(), n).noalias() = ConstMatMap(m_inv[s].data(), n, n) * tmp;
+      tmp2 = q_next;
+      tmp2.noalias() += ConstMatMap(p[s + 1].data(), n, n) * ConstVecMap(v[s].data(), n);
+      q[s].resize(n);
+      VecMap qs(q[s].data(), n);
+      qs = rhs.segment(off + n, n);
+      qs.noalias() += ConstMatMap(J.A[s].data(), n, n).transpose() * tmp2;
+    }
+    tmp.setZero(n);  // δz^s, from δz^0 = 0
+    for (std::size_t s = 0; s < N; ++s) {
+      const Eigen::Index off = 2 * n * static_cast<Eigen::Index>(s);
+      x.segment(off + n, n) = ConstVecMap(q[s].data(), n);
+      x.segment(off + n, n).noalias() += ConstMatMap(p[s].data(), n, n) * tmp;
+      tmp2 = ConstVecMap(v[s].data(), n);
+      tmp2.noalias() += ConstMatMap(k[s].data(), n, n) * tmp;
+      x.segment(off, n) = tmp2;
+      tmp = tmp2;
+    }
+  }
+};
+
+// Calls f(RiccatiKernel<S>{}) with S = n for the sizes compiled fixed, else S = Eigen::Dynamic.
+template <typename F>
+auto DispatchStateSize(int n, F&& f) {
+  switch (n) {
+    case 8:
+      return f(RiccatiKernel<8>{});
+    case 12:
+      return f(RiccatiKernel<12>{});
+    case 16:
+      return f(RiccatiKernel<16>{});
+    case 24:
+      return f(RiccatiKernel<24>{});
+    default:
+      return f(RiccatiKernel<Eigen::Dynamic>{});
+  }
+}
+
+}  // namespace
 
 bool RiccatiSolver::Factorize(const PontryaginDiscretization& disc,
                               const PontryaginJacobian& jacobian) {
@@ -31,55 +125,19 @@ bool RiccatiSolver::Factorize(const PontryaginDiscretization& disc,
   const auto N = static_cast<std::size_t>(steps_);
   p_.resize(N + 1);
   k_.resize(N);
-  lu_.resize(N);
+  m_inv_.resize(N);
   q_.resize(N + 1);
   v_.resize(N);
   p_[N] = jacobian.G.asDiagonal();
-  Eigen::MatrixXd m(n_, n_), ptk(n_, n_);
-  for (std::size_t k = N; k-- > 0;) {
-    const Eigen::MatrixXd& A = jacobian.A[k];
-    const Eigen::MatrixXd& B = jacobian.B[k];
-    const Eigen::MatrixXd& C = jacobian.C[k];
-    m.noalias() = -B * p_[k + 1];
-    m.diagonal().array() += 1.0;
-    lu_[k].compute(m);
-    if (!(lu_[k].rcond() > 1e-14)) return false;
-    k_[k] = lu_[k].solve(A);
-    ptk.noalias() = p_[k + 1] * k_[k];
-    p_[k] = C;
-    p_[k].noalias() += A.transpose() * ptk;
-    if (!p_[k].allFinite()) return false;
-  }
-  return true;
+  return DispatchStateSize(
+      n_, [&](auto kernel) { return decltype(kernel)::Factorize(jacobian, n_, p_, k_, m_inv_); });
 }
 
 void RiccatiSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
-  const PontryaginJacobian& J = *jacobian_;
-  const auto N = static_cast<std::size_t>(steps_);
-  const Eigen::Index n = n_;
   x.resize(rhs.size());
-  q_[N].setZero(n);
-  for (std::size_t k = N; k-- > 0;) {
-    const Eigen::Index off = 2 * n * static_cast<Eigen::Index>(k);
-    tmp_ = rhs.segment(off, n);
-    tmp_.noalias() += J.B[k] * q_[k + 1];
-    v_[k] = lu_[k].solve(tmp_);
-    tmp2_ = q_[k + 1];
-    tmp2_.noalias() += p_[k + 1] * v_[k];
-    q_[k] = rhs.segment(off + n, n);
-    q_[k].noalias() += J.A[k].transpose() * tmp2_;
-  }
-  // Forward: δz^0 = 0.
-  tmp_.setZero(n);  // δz^k
-  for (std::size_t k = 0; k < N; ++k) {
-    const Eigen::Index off = 2 * n * static_cast<Eigen::Index>(k);
-    x.segment(off + n, n) = q_[k];
-    x.segment(off + n, n).noalias() += p_[k] * tmp_;
-    tmp2_ = v_[k];
-    tmp2_.noalias() += k_[k] * tmp_;
-    x.segment(off, n) = tmp2_;
-    tmp_ = tmp2_;
-  }
+  DispatchStateSize(n_, [&](auto kernel) {
+    decltype(kernel)::Solve(*jacobian_, n_, p_, k_, m_inv_, rhs, q_, v_, x);
+  });
 }
 
 bool SparseLuSolver::Factorize(const PontryaginDiscretization& disc,

@@ -110,6 +110,7 @@ void NewtonOptions::Validate() const {
   if (!(min_step > 0.0 && min_step <= 1.0)) {
     throw InputError(fmt::format("newton.min_step: must be in (0, 1], got {}", min_step));
   }
+  if (threads < 0) throw InputError(fmt::format("newton.threads: must be >= 0, got {}", threads));
   if (!(divergence_threshold > residual_tolerance)) {
     throw InputError("newton.divergence_threshold: must exceed newton.residual_tolerance");
   }
@@ -121,7 +122,8 @@ nlohmann::json NewtonOptions::ToJson() const {
           {"linear_solver", control::ToString(linear_solver)},
           {"armijo", armijo},
           {"min_step", min_step},
-          {"divergence_threshold", divergence_threshold}};
+          {"divergence_threshold", divergence_threshold},
+          {"threads", threads}};
 }
 
 nlohmann::json NewtonSummary::ToJson() const {
@@ -194,6 +196,7 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
     solver = std::make_unique<SparseLuSolver>();
   }
   PontryaginWorkspace ws;
+  ws.threads = options.threads;
   Eigen::VectorXd residual, trial_residual, step, trial;
   Stopwatch phase;
   double norm = EvaluateResidualAndJacobian(disc, y, ws, residual);

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -68,54 +71,71 @@ void PontryaginDiscretization::Unpack(const Eigen::VectorXd& y, Eigen::MatrixXd&
 
 namespace {
 
-// Loads z^n and ρ^{n+1} (with ρ^N = Dg(z^N)) into the workspace.
+// Loads z^n and ρ^{n+1} (with ρ^N = dg = Dg(z^N)) into the scratch.
 void LoadStep(const PontryaginDiscretization& disc, const Eigen::VectorXd& y, int n,
-              PontryaginWorkspace& ws) {
-  const int N = disc.steps();
+              const Eigen::VectorXd& dg, PontryaginStepScratch& s) {
   if (n == 0) {
-    ws.zn = disc.initial_state();
+    s.zn = disc.initial_state();
   } else {
-    ws.zn = disc.Z(y, n);
+    s.zn = disc.Z(y, n);
   }
-  if (n + 1 == N) {
-    Eigen::VectorXd zN = disc.Z(y, N);
-    TerminalCost(disc.problem(), disc.instant(N), zN, &ws.dg, nullptr);
-    ws.rho_next = ws.dg;
+  if (n + 1 == disc.steps()) {
+    s.rho_next = dg;
   } else {
-    ws.rho_next = disc.Rho(y, n + 1);
+    s.rho_next = disc.Rho(y, n + 1);
+  }
+}
+
+// Threads for a sweep over N steps: one below 64 steps (not worth a parallel region).
+int SweepThreads(int requested, int steps) {
+  if (steps < 64) return 1;
+  return requested > 0 ? requested : std::max(1, omp_get_max_threads());
+}
+
+// Residual block n (and its Jacobian blocks): touches only block n of the outputs.
+void EvaluateStep(const PontryaginDiscretization& disc, const Eigen::VectorXd& y, int n,
+                  HamiltonianOrder order, PontryaginWorkspace& ws, PontryaginStepScratch& s,
+                  Eigen::VectorXd& residual) {
+  const int nz = disc.state_size();
+  const double dt = disc.dt();
+  LoadStep(disc, y, n, ws.dg, s);
+  EvaluateRegularizedHamiltonian(disc.problem(), disc.instant(n), s.zn, s.rho_next, order, s.eval);
+  const Eigen::Index off = static_cast<Eigen::Index>(2 * nz) * n;
+  residual.segment(off, nz) = disc.Z(y, n + 1) - s.zn - dt * s.eval.drho;
+  residual.segment(off + nz, nz) = disc.Rho(y, n) - s.rho_next - dt * s.eval.dz;
+  if (order == HamiltonianOrder::kHessian) {
+    PontryaginJacobian& J = ws.jacobian;
+    const auto k = static_cast<std::size_t>(n);
+    J.A[k] = dt * s.eval.rho_z;
+    J.A[k].diagonal().array() += 1.0;
+    J.B[k] = dt * s.eval.rho_rho;
+    J.C[k] = dt * s.eval.zz;
   }
 }
 
 double ResidualImpl(const PontryaginDiscretization& disc, const Eigen::VectorXd& y,
                     PontryaginWorkspace& ws, Eigen::VectorXd& residual, bool jacobian) {
   const int N = disc.steps();
-  const int nz = disc.state_size();
-  const double dt = disc.dt();
   residual.resize(disc.unknowns());
   PontryaginJacobian& J = ws.jacobian;
+  const Eigen::VectorXd zN = disc.Z(y, N);
+  TerminalCost(disc.problem(), disc.instant(N), zN, &ws.dg, jacobian ? &J.G : nullptr);
   if (jacobian) {
     J.A.resize(static_cast<std::size_t>(N));
     J.B.resize(static_cast<std::size_t>(N));
     J.C.resize(static_cast<std::size_t>(N));
-    Eigen::VectorXd zN = disc.Z(y, N), g;
-    TerminalCost(disc.problem(), disc.instant(N), zN, &g, &J.G);
   }
   const HamiltonianOrder order =
       jacobian ? HamiltonianOrder::kHessian : HamiltonianOrder::kGradient;
+  const int threads = SweepThreads(ws.threads, N);
+  if (ws.scratch.size() < static_cast<std::size_t>(threads)) {
+    ws.scratch.resize(static_cast<std::size_t>(threads));
+  }
+  // Each step writes only its own blocks, so the result does not depend on the thread count.
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
   for (int n = 0; n < N; ++n) {
-    LoadStep(disc, y, n, ws);
-    EvaluateRegularizedHamiltonian(disc.problem(), disc.instant(n), ws.zn, ws.rho_next, order,
-                                   ws.eval);
-    const Eigen::Index off = static_cast<Eigen::Index>(2 * nz) * n;
-    residual.segment(off, nz) = disc.Z(y, n + 1) - ws.zn - dt * ws.eval.drho;
-    residual.segment(off + nz, nz) = disc.Rho(y, n) - ws.rho_next - dt * ws.eval.dz;
-    if (jacobian) {
-      const auto k = static_cast<std::size_t>(n);
-      J.A[k] = dt * ws.eval.rho_z;
-      J.A[k].diagonal().array() += 1.0;
-      J.B[k] = dt * ws.eval.rho_rho;
-      J.C[k] = dt * ws.eval.zz;
-    }
+    PontryaginStepScratch& s = ws.scratch[static_cast<std::size_t>(omp_get_thread_num())];
+    EvaluateStep(disc, y, n, order, ws, s, residual);
   }
   if (!residual.allFinite()) return std::numeric_limits<double>::infinity();
   return residual.lpNorm<Eigen::Infinity>();
@@ -177,25 +197,31 @@ Eigen::SparseMatrix<double> AssembleSparseJacobian(const PontryaginDiscretizatio
 double DiscreteValue(const PontryaginDiscretization& disc, const Eigen::VectorXd& y,
                      PontryaginWorkspace& ws) {
   const int N = disc.steps();
+  const Eigen::VectorXd zN = disc.Z(y, N);
+  const double terminal = TerminalCost(disc.problem(), disc.instant(N), zN, &ws.dg, nullptr);
+  if (ws.scratch.empty()) ws.scratch.resize(1);
+  PontryaginStepScratch& s = ws.scratch.front();
   double value = 0.0;
   for (int n = 0; n < N; ++n) {
-    LoadStep(disc, y, n, ws);
-    EvaluateRegularizedHamiltonian(disc.problem(), disc.instant(n), ws.zn, ws.rho_next,
-                                   HamiltonianOrder::kGradient, ws.eval);
-    value += ws.eval.running_cost * disc.dt();
+    LoadStep(disc, y, n, ws.dg, s);
+    EvaluateRegularizedHamiltonian(disc.problem(), disc.instant(n), s.zn, s.rho_next,
+                                   HamiltonianOrder::kGradient, s.eval);
+    value += s.eval.running_cost * disc.dt();
   }
-  Eigen::VectorXd zN = disc.Z(y, N);
-  return value + TerminalCost(disc.problem(), disc.instant(N), zN);
+  return value + terminal;
 }
 
 Eigen::MatrixXd EffectiveControls(const PontryaginDiscretization& disc, const Eigen::VectorXd& y) {
   const int N = disc.steps();
-  PontryaginWorkspace ws;
+  PontryaginStepScratch s;
+  Eigen::VectorXd dg;
+  const Eigen::VectorXd zN = disc.Z(y, N);
+  TerminalCost(disc.problem(), disc.instant(N), zN, &dg, nullptr);
   Eigen::MatrixXd controls(disc.problem().network().num_springs(), N);
   Eigen::VectorXd rest;
   for (int n = 0; n < N; ++n) {
-    LoadStep(disc, y, n, ws);
-    EffectiveRestLengths(disc.problem(), disc.instant(n), ws.zn, ws.rho_next, rest);
+    LoadStep(disc, y, n, dg, s);
+    EffectiveRestLengths(disc.problem(), disc.instant(n), s.zn, s.rho_next, rest);
     controls.col(n) = rest;
   }
   return controls;

@@ -31,8 +31,8 @@ TEST(ControlOscillator, ThesisSection91Reproduced) {
     EXPECT_TRUE(l.ok()) << "N = " << l.steps << ": " << l.message;
     EXPECT_LT(l.residual, 1e-10) << "N = " << l.steps;
     EXPECT_LE(l.newton_iterations, 8);
-    const ValueErrorBounds b = Theorem51Bounds({0.352, 2.00069, 0.0, 3.51772e-5}, ex.horizon,
-                                               ex.horizon / l.steps);
+    const ValueErrorBounds b =
+        Theorem51Bounds({0.352, 2.00069, 0.0, 3.51772e-5}, ex.horizon, ex.horizon / l.steps);
     const double diff = finest.value - l.value;  // u − ū_N with u ≈ ū_4000
     EXPECT_GE(diff, b.lower) << "N = " << l.steps;
     EXPECT_LE(diff, b.upper) << "N = " << l.steps;
@@ -150,6 +150,46 @@ TEST(ControlArm, SolvesDirectlyAtSmallN) {
   const ContinuationSummary s = SolveWithContinuation(family, 64, ContinuationOptions{}, y);
   ASSERT_TRUE(s.ok()) << s.BriefReport();
   EXPECT_LT(s.last_newton.final_residual, 1e-10);
+}
+
+TEST(ControlArmSlow, CoarseToFineReachesThePlainPathsSolution) {
+  // From the documented start at N = 1024: continuation on 512 steps (the default coarse grid),
+  // Newton on 1024, against every stage on 1024 steps (the plain path). The same fixed point:
+  // controls within 1e-8. (From 64 steps the refinement to 128 fails and the plain path runs: the
+  // coarse grid has to resolve the switches of the controls.)
+  const ArmExample ex;
+  const ProblemFamily family = [&ex](double p) { return MakeArmProblem(ex, p); };
+  ContinuationOptions plain = ArmContinuation();
+  plain.coarse_steps = 0;
+  ContinuationOptions c2f = ArmContinuation();
+  c2f.coarse_steps = 512;
+  c2f.refine_factor = 2;
+  Eigen::VectorXd y_plain, y_c2f;
+  const ContinuationSummary sp = SolveWithContinuation(family, 1024, plain, y_plain);
+  const ContinuationSummary sc = SolveWithContinuation(family, 1024, c2f, y_c2f);
+  ASSERT_TRUE(sp.ok()) << sp.BriefReport();
+  ASSERT_TRUE(sc.ok()) << sc.BriefReport();
+  ASSERT_EQ(sp.grids.size(), 1u);
+  EXPECT_EQ(sp.grids[0].steps, 1024);
+  EXPECT_EQ(sp.grids[0].newton_iterations, sp.newton_iterations);
+  ASSERT_EQ(sc.grids.size(), 2u) << sc.ToJson()["grids"].dump();
+  EXPECT_EQ(sc.grids[0].steps, 512);
+  EXPECT_EQ(sc.grids[1].steps, 1024);
+  EXPECT_EQ(sc.grids[1].newton_solves, 1);
+  EXPECT_EQ(sc.path.back().stage, "refine");
+  EXPECT_EQ(sc.path.back().steps, 1024);
+  EXPECT_EQ(sc.gamma, 1e-4);
+  int total = 0;
+  for (const GridRecord& g : sc.grids) total += g.newton_iterations;
+  EXPECT_EQ(total, sc.newton_iterations);
+  const PontryaginDiscretization disc(family(1.0), 1024);
+  PontryaginWorkspace ws;
+  Eigen::VectorXd f;
+  EXPECT_LT(EvaluateResidual(disc, y_c2f, ws, f), 1e-10);
+  const Eigen::MatrixXd controls_plain = EffectiveControls(disc, y_plain);
+  const Eigen::MatrixXd controls_c2f = EffectiveControls(disc, y_c2f);
+  EXPECT_LT((controls_c2f - controls_plain).lpNorm<Eigen::Infinity>(), 1e-8);
+  EXPECT_EQ(sc.ToJson()["grids"].size(), 2u);
 }
 
 TEST(ControlArmSlow, ConvergesWithContinuationAndRefines) {

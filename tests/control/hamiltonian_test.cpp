@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "control/hamiltonian_internal.h"
 #include "control/random_network.h"
 
 namespace moreau::control {
@@ -136,6 +137,33 @@ TEST_P(ControlHamiltonianFd, RegularizedIsWithinDeltaAndBangBangIsTheMinimum) {
     EvaluateDynamics(net, instant.t, pt.z, minimiser, rate);
     EXPECT_NEAR(pt.rho.dot(rate) + RunningCost(problem, instant, pt.z), exact,
                 1e-12 * std::max(1.0, std::abs(exact)));
+  }
+}
+
+TEST_P(ControlHamiltonianFd, ClosedFormSpringTermsMatchTheJets) {
+  // The closed-form spring derivatives (spring_term.h) against the original forward-mode jets,
+  // on random networks with fixed nodes, at random points and far from the switching point.
+  const int d = GetParam();
+  std::mt19937 rng(5000 + d);
+  for (int trial = 0; trial < 6; ++trial) {
+    const TrackingProblem problem = RandomProblem(d, 4, 2, trial < 3 ? 0.3 : 1e-3, rng);
+    const Instant instant = MakeInstant(problem, 0.21 * trial);
+    const Point pt = RandomPoint(problem, rng);
+    for (HamiltonianOrder order :
+         {HamiltonianOrder::kValue, HamiltonianOrder::kGradient, HamiltonianOrder::kHessian}) {
+      HamiltonianEval closed, jets;
+      EvaluateRegularizedHamiltonian(problem, instant, pt.z, pt.rho, order, closed);
+      internal::EvaluateRegularizedHamiltonianWithJets(problem, instant, pt.z, pt.rho, order, jets);
+      EXPECT_NEAR(closed.value, jets.value, 1e-13 * std::max(1.0, std::abs(jets.value)));
+      EXPECT_NEAR(closed.running_cost, jets.running_cost,
+                  1e-12 * std::max(1.0, std::abs(jets.value)));
+      EXPECT_LT(RelDiff(closed.dz, jets.dz), 1e-13) << "d = " << d << ", trial " << trial;
+      EXPECT_LT(RelDiff(closed.drho, jets.drho), 1e-13);
+      if (order != HamiltonianOrder::kHessian) continue;
+      EXPECT_LT(RelDiff(closed.zz, jets.zz), 1e-13) << "d = " << d << ", trial " << trial;
+      EXPECT_LT(RelDiff(closed.rho_z, jets.rho_z), 1e-13);
+      EXPECT_LT(RelDiff(closed.rho_rho, jets.rho_rho), 1e-13);
+    }
   }
 }
 

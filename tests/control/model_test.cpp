@@ -277,6 +277,31 @@ TEST(ControlContinuation, OptionsValidateNamingTheKey) {
   o = ContinuationOptions{};
   o.fixed_point.damping = 0;
   ExpectInputError([&] { o.Validate(); }, {"fixed_point.damping"});
+  o = ContinuationOptions{};
+  o.coarse_steps = -1;
+  ExpectInputError([&] { o.Validate(); }, {"continuation.coarse_steps", "-1"});
+  o = ContinuationOptions{};
+  o.refine_factor = 1;
+  ExpectInputError([&] { o.Validate(); }, {"continuation.refine_factor", ">= 2"});
+  o = ContinuationOptions{};
+  o.newton.threads = -2;
+  ExpectInputError([&] { o.Validate(); }, {"newton.threads"});
+}
+
+TEST(ControlContinuation, CoarseToFineGridsEndOnTheRequestedGrid) {
+  ContinuationOptions o;
+  o.coarse_steps = 512;
+  o.refine_factor = 2;
+  EXPECT_EQ(ContinuationGrids(4096, o, false), (std::vector<int>{512, 1024, 2048, 4096}));
+  EXPECT_EQ(ContinuationGrids(1000, o, false), (std::vector<int>{500, 1000}));
+  EXPECT_EQ(ContinuationGrids(512, o, false), (std::vector<int>{512}));
+  EXPECT_EQ(ContinuationGrids(4096, o, true), (std::vector<int>{4096}));  // warm start: plain
+  o.refine_factor = 8;
+  EXPECT_EQ(ContinuationGrids(4096, o, false), (std::vector<int>{512, 4096}));
+  o.coarse_steps = 100;
+  EXPECT_EQ(ContinuationGrids(4096, o, false), (std::vector<int>{64, 512, 4096}));
+  o.coarse_steps = 0;
+  EXPECT_EQ(ContinuationGrids(4096, o, false), (std::vector<int>{4096}));
 }
 
 TEST(ControlStudy, MaxPositionDifferenceSamplesBothGrids) {

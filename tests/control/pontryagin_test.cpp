@@ -56,6 +56,33 @@ TEST_P(ControlPontryaginByDimension, JacobianMatchesFiniteDifferences) {
   }
 }
 
+TEST_P(ControlPontryaginByDimension, ResidualAndJacobianDoNotDependOnThreads) {
+  // Each time step writes only its own blocks: bit-identical for 1, 2 and 3 threads (N >= 64,
+  // so that the parallel region is used).
+  const int d = GetParam();
+  std::mt19937 rng(4500 + d);
+  const TrackingProblem problem = RandomProblem(d, 3, 2, 0.3, rng, true);
+  const PontryaginDiscretization disc(problem, 97);
+  const Eigen::VectorXd y = RandomUnknowns(disc, rng);
+  PontryaginWorkspace serial;
+  serial.threads = 1;
+  Eigen::VectorXd f1, f;
+  const double norm1 = EvaluateResidualAndJacobian(disc, y, serial, f1);
+  for (int threads : {2, 3}) {
+    PontryaginWorkspace ws;
+    ws.threads = threads;
+    EXPECT_EQ(EvaluateResidualAndJacobian(disc, y, ws, f), norm1);
+    EXPECT_TRUE(f == f1) << threads << " threads";
+    for (std::size_t k = 0; k < serial.jacobian.A.size(); ++k) {
+      ASSERT_TRUE(ws.jacobian.A[k] == serial.jacobian.A[k]) << "step " << k;
+      ASSERT_TRUE(ws.jacobian.B[k] == serial.jacobian.B[k]) << "step " << k;
+      ASSERT_TRUE(ws.jacobian.C[k] == serial.jacobian.C[k]) << "step " << k;
+    }
+    EXPECT_EQ(EvaluateResidual(disc, y, ws, f), norm1);
+    EXPECT_TRUE(f == f1);
+  }
+}
+
 TEST_P(ControlPontryaginByDimension, RiccatiSolveAgreesWithSparseLu) {
   const int d = GetParam();
   std::mt19937 rng(5000 + d);

@@ -88,7 +88,10 @@ FieldTable<control::ContinuationOptions> ContinuationFields() {
       .Number("gamma_start", &O::gamma_start, Range::Any(), "γ_0")
       .Number("gamma_decrease", &O::gamma_decrease, Range::Any(), "C^δ")
       .Number("min_increase", &O::min_increase, Range::Any(), "a stage gives up below this")
-      .Integer("max_solves", &O::max_solves, Range::Any(), "Newton solves in all");
+      .Integer("max_solves", &O::max_solves, Range::Any(), "Newton solves in all")
+      .Integer("coarse_steps", &O::coarse_steps, Range::Any(),
+               "coarse-to-fine: largest coarse grid (0: all stages on the requested grid)")
+      .Integer("refine_factor", &O::refine_factor, Range::Any(), "ratio of successive grids");
   return t;
 }
 
@@ -113,7 +116,8 @@ FieldTable<control::NewtonOptions> NewtonFields() {
       .Number("armijo", &O::armijo, Range::Any(), "sufficient decrease c")
       .Number("min_step", &O::min_step, Range::Any(), "smallest line-search step")
       .Number("divergence_threshold", &O::divergence_threshold, Range::Any(),
-              "‖F‖_∞ above this is divergence");
+              "‖F‖_∞ above this is divergence")
+      .Integer("threads", &O::threads, Range::Any(), "OpenMP threads over time steps (0: default)");
   return t;
 }
 

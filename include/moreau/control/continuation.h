@@ -8,6 +8,13 @@
 // (The thesis prints "C^p = √C^p" in step 6, a misprint for C^δ; Deltaforward.m does coe^.5.)
 // A stage gives up when its coefficient falls below min_increase (for δ: when 1 − C^δ does).
 // Every attempt, accepted or not, is recorded.
+//
+// Coarse to fine (coarse_steps > 0, no warm start, N > coarse_steps): the stages above run on a
+// coarse grid N_0 <= coarse_steps, N_k = ⌈N_{k+1} / refine_factor⌉, and the target solution is
+// then prolonged (InterpolateSolution) to N_1, N_2, …, N and polished there by Newton ("refine"
+// records). The last solve is Newton on the requested grid to the same tolerance, so the answer
+// is that grid's solution (the one the plain path finds when both converge to the same root). If
+// any solve of the coarse-to-fine path fails, the plain path runs on the requested grid.
 #pragma once
 
 #include <Eigen/Core>
@@ -38,6 +45,9 @@ struct ContinuationOptions {
   double gamma_decrease = 0.1;      // C^δ ∈ (0, 1)
   double min_increase = 1e-4;       // smallest coefficient before a stage gives up
   int max_solves = 400;             // Newton solves in all, accepted or not (>= 1)
+  int coarse_steps = 512;           // coarse-to-fine: largest coarse grid (>= 0; 0: every stage
+                                    // on the requested grid, the plain path)
+  int refine_factor = 2;            // ratio of successive grids (>= 2)
   FixedPointOptions fixed_point;    // initial dual from the guess (section 7.1)
   NewtonOptions newton;             // every Newton solve
   // Throws InputError("continuation.<field>: ...") on a value out of range.
@@ -47,7 +57,8 @@ struct ContinuationOptions {
 };
 
 struct ContinuationRecord {
-  std::string stage;  // "initial", "path", "stiffness", "gamma", "direct"
+  std::string stage;  // "initial", "path", "stiffness", "gamma", "refine"
+  int steps = 0;      // N of the grid solved on
   double path_fraction = 1.0;
   double stiffness_scale = 1.0;
   double gamma = 0.0;
@@ -55,8 +66,18 @@ struct ContinuationRecord {
   int newton_iterations = 0;
   double residual = 0.0;                              // ‖F‖_∞ at the end of the solve
   Termination termination = Termination::kConverged;  // of the Newton solve
-  // {"stage", "path_fraction", "stiffness_scale", "gamma", "accepted", "newton_iterations",
-  //  "residual_norm", "termination"}
+  // {"stage", "steps", "path_fraction", "stiffness_scale", "gamma", "accepted",
+  //  "newton_iterations", "residual_norm", "termination"}
+  nlohmann::json ToJson() const;
+};
+
+// The Newton solves on one grid, in the order the grids were visited.
+struct GridRecord {
+  int steps = 0;
+  int newton_solves = 0;
+  int newton_iterations = 0;
+  double total_seconds = 0.0;  // the solves on this grid, with their set-up
+  // {"steps", "newton_solves", "newton_iterations", "total_seconds"}
   nlohmann::json ToJson() const;
 };
 
@@ -67,7 +88,8 @@ struct ContinuationSummary {
   std::string message;  // why not, if not
   std::vector<ContinuationRecord> path;
   int newton_solves = 0;
-  int newton_iterations = 0;  // summed over all solves
+  int newton_iterations = 0;      // summed over all solves
+  std::vector<GridRecord> grids;  // one per visited grid (coarse to fine; the plain path: one)
   double total_seconds = 0.0;
   NewtonSummary last_newton;  // of the final accepted (or last attempted) solve
   // Parameters of the last accepted solution (y belongs to this problem).
@@ -78,8 +100,9 @@ struct ContinuationSummary {
 
   bool ok() const { return IsSuccess(termination); }
   std::string BriefReport() const;
-  // SummaryJson + newton_solves, newton_iterations, reached {path_fraction, stiffness_scale,
-  // gamma}, continuation_path, last_newton (its ToJson without settings) and settings.
+  // SummaryJson + newton_solves, newton_iterations, grids, reached {path_fraction,
+  // stiffness_scale, gamma}, continuation_path, last_newton (its ToJson without settings) and
+  // settings.
   nlohmann::json ToJson() const;
 };
 
@@ -92,12 +115,16 @@ TrackingProblem ContinuationProblem(const ProblemFamily& family, double path_fra
 Eigen::MatrixXd ReferenceGuess(const PontryaginDiscretization& disc);
 
 // Solves family(1) with N steps. If `warm` is non-null and has the right size, the first solve
-// starts from it (at the start parameters); otherwise from the fixed-point sweep on the
-// reference guess. On return y holds the last accepted solution (or the best iterate of the
-// first solve when none was accepted).
+// starts from it (at the start parameters, on the requested grid: no coarse-to-fine); otherwise
+// from the fixed-point sweep on the reference guess. On return y holds the last accepted
+// solution on the requested grid (or the best iterate of the first solve when none was
+// accepted).
 ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps,
                                           const ContinuationOptions& options, Eigen::VectorXd& y,
                                           const Eigen::VectorXd* warm = nullptr);
+
+// The grids the solve visits for N steps: {N} for the plain path, else N_0 < N_1 < … < N.
+std::vector<int> ContinuationGrids(int steps, const ContinuationOptions& options, bool warm);
 
 // Interpolates a solution y on N_from steps to N_to steps (linear in time for z and ρ).
 Eigen::VectorXd InterpolateSolution(const PontryaginDiscretization& from, const Eigen::VectorXd& y,

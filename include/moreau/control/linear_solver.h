@@ -7,7 +7,9 @@
 // Gaussian elimination of the block-tridiagonal matrix in the order (ρ^N, z^N), …, i.e. the
 // discrete Riccati recursion; each step costs O(n_z³) (one LU of M_n), so a solve costs
 // O(N n_z³) time and O(N n_z²) memory. M_n = I + |B_n| P_{n+1} is invertible whenever P_{n+1}
-// is positive semidefinite (H^δ is concave in ρ, so B_n is negative semidefinite).
+// is positive semidefinite (H^δ is concave in ρ, so B_n is negative semidefinite). State sizes
+// 8, 12, 16 and 24 use fixed-size (unrolled) blocks, others dynamic ones; the results agree to
+// rounding.
 //
 // SparseLuSolver assembles J as an Eigen sparse matrix and factorises it with SparseLU (COLAMD
 // ordering): the general path, used to cross-check RiccatiSolver.
@@ -49,11 +51,10 @@ class RiccatiSolver final : public NewtonLinearSolver {
   const PontryaginJacobian* jacobian_ = nullptr;
   int steps_ = 0;
   int n_ = 0;
-  std::vector<Eigen::MatrixXd> p_;                        // P_0 … P_N
-  std::vector<Eigen::MatrixXd> k_;                        // K_0 … K_{N−1}
-  std::vector<Eigen::PartialPivLU<Eigen::MatrixXd>> lu_;  // LU(M_n)
-  std::vector<Eigen::VectorXd> q_, v_;                    // right-hand-side sweeps
-  Eigen::VectorXd tmp_, tmp2_;
+  std::vector<Eigen::MatrixXd> p_;      // P_0 … P_N
+  std::vector<Eigen::MatrixXd> k_;      // K_0 … K_{N−1}
+  std::vector<Eigen::MatrixXd> m_inv_;  // M_n⁻¹ (from the LU with partial pivoting)
+  std::vector<Eigen::VectorXd> q_, v_;  // right-hand-side sweeps
 };
 
 class SparseLuSolver final : public NewtonLinearSolver {

@@ -39,7 +39,7 @@ struct FixedPointSummary {
   int sweeps = 0;              // forward sweeps done
   std::vector<double> change;  // max |z̃ − z| per forward sweep
   double total_seconds = 0.0;
-  FixedPointOptions options;   // the settings used
+  FixedPointOptions options;  // the settings used
 
   bool ok() const { return IsSuccess(termination); }
   nlohmann::json ToJson() const;  // SummaryJson + sweeps, change, settings
@@ -57,10 +57,12 @@ struct NewtonOptions {
   double armijo = 1e-4;  // sufficient decrease: ½‖F(y+αδ)‖² <= (1 − 2cα) ½‖F(y)‖²
   double min_step = 1e-6;              // line search gives up below this step length α
   double divergence_threshold = 1e12;  // ‖F‖_∞ above this (or non-finite) counts as divergence
+  int threads = 0;  // OpenMP threads of the residual/Jacobian over time steps (>= 0; 0: the
+                    // OpenMP default); results are bit-identical for every thread count
   // Throws InputError("newton.<field>: ...") on a value out of range.
   void Validate() const;
   // {"max_iterations", "residual_tolerance", "linear_solver", "armijo", "min_step",
-  //  "divergence_threshold"}
+  //  "divergence_threshold", "threads"}
   nlohmann::json ToJson() const;
 };
 

@@ -71,15 +71,24 @@ struct PontryaginJacobian {
   Eigen::VectorXd G;                     // D²g diagonal (n_z)
 };
 
+// Scratch of one thread of the residual/Jacobian evaluation: H^δ at (z^n, ρ^{n+1}).
+struct PontryaginStepScratch {
+  HamiltonianEval eval;
+  Eigen::VectorXd zn, rho_next;
+};
+
 // Workspace of the residual/Jacobian evaluation (preallocated, reused across Newton steps).
 struct PontryaginWorkspace {
-  HamiltonianEval eval;
-  Eigen::VectorXd zn, rho_next, dg;
+  int threads = 0;  // OpenMP threads over time steps; 0: omp_get_max_threads() (1 when N < 64)
+  std::vector<PontryaginStepScratch> scratch;  // one per thread
+  Eigen::VectorXd dg;                          // ρ^N = Dg(z^N)
   PontryaginJacobian jacobian;
 };
 
 // F(y) (same block layout as y). Returns ‖F‖_∞, or +inf if a non-finite value appears (two
-// connected nodes met, overflow); never throws for such numerical failures.
+// connected nodes met, overflow); never throws for such numerical failures. The time steps are
+// evaluated in parallel (ws.threads); each writes only its own blocks, so F and the Jacobian are
+// bit-identical for every thread count.
 double EvaluateResidual(const PontryaginDiscretization& disc, const Eigen::VectorXd& y,
                         PontryaginWorkspace& ws, Eigen::VectorXd& residual);
 
