@@ -64,7 +64,7 @@ test-asan: deps
 	    UBSAN_OPTIONS=print_stacktrace=1 $(ASAN)/moreau_tests --gtest_brief=1 \
 	    --gtest_filter=-*Slow* > $(ASAN)/unit_tests.$$i.log 2>&1 & pids="$$pids $$!"; \
 	done; status=0; i=0; for pid in $$pids; do \
-	  if wait $$pid; then echo "test-asan: shard $$i: $$(tail -n 1 $(ASAN)/unit_tests.$$i.log)"; \
+	  if wait $$pid; then echo "test-asan: shard $$i: $$(grep -E "^\[ +(PASSED|SKIPPED) +\]" $(ASAN)/unit_tests.$$i.log | tr "\n" " ")"; \
 	  else status=1; cat $(ASAN)/unit_tests.$$i.log; fi; i=$$((i + 1)); \
 	done; exit $$status
 
