@@ -3,7 +3,6 @@ JOBS     ?= 2
 export OMP_WAIT_POLICY ?= passive
 BUILD    ?= build/release
 ASAN     ?= build/asan
-FUZZ     ?= build/fuzz
 FUZZ_SECONDS ?= 600
 FUZZ_TEST_SECONDS ?= 25
 OUT      ?= out
@@ -43,31 +42,49 @@ test-build: deps
 test-release: test-build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# The sanitizer build (clang 14, AddressSanitizer + UBSan) in $(ASAN): one library, compiled with
+# libFuzzer's coverage instrumentation, for both the unit tests and the fuzz targets (fuzz/).
+# A tree configured earlier with another compiler is started afresh.
+SANITIZE_FLAGS := -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 \
+  -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DMOREAU_SANITIZE=ON -DMOREAU_FUZZ=ON \
+  -DMOREAU_BUILD_BENCH=OFF
+define configure-sanitize
+	@if [ -f $(ASAN)/CMakeCache.txt ] && ! grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++-14$$' \
+	  $(ASAN)/CMakeCache.txt; then rm -rf $(ASAN); fi
+	@cmake -S . -B $(ASAN) $(SANITIZE_FLAGS) $(CMAKE_FLAGS) > /dev/null
+endef
+
+# The unit tests except *Slow* under the sanitizers, in JOBS GoogleTest shards side by side; the
+# log of a failing shard is printed (all logs: $(ASAN)/unit_tests.<shard>.log).
 test-asan: deps
-	@cmake -S . -B $(ASAN) -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -g1" -DMOREAU_SANITIZE=ON \
-	  -DMOREAU_BUILD_BENCH=OFF $(CMAKE_FLAGS) > /dev/null
-	@cmake --build $(ASAN) -j $(JOBS) --target moreau_tests
-	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	  $(ASAN)/moreau_tests --gtest_brief=1 --gtest_filter=-*Slow*
+	$(configure-sanitize)
+	@cmake --build $(ASAN) -j $(JOBS) --target moreau_tests scenario_fuzz c3d_fuzz
+	@pids=; for i in $$(seq 0 $$(($(JOBS) - 1))); do \
+	  GTEST_TOTAL_SHARDS=$(JOBS) GTEST_SHARD_INDEX=$$i ASAN_OPTIONS=detect_leaks=1 \
+	    UBSAN_OPTIONS=print_stacktrace=1 $(ASAN)/moreau_tests --gtest_brief=1 \
+	    --gtest_filter=-*Slow* > $(ASAN)/unit_tests.$$i.log 2>&1 & pids="$$pids $$!"; \
+	done; status=0; i=0; for pid in $$pids; do \
+	  if wait $$pid; then echo "test-asan: shard $$i: $$(grep -E "^\[ +(PASSED|SKIPPED) +\]" $(ASAN)/unit_tests.$$i.log | tr "\n" " ")"; \
+	  else status=1; cat $(ASAN)/unit_tests.$$i.log; fi; i=$$((i + 1)); \
+	done; exit $$status
 
 # Outputs opened with the programs people use (tests/clients; needs scripts/install-deps).
 test-clients: test-build
 	@MOREAU_CLI=$(MOREAU) MOREAU_TESTS=$(BUILD)/moreau_tests MOREAU_ROOT=$(CURDIR) \
 	  $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
 
-# libFuzzer targets of the scenario and C3D readers (fuzz/, clang 14): `make fuzz` runs each for
-# FUZZ_SECONDS, `make test` for FUZZ_TEST_SECONDS; a finding fails the run (fuzz/run.sh).
+# libFuzzer targets of the scenario and C3D readers (fuzz/, in the sanitizer build): `make fuzz`
+# runs each for FUZZ_SECONDS, `make test` for FUZZ_TEST_SECONDS; a finding fails the run
+# (fuzz/run.sh).
 fuzz-build: deps
-	@cmake -S . -B $(FUZZ) -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++-14 \
-	  -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DMOREAU_FUZZ=ON \
-	  -DMOREAU_BUILD_BENCH=OFF -DMOREAU_BUILD_PYTHON=OFF -DMOREAU_MPI=OFF > /dev/null
-	@cmake --build $(FUZZ) -j $(JOBS) --target scenario_fuzz c3d_fuzz
+	$(configure-sanitize)
+	@cmake --build $(ASAN) -j $(JOBS) --target scenario_fuzz c3d_fuzz
 
 fuzz: fuzz-build
-	@./fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS) $(MOCAP_DATA)
+	@./fuzz/run.sh $(ASAN) $(FUZZ_SECONDS) $(MOCAP_DATA)
 
 test-fuzz: fuzz-build
-	@./fuzz/run.sh $(FUZZ) $(FUZZ_TEST_SECONDS) $(MOCAP_DATA)
+	@./fuzz/run.sh $(ASAN) $(FUZZ_TEST_SECONDS) $(MOCAP_DATA)
 
 # The flagship examples: studies and figures under out/.
 demo: build

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs every fuzz target for SECONDS each: fuzz/run.sh BUILD_DIR SECONDS MOCAP_DATA_DIR
+# Runs every fuzz target for SECONDS, the targets side by side: fuzz/run.sh BUILD_DIR SECONDS
+# MOCAP_DATA_DIR
 #   seeds: fuzz/corpus/<target>/ (committed: hand-made seeds and every past finding), plus the
 #   scenario files of examples/ (scenario_fuzz) and the C3D files under 400 kB of MOCAP_DATA_DIR
 #   (c3d_fuzz), copied into BUILD_DIR/seeds/<target>/ at run time;
@@ -17,19 +18,33 @@ if [ -d "$mocap" ]; then
   find "$mocap" -name '*.c3d' -size -400k -exec cp -f {} "$build/seeds/c3d_fuzz/" \;
 fi
 
-status=0
-for target in scenario_fuzz c3d_fuzz; do
+# The targets run side by side (one process each), then each one's result is reported.
+run_target() {
+  local target=$1 max_len
   case $target in
     scenario_fuzz) max_len=16384 ;;
     c3d_fuzz) max_len=131072 ;;
   esac
   mkdir -p "$build/corpus/$target"
-  echo "fuzz: $target for ${seconds} s" >&2
-  seeds=("$build/seeds/$target")
+  local seeds=("$build/seeds/$target")
   [ -d "$root/fuzz/corpus/$target" ] && seeds+=("$root/fuzz/corpus/$target")
-  if ! "$build/$target" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 \
-      -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/findings/$target-" \
-      "$build/corpus/$target" "${seeds[@]}" > "$build/$target.log" 2>&1; then
+  "$build/$target" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 \
+    -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/findings/$target-" \
+    "$build/corpus/$target" "${seeds[@]}" > "$build/$target.log" 2>&1
+}
+
+targets=(scenario_fuzz c3d_fuzz)
+pids=()
+for target in "${targets[@]}"; do
+  echo "fuzz: $target for ${seconds} s" >&2
+  run_target "$target" &
+  pids+=($!)
+done
+
+status=0
+for i in "${!targets[@]}"; do
+  target=${targets[$i]}
+  if ! wait "${pids[$i]}"; then
     echo "fuzz: $target found a problem (log: $build/$target.log):" >&2
     grep -E 'ERROR|SUMMARY|Test unit written' "$build/$target.log" >&2 || tail -20 "$build/$target.log" >&2
     status=1

@@ -108,7 +108,7 @@ DataLayout ReadLayout(const std::filesystem::path& path, const Header& header,
   };
   layout.points = p.Count("POINT", "USED").value_or(header.Word(2));
   const auto scale = p.Number("POINT", "SCALE");
-  layout.scale = scale ? *scale : fallback("POINT:SCALE", double{header.Float(7)});
+  layout.scale = scale ? *scale : fallback("POINT:SCALE", static_cast<double>(header.Float(7)));
   if (!std::isfinite(layout.scale) || layout.scale == 0.0) {
     Fail(path, "POINT:SCALE",
          fmt::format("{} is neither a positive integer scale nor negative "
@@ -116,7 +116,7 @@ DataLayout ReadLayout(const std::filesystem::path& path, const Header& header,
                      layout.scale));
   }
   const auto rate = p.Number("POINT", "RATE");
-  layout.rate = rate ? *rate : fallback("POINT:RATE", double{header.Float(11)});
+  layout.rate = rate ? *rate : fallback("POINT:RATE", static_cast<double>(header.Float(11)));
   if (!std::isfinite(layout.rate) || layout.rate <= 0.0) {
     Fail(path, "POINT:RATE", fmt::format("{} frames per second is not positive", layout.rate));
   }
@@ -197,8 +197,8 @@ void ReadPoints(std::span<const std::uint8_t> bytes, const DataLayout& layout,
       double residual = 0.0;
       if (layout.float_storage()) {
         for (int c = 0; c < 3; ++c)
-          p[c] = double{decode.Float(at + 4 * static_cast<std::size_t>(c))};
-        residual = double{decode.Float(at + 12)};
+          p[c] = static_cast<double>(decode.Float(at + 4 * static_cast<std::size_t>(c)));
+        residual = static_cast<double>(decode.Float(at + 12));
       } else {
         for (int c = 0; c < 3; ++c)
           p[c] = scale * decode.Int16(at + 2 * static_cast<std::size_t>(c));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "moreau/common/error.h"
 #include "moreau/common/termination.h"
@@ -32,7 +33,7 @@ TEST(SummaryJson, HoldsTheSharedKeys) {
 
 TEST(SummaryJson, NonFiniteNumbersBecomeNull) {
   EXPECT_TRUE(FiniteOrNull(std::nan("")).is_null());
-  EXPECT_TRUE(FiniteOrNull(INFINITY).is_null());
+  EXPECT_TRUE(FiniteOrNull(std::numeric_limits<double>::infinity()).is_null());
   EXPECT_EQ(FiniteOrNull(2.5), 2.5);
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "moreau/common/error.h"
 
@@ -29,7 +30,7 @@ TEST(ValueErrorBounds, KnownAnswerForUnitConstants) {
 TEST(ValueErrorBounds, ShrinkToTheRegularizationErrorAsTheStepVanishes) {
   const ValueErrorConstants c{0.352, 2.00069, 0.5, 3.51772e-5};
   const double horizon = 2.0;
-  double previous_width = INFINITY;
+  double previous_width = std::numeric_limits<double>::infinity();
   for (double dt = 0.1; dt > 1e-6; dt /= 10.0) {
     const ValueErrorBounds b = Theorem51Bounds(c, horizon, dt);
     EXPECT_LT(b.lower, -horizon * c.delta);

@@ -260,7 +260,7 @@ TEST(C3dRead, BadInputIsOneInputErrorNamingTheFile) {
   };
   for (const auto& [path, reason] : cases) {
     SCOPED_TRACE(path.string());
-    const std::string error = InputErrorOf([&] { (void)ReadRecording(path); });
+    const std::string error = InputErrorOf([&file = path] { (void)ReadRecording(file); });
     EXPECT_NE(error.find(path.string()), std::string::npos) << error;
     EXPECT_NE(error.find(reason), std::string::npos) << error;
     EXPECT_EQ(error.find('\n'), std::string::npos);

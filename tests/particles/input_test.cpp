@@ -1,6 +1,8 @@
 // Bad input is an InputError whose message names the field.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "particles/test_util.h"
 
 namespace moreau::particles {
@@ -90,7 +92,7 @@ TEST(ParticleInput, InfeasibleInitialStates) {
   ExpectInputError([] { Make(TwoDisks(), {0.0, 0.0, 2.0}); }, "positions have 3 entries");
   ExpectInputError(
       [] {
-        Make(TwoDisks(), {0.0, 0.0, NAN, 0.0});
+        Make(TwoDisks(), {0.0, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0});
       },
       "position of particle 1 is not finite");
   // Periodic: a pair overlapping across the boundary.

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "particles/sweep.h"
 
@@ -74,7 +75,7 @@ TEST(ParticlePrediction, NoiseIsKeyedByIdAndStep) {
     GaussianNoise(99, id[s], 12, 3, xi);
     for (int a = 0; a < 3; ++a) EXPECT_EQ(y[3 * s + a], x[3 * s + a] + sigma * xi[a]);
   }
-  const double nan_x[6] = {0, 0, 0, NAN, 5, 5};
+  const double nan_x[6] = {0, 0, 0, std::numeric_limits<double>::quiet_NaN(), 5, 5};
   prediction.Predict(nan_x, y, id, nullptr, nullptr, nullptr, 12, 1, &max_move, &bad);
   EXPECT_EQ(bad, 3);
 }

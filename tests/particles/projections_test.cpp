@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "moreau/common/random.h"
@@ -17,7 +18,7 @@ constexpr double kTol = 1e-12;
 // min over a fine polar grid of sample points y with g(y) ≥ 0 of ‖y − x‖ (plane only).
 template <typename G>
 double BruteForceDistance(const double* x, G&& g) {
-  double best = INFINITY;
+  double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 2000; ++i) {
     const double angle = 2.0 * std::numbers::pi * i / 2000;
     for (int j = 1; j <= 400; ++j) {

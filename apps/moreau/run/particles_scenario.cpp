@@ -8,6 +8,7 @@
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
 #include "moreau/common/steps.h"
+#include "run/force_fields.h"
 #include "run/population_scenario.h"
 
 namespace moreau::cli {
@@ -29,39 +30,6 @@ Vec3 VecFromNode(const Scenario& sc, const std::string& key, const toml::node* n
     out[static_cast<std::size_t>(a)] = *v;
   }
   return out;
-}
-
-// A key holding k numbers; empty when absent (the key still counts as known).
-std::optional<Vec3> ReadVec(Scenario& sc, const std::string& key, int k) {
-  if (!sc.Has(key)) {
-    (void)sc.GetNode(key);
-    return std::nullopt;
-  }
-  const std::vector<double> v = sc.GetDoubleArray(key, {});
-  if (static_cast<int>(v.size()) != k) {
-    sc.Fail(key, fmt::format("expected {} numbers (the dimension), got {}", k, v.size()));
-  }
-  Vec3 out{0.0, 0.0, 0.0};
-  std::copy(v.begin(), v.end(), out.begin());
-  return out;
-}
-
-nlohmann::json EchoVec(const Vec3& v, int k) {
-  return std::vector<double>(v.begin(), v.begin() + k);
-}
-nlohmann::json EchoVec(const std::optional<Vec3>& v, int k) {
-  return v ? EchoVec(*v, k) : nlohmann::json();
-}
-
-// A vector of the problem's dimension (a Vec3 or an optional Vec3 member).
-template <class A>
-void AddVec(FieldTable<S>& t, std::string key, A ref, std::string help) {
-  t.Custom(
-      std::move(key), "k numbers",
-      [ref](Scenario& sc, S& s, const std::string& k) {
-        if (const std::optional<Vec3> v = ReadVec(sc, k, s.dimension)) std::invoke(ref, s) = *v;
-      },
-      [ref](const S& s) { return EchoVec(std::invoke(ref, s), s.dimension); }, std::move(help));
 }
 
 // A flag whose default depends on fields read before it.
@@ -242,43 +210,6 @@ void AddProblemFields(FieldTable<S>& t) {
               "segment obstacles (2D)")
       .Custom("room", "width, height, door_width", ReadRoom, EchoRoom,
               "a walled room with a door; everybody walks to it");
-}
-
-void AddForceFields(FieldTable<S>& t) {
-  const auto f = [](auto& s) -> auto& { return s.forces; };
-  FieldTable<ParticleForceSettings> sub;
-  using F = ParticleForceSettings;
-  sub.OptionalNumber("trap_gamma", &F::trap_gamma, Range::NonNegative(), "harmonic trap γ")
-      .OptionalNumber("propulsion_speed", &F::propulsion_speed, Range::NonNegative(),
-                      "walking speed v0")
-      .Number("propulsion_speed_sd", &F::propulsion_speed_sd, Range::NonNegative(), "σ_v of v0,i")
-      .OptionalNumber("density_radius", &F::density_radius, Range::Positive(),
-                      "R of ρ_i (Weidmann)")
-      .OptionalNumber("density_gamma", &F::density_gamma, Range::Positive(), "Weidmann γ (1.913)")
-      .OptionalNumber("density_max", &F::density_max, Range::Positive(), "Weidmann ρ_max (5.4)")
-      .OptionalNumber("attraction_stiffness", &F::attraction_stiffness, Range::NonNegative(),
-                      "pair attraction k")
-      .OptionalNumber("attraction_range", &F::attraction_range, Range::Positive(), "its range ℓ")
-      .Number("diffusion", &F::diffusion, Range::NonNegative(), "diffusion D (noise)")
-      .Check("propulsion_speed_sd", [](const F& s) {
-        if (s.propulsion_speed && 3.0 * s.propulsion_speed_sd > *s.propulsion_speed) {
-          throw InputError(
-              fmt::format("must be at most propulsion_speed / 3 = {} (got {}): the "
-                          "truncated normal must give no negative speed",
-                          *s.propulsion_speed / 3.0, s.propulsion_speed_sd));
-        }
-      });
-  t.Mount("forces", f, sub);
-  AddVec(
-      t, "forces.trap_center", [](auto& s) -> auto& { return s.forces.trap_center; },
-      "trap centre");
-  AddVec(
-      t, "forces.constant", [](auto& s) -> auto& { return s.forces.constant; }, "force f");
-  AddVec(
-      t, "forces.target", [](auto& s) -> auto& { return s.forces.target; }, "walking target");
-  AddVec(
-      t, "forces.target_end", [](auto& s) -> auto& { return s.forces.target_end; },
-      "the target is the segment [target, target_end]");
 }
 
 FieldTable<particles::EngineOptions> EngineFields() {
@@ -472,39 +403,6 @@ particles::ParticleModel ParticleScenario::MakeModel() const {
   model.segments.insert(model.segments.end(), segments.begin(), segments.end());
   if (room) particles::AddRoom(*room, &model);
   return model;
-}
-
-particles::Forces ParticleScenario::MakeForces() const {
-  particles::Forces f;
-  const ParticleForceSettings& in = forces;
-  if (in.trap_gamma) f.trap = particles::HarmonicTrap{*in.trap_gamma, in.trap_center};
-  f.constant_force = in.constant;
-  if (in.propulsion_speed || room) {
-    const double speed = in.propulsion_speed.value_or(1.0);
-    if (room) {
-      f.propulsion = room->WalkToTheDoor(speed);
-    } else {
-      particles::SelfPropulsion p;
-      p.speed = speed;
-      p.target = in.target.value_or(Vec3{0.0, 0.0, 0.0});
-      p.target_end = in.target_end;
-      f.propulsion = p;
-    }
-  }
-  f.walking.speed_sd = in.propulsion_speed_sd;
-  if (in.density_radius) {
-    particles::DensitySpeed& law = f.walking.density.emplace();
-    law.radius = *in.density_radius;
-    law.gamma = in.density_gamma.value_or(law.gamma);
-    law.max_density = in.density_max.value_or(law.max_density);
-  }
-  if (in.attraction_stiffness) {
-    f.attraction =
-        particles::PairAttraction{*in.attraction_stiffness, in.attraction_range.value_or(0.0)};
-  }
-  f.diffusion = in.diffusion;
-  f.Validate();
-  return f;
 }
 
 particles::EngineOptions ParticleScenario::MakeEngineOptions() const {
