@@ -185,19 +185,9 @@ void AddTransportAndCost(const TrackingProblem& problem, const Instant& instant,
 void EvaluateRegularizedHamiltonian(const TrackingProblem& problem, const Instant& instant,
                                     const Eigen::VectorXd& z, const Eigen::VectorXd& rho,
                                     HamiltonianOrder order, HamiltonianEval& out) {
-  internal::AddTransportAndCost(problem, instant, z, rho, order, out);
-  switch (problem.network().dimension()) {
-    case 1:
-      AddSprings<1>(problem, instant, z, rho, order, out);
-      break;
-    case 2:
-      AddSprings<2>(problem, instant, z, rho, order, out);
-      break;
-    default:
-      AddSprings<3>(problem, instant, z, rho, order, out);
-      break;
-  }
-  out.running_cost = out.value - rho.dot(out.drho);
+  internal::AssembleRegularizedHamiltonian(problem, instant, z, rho, order, out, [&](auto d) {
+    AddSprings<decltype(d)::value>(problem, instant, z, rho, order, out);
+  });
 }
 
 void SwitchingFunctions(const TrackingProblem& problem, const Instant& instant,

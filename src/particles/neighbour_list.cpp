@@ -356,22 +356,9 @@ namespace {
 template <int K, bool P>
 double MaxPairOverlapImpl(const NeighbourList& list, const double* x, const double* radius, int n,
                           int threads) {
-  const int* row_start = list.row_start();
-  const int* nbr = list.neighbours();
   double worst = 0.0;
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst)
-  for (int s = 0; s < n; ++s) {
-    const double ri = radius[s];
-    for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
-      const int t = nbr[p];
-      double u[K];
-      list.Displacement<K, P>(x, s, t, p, u);
-      const double c = ri + radius[t];
-      const double r2 = SquaredNorm<K>(u);
-      if (r2 >= c * c) continue;
-      worst = std::max(worst, c - std::sqrt(r2));
-    }
-  }
+  for (int s = 0; s < n; ++s) worst = std::max(worst, list.RowOverlap<K, P>(x, radius, s));
   return worst;
 }
 

@@ -13,11 +13,14 @@
 // throughout, so leaving it out changes no bit.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
 #include "particles/cell_list.h"
+#include "particles/kernels.h"
 
 namespace moreau::particles::internal {
 
@@ -116,6 +119,24 @@ class NeighbourList {
         for (int a = 0; a < K; ++a) u[a] -= box_.shift[code][a];
       }
     }
+  }
+
+  // The largest overlap max(0, r_s + r_t − ‖X_s − X_t‖) over the pairs of row s at x.
+  template <int K, bool P>
+  double RowOverlap(const double* x, const double* radius, int s) const {
+    double worst = 0.0;
+    const double ri = radius[s];
+    for (std::int64_t p = row_start_[static_cast<std::size_t>(s)];
+         p < row_start_[static_cast<std::size_t>(s) + 1]; ++p) {
+      const int t = nbr_[static_cast<std::size_t>(p)];
+      double u[K];
+      Displacement<K, P>(x, s, t, p, u);
+      const double c = ri + radius[t];
+      const double r2 = SquaredNorm<K>(u);
+      if (r2 >= c * c) continue;
+      worst = std::max(worst, c - std::sqrt(r2));
+    }
+    return worst;
   }
 
  private:

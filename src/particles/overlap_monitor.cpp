@@ -11,21 +11,8 @@ namespace {
 template <int K, bool P>
 double RowsOverlap(const NeighbourList& list, const double* x, const double* radius,
                    const std::vector<int>& rows) {
-  const int* row_start = list.row_start();
-  const int* nbr = list.neighbours();
   double worst = 0.0;
-  for (const int s : rows) {
-    const double ri = radius[s];
-    for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
-      const int t = nbr[p];
-      double u[K];
-      list.Displacement<K, P>(x, s, t, p, u);
-      const double c = ri + radius[t];
-      const double r2 = SquaredNorm<K>(u);
-      if (r2 >= c * c) continue;
-      worst = std::max(worst, c - std::sqrt(r2));
-    }
-  }
+  for (const int s : rows) worst = std::max(worst, list.RowOverlap<K, P>(x, radius, s));
   return worst;
 }
 
