@@ -29,7 +29,8 @@ TEST(BoxMuller, LogOfUnitIsWithinFourUlpOfTheLogarithm) {
     const long double ref = std::log(static_cast<long double>(u));
     const double got = random_internal::LogOfUnit(u);
     if (ref != 0.0L) {
-      worst = std::max(worst, static_cast<double>(std::fabs((got - ref) / ref)));
+      worst = std::max(worst,
+                       static_cast<double>(std::fabs((static_cast<long double>(got) - ref) / ref)));
     } else {
       EXPECT_EQ(got, 0.0);
     }
@@ -54,8 +55,11 @@ TEST(BoxMuller, CosSinQuarterAreWithinFourUlp) {
     // The same rounded angle as the series sees.
     const long double x = static_cast<long double>(1.5707963267948966 * t);
     const long double rc = std::cos(x), rs = std::sin(x);
-    worst_c = std::max(worst_c, static_cast<double>(std::fabs((c - rc) / rc)));
-    if (rs != 0.0L) worst_s = std::max(worst_s, static_cast<double>(std::fabs((s - rs) / rs)));
+    worst_c =
+        std::max(worst_c, static_cast<double>(std::fabs((static_cast<long double>(c) - rc) / rc)));
+    if (rs != 0.0L)
+      worst_s = std::max(worst_s,
+                         static_cast<double>(std::fabs((static_cast<long double>(s) - rs) / rs)));
   }
   EXPECT_LT(worst_c, 4.0 * 0x1.0p-53);
   EXPECT_LT(worst_s, 4.0 * 0x1.0p-53);
@@ -73,8 +77,10 @@ TEST(BoxMuller, MatchesTheTextbookTransformOfTheSameBits) {
     const long double rho = std::sqrt(-2.0L * std::log(u));
     const long double t = (static_cast<long double>(w2 & 0x3FFFFFFFu) + 0.5L) * 0x1.0p-30L - 0.5L;
     const long double phi = 0.5L * kPi * (static_cast<long double>(w2 >> 30) + t);
-    const double e0 = static_cast<double>(std::fabs(z0 - rho * std::cos(phi)) / rho);
-    const double e1 = static_cast<double>(std::fabs(z1 - rho * std::sin(phi)) / rho);
+    const double e0 =
+        static_cast<double>(std::fabs(static_cast<long double>(z0) - rho * std::cos(phi)) / rho);
+    const double e1 =
+        static_cast<double>(std::fabs(static_cast<long double>(z1) - rho * std::sin(phi)) / rho);
     worst = std::max({worst, e0, e1});
   };
   for (int i = 0; i < 200000; ++i) {
