@@ -107,6 +107,16 @@ def test_threads_beyond_the_hardware_are_capped_with_a_warning(tmp_path, write_s
     assert 1 <= summary["threads"] <= hardware
 
 
+
+def test_control_threads_beyond_the_hardware_are_capped_with_a_warning(tmp_path):
+    out = tmp_path / "out"
+    r = run_cli("control", OSCILLATOR, "--out", out, "--set", "newton.threads=100000")
+    assert r.returncode == 0, r.stderr
+    hardware = os.cpu_count()
+    assert (f"newton.threads: 100000 threads is more than the {hardware} hardware threads; "
+            f"using {hardware}") in r.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["settings"]["newton"]["threads"] == hardware
 def test_running_out_of_memory_is_one_line_naming_what_was_read(tmp_path, write_scenario):
     # 300 000 positions take about 100 MiB as parsed TOML: more than 96 MiB of address space.
     rows = ",".join(["[1.0, 2.0]"] * 300000)

@@ -117,7 +117,7 @@ FieldTable<control::NewtonOptions> NewtonFields() {
       .Number("min_step", &O::min_step, Range::Any(), "smallest line-search step")
       .Number("divergence_threshold", &O::divergence_threshold, Range::Any(),
               "‖F‖_∞ above this is divergence")
-      .Integer("threads", &O::threads, Range::Any(), "OpenMP threads over time steps (0: default)");
+      .Threads("threads", &O::threads, "OpenMP threads over time steps (0: default)");
   return t;
 }
 
