@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 
+#include "arm_documented_start.h"
 #include "moreau/control/continuation.h"
 #include "moreau/control/examples.h"
 #include "moreau/control/linear_solver.h"
@@ -94,20 +95,10 @@ double ProcessCpuSeconds() {
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-// [continuation], [fixed_point] and [newton] of examples/control/arm_2d.toml.
+// The documented start of examples/control/arm_2d.toml, on `threads` threads; coarse_to_fine =
+// false is the plain path (every stage on the requested grid).
 ContinuationOptions DocumentedStart(bool coarse_to_fine, int threads) {
-  ContinuationOptions o;
-  o.path_start = 0.1;
-  o.path_increase = 0.5;
-  o.stiffness_start = 0.5;
-  o.stiffness_increase = 0.5;
-  o.gamma_start = 1.0;
-  o.gamma_decrease = 0.1;
-  o.min_increase = 1e-4;
-  o.max_solves = 200;
-  o.fixed_point.sweeps = 0;
-  o.newton.residual_tolerance = 1e-10;
-  o.newton.max_iterations = 40;
+  ContinuationOptions o = moreau::bench::ArmDocumentedStart();
   o.newton.threads = threads;
   if (!coarse_to_fine) o.coarse_steps = 0;
   return o;

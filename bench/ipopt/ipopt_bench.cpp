@@ -11,8 +11,6 @@
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 
-#include <toml++/toml.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "../arm_documented_start.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/control/continuation.h"
 #include "moreau/control/examples.h"
@@ -39,28 +38,6 @@ double CpuSeconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 using namespace moreau::control;
-
-// The documented start: [continuation] and [newton] of examples/control/arm_2d.toml, read from
-// the file (a key the file leaves out keeps its default).
-ContinuationOptions DocumentedStart() {
-  const toml::table file = toml::parse_file(MOREAU_SOURCE_DIR "/examples/control/arm_2d.toml");
-  ContinuationOptions o;
-  const toml::node_view c = file["continuation"];
-  o.path_start = c["path_start"].value_or(o.path_start);
-  o.path_increase = c["path_increase"].value_or(o.path_increase);
-  o.stiffness_start = c["stiffness_start"].value_or(o.stiffness_start);
-  o.stiffness_increase = c["stiffness_increase"].value_or(o.stiffness_increase);
-  o.gamma_start = c["gamma_start"].value_or(o.gamma_start);
-  o.gamma_decrease = c["gamma_decrease"].value_or(o.gamma_decrease);
-  o.min_increase = c["min_increase"].value_or(o.min_increase);
-  o.max_solves = c["max_solves"].value_or(o.max_solves);
-  o.fixed_point.sweeps = file["fixed_point"]["sweeps"].value_or(o.fixed_point.sweeps);
-  o.newton.residual_tolerance =
-      file["newton"]["residual_tolerance"].value_or(o.newton.residual_tolerance);
-  o.newton.max_iterations = file["newton"]["max_iterations"].value_or(o.newton.max_iterations);
-  o.Validate();
-  return o;
-}
 
 // A solution in the primal variables: controls (springs × N), duals ρ^1 … ρ^N (n_z × N), value.
 struct Solution {
@@ -163,7 +140,7 @@ void PrintLine(int steps, const char* solver, const Solution& s, const Solution&
 bool DerivativeCheck(const ProblemFamily& family) {
   const int steps = 8;
   const PontryaginDiscretization disc(family(1.0), steps);
-  const Solution at = SolveMoreau(family, steps, DocumentedStart());
+  const Solution at = SolveMoreau(family, steps, moreau::bench::ArmDocumentedStart());
   Ipopt::SmartPtr<bench::TrackingNlp> nlp = new bench::TrackingNlp(disc, at.states, at.controls);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = MakeIpopt(1e-8);
   const std::string log = "ipopt_derivative_check.txt";
@@ -205,7 +182,7 @@ int Check(const ProblemFamily& family) {
   bool ok = DerivativeCheck(family);
   const int steps = 64;
   const PontryaginDiscretization disc(family(1.0), steps);
-  const Solution ref = SolveMoreau(family, steps, DocumentedStart());
+  const Solution ref = SolveMoreau(family, steps, moreau::bench::ArmDocumentedStart());
   const Solution ip = SolveIpopt(disc, 1e-10);
   PrintLine(steps, "moreau documented", ref, ref);
   PrintLine(steps, "ipopt", ip, ref);
@@ -265,7 +242,7 @@ int main(int argc, char** argv) {
       "max|drho|\n");
   for (const int n : steps) {
     const PontryaginDiscretization disc(family(1.0), n);
-    const Solution documented = SolveMoreau(family, n, DocumentedStart());
+    const Solution documented = SolveMoreau(family, n, moreau::bench::ArmDocumentedStart());
     PrintLine(n, "moreau documented", documented, documented);
     ContinuationOptions direct;
     direct.newton.residual_tolerance = 1e-10;

@@ -142,12 +142,19 @@ def bad_case(name):
     if name == "unknown_key":
         return BASE + "\n[newton]\nresidual_tolerence = 1e-9\n", "newton.residual_tolerence", \
             "unknown key"
+    if name == "coarse_steps":
+        return BASE + "\n[continuation]\ncoarse_steps = -1\n", "continuation.coarse_steps", "-1"
+    if name == "refine_factor":
+        return BASE + "\n[continuation]\nrefine_factor = 1\n", "continuation.refine_factor", ">= 2"
+    if name == "newton_threads":
+        return BASE + "\n[newton]\nthreads = -2\n", "newton.threads", "-2"
     raise ValueError(name)
 
 
 @pytest.mark.parametrize("name", ["disconnected", "fixed_pair", "bounds", "mass", "time_step",
                                   "horizon", "reference_length", "reference_columns", "coincide",
-                                  "unknown_key"])
+                                  "unknown_key", "coarse_steps", "refine_factor",
+                                  "newton_threads"])
 def test_bad_input_one_line_exit_2_nothing_written(tmp_path, name):
     text, key, reason = bad_case(name)
     scenario = tmp_path / f"bad_{name}.toml"

@@ -93,30 +93,29 @@ def test_memory_messages_use_sensible_units(tmp_path):
     assert line.count("count") == 1  # the key once, as the user writes it
 
 
-def test_threads_beyond_the_hardware_are_capped_with_a_warning(tmp_path, write_scenario):
-    out = tmp_path / "out"
-    r = run_cli("run", write_scenario(PARTICLES), "--out", out, "--set", "solver.threads=100000",
-                "--set", "output.hdf5=false", "--set", "output.vtu=false", "--set",
-                "output.snapshots=false")
+def capped_threads(command, scenario, table, *sets, out):
+    """Runs with `table.threads = 100000`; checks the one warning line and the capped setting."""
+    r = run_cli(command, scenario, "--out", out, "--set", f"{table}.threads=100000", *sets)
     assert r.returncode == 0, r.stderr
     hardware = os.cpu_count()
-    assert (f"solver.threads: 100000 threads is more than the {hardware} hardware threads; "
+    assert (f"{table}.threads: 100000 threads is more than the {hardware} hardware threads; "
             f"using {hardware}") in r.stderr
     summary = json.loads((out / "summary.json").read_text())
-    assert summary["settings"]["solver"]["threads"] == hardware
+    assert summary["settings"][table]["threads"] == hardware
+    return summary, hardware
+
+
+def test_threads_beyond_the_hardware_are_capped_with_a_warning(tmp_path, write_scenario):
+    summary, hardware = capped_threads(
+        "run", write_scenario(PARTICLES), "solver", "--set", "output.hdf5=false", "--set",
+        "output.vtu=false", "--set", "output.snapshots=false", out=tmp_path / "out")
     assert 1 <= summary["threads"] <= hardware
 
 
-
 def test_control_threads_beyond_the_hardware_are_capped_with_a_warning(tmp_path):
-    out = tmp_path / "out"
-    r = run_cli("control", OSCILLATOR, "--out", out, "--set", "newton.threads=100000")
-    assert r.returncode == 0, r.stderr
-    hardware = os.cpu_count()
-    assert (f"newton.threads: 100000 threads is more than the {hardware} hardware threads; "
-            f"using {hardware}") in r.stderr
-    summary = json.loads((out / "summary.json").read_text())
-    assert summary["settings"]["newton"]["threads"] == hardware
+    capped_threads("control", OSCILLATOR, "newton", out=tmp_path / "out")
+
+
 def test_running_out_of_memory_is_one_line_naming_what_was_read(tmp_path, write_scenario):
     # 300 000 positions take about 100 MiB as parsed TOML: more than 96 MiB of address space.
     rows = ",".join(["[1.0, 2.0]"] * 300000)
