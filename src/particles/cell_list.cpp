@@ -198,6 +198,15 @@ void CellList::RankBlocks() {
   }
 }
 
+void CellList::BlockShape(std::int64_t r, int* origin, int* width) const {
+  int c[3];
+  BlockCoords(block_of_rank_[static_cast<std::size_t>(r)], nb_, c);
+  for (int a = 0; a < 3; ++a) {
+    origin[a] = BlockLo(grid_.nc[a], nb_[a], c[a]);
+    width[a] = BlockLo(grid_.nc[a], nb_[a], c[a] + 1) - origin[a];
+  }
+}
+
 // Cell ranks: the blocks' ranks, cells row-major inside a block. Cell c of an axis lies in block
 // ((c + 1) nb − 1) / nc, the largest b with BlockLo(b) ≤ c.
 void CellList::RankCells() {

@@ -113,6 +113,8 @@ class CellList {
   std::int64_t cell_start(std::int64_t rank) const {
     return cell_start_[static_cast<std::size_t>(rank)];
   }
+  // cell_starts()[c] = cell_start(c), for c in [0, cells()].
+  const std::int32_t* cell_starts() const { return cell_start_.data(); }
   const std::vector<int>& permutation() const { return perm_; }
   // Blocks: nb per axis; the block of rank r has row-major index block_of_rank()[r] and covers
   // the cells of ranks [block_cell_begin(r), block_cell_begin(r + 1)).
@@ -122,6 +124,9 @@ class CellList {
   std::int64_t block_cell_begin(std::int64_t r) const {
     return block_cell_begin_[static_cast<std::size_t>(r)];
   }
+  // The block of rank r covers the cells origin[a] + [0, width[a]) on each axis (1 on axes ≥ k);
+  // its cell (lx, ly, lz) has rank block_cell_begin(r) + (lz·width[1] + ly)·width[0] + lx.
+  void BlockShape(std::int64_t r, int* origin, int* width) const;
   // The slots [begin, end) of the block of rank r once storage is in cell order.
   int BlockSlotBegin(std::int64_t r) const {
     return static_cast<int>(cell_start(block_cell_begin(r)));

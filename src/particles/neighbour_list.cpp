@@ -23,7 +23,31 @@ void NeighbourList::Configure(const PeriodicBox& box, int n, double skin, double
 
 namespace {
 
-// Calls f(t, image code) for the slots t > s within reach of slot s, in the list's order.
+// u = xs − xt, the minimum image on periodic axes (P); returns the image code (13: none).
+template <int K, bool P>
+inline int MinimumImage(const double* xs, const double* xt, const PeriodicBox& box, double* u) {
+  int code = 13;
+  int weight = 1;
+  for (int a = 0; a < K; ++a) {
+    u[a] = xs[a] - xt[a];
+    if constexpr (P) {
+      if (box.periodic[a]) {
+        if (u[a] > 0.5 * box.len[a]) {
+          u[a] -= box.len[a];
+          code += weight;
+        } else if (u[a] < -0.5 * box.len[a]) {
+          u[a] += box.len[a];
+          code -= weight;
+        }
+      }
+    }
+    weight *= 3;
+  }
+  return code;
+}
+
+// Calls f(t, image code) for the slots t > s within reach of slot s, in the list's order: the
+// slots of the adjacent cells through `members`, or all slots (brute_force).
 template <int K, bool P, typename F>
 void VisitPartners(int s, const double* x, const double* radius, double extra,
                    const PeriodicBox& box, const CellList& cells, const int* members, int n,
@@ -33,23 +57,7 @@ void VisitPartners(int s, const double* x, const double* radius, double extra,
   auto consider = [&](int t) {
     if (t <= s) return;
     double u[K];
-    int code = 13;
-    int weight = 1;
-    for (int a = 0; a < K; ++a) {
-      u[a] = xs[a] - x[K * t + a];
-      if constexpr (P) {
-        if (box.periodic[a]) {
-          if (u[a] > 0.5 * box.len[a]) {
-            u[a] -= box.len[a];
-            code += weight;
-          } else if (u[a] < -0.5 * box.len[a]) {
-            u[a] += box.len[a];
-            code -= weight;
-          }
-        }
-      }
-      weight *= 3;
-    }
+    const int code = MinimumImage<K, P>(xs, x + K * t, box, u);
     const double r2 = SquaredNorm<K>(u);
     const double c = rs + radius[t] + extra;
     if (r2 < c * c) f(t, code);
@@ -58,34 +66,11 @@ void VisitPartners(int s, const double* x, const double* radius, double extra,
     for (int t = s + 1; t < n; ++t) consider(t);
     return;
   }
-  if (members != nullptr) {
-    cells.grid().ForEachAdjacentCell<K>(xs, [&](std::int64_t cell) {
-      const std::int64_t rank = cells.rank(cell);
-      const std::int64_t e = cells.cell_start(rank + 1);
-      for (std::int64_t q = cells.cell_start(rank); q < e; ++q) consider(members[q]);
-    });
-    return;
-  }
-  // Storage is in cell order: visit slot ranges, merging cells of consecutive rank (neighbours
-  // along x inside a block), and skip slots ≤ s (the half list).
-  std::int64_t run_b = -1, run_e = -1;
-  auto flush = [&] {
-    const std::int64_t e = cells.cell_start(run_e);
-    for (std::int64_t q = std::max<std::int64_t>(cells.cell_start(run_b), s + 1); q < e; ++q) {
-      consider(static_cast<int>(q));
-    }
-  };
   cells.grid().ForEachAdjacentCell<K>(xs, [&](std::int64_t cell) {
     const std::int64_t rank = cells.rank(cell);
-    if (rank == run_e) {
-      run_e = rank + 1;
-      return;
-    }
-    if (run_b >= 0) flush();
-    run_b = rank;
-    run_e = rank + 1;
+    const std::int64_t e = cells.cell_start(rank + 1);
+    for (std::int64_t q = cells.cell_start(rank); q < e; ++q) consider(members[q]);
   });
-  flush();
 }
 
 // Insertion sort of buf[first …] by t, the image codes along (t is unique in a row).
@@ -119,9 +104,19 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
     chunk_nbr_.resize(static_cast<std::size_t>(chunks));
     chunk_image_.resize(static_cast<std::size_t>(chunks));
   }
+  if (members == nullptr && !brute_force) {
+    MOREAU_ASSERT(!sort_rows);
+    BuildCellRows<K, P>(x, radius, cells, threads);
+    return;
+  }
+  chunk_slot_.resize(static_cast<std::size_t>(chunks) + 1);
+  for (int q = 0; q <= chunks; ++q) {
+    chunk_slot_[static_cast<std::size_t>(q)] =
+        static_cast<int>(static_cast<std::int64_t>(q) * n / chunks);
+  }
   ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
-    const int begin = static_cast<int>(static_cast<std::int64_t>(q) * n / chunks);
-    const int end = static_cast<int>(static_cast<std::int64_t>(q + 1) * n / chunks);
+    const int begin = chunk_slot_[static_cast<std::size_t>(q)];
+    const int end = chunk_slot_[static_cast<std::size_t>(q) + 1];
     std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
     std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
     buf.clear();
@@ -140,10 +135,137 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
   Concatenate(P, chunks, threads);
 }
 
+// Storage in cell order. Every slot of a cell has the same candidates, the slot ranges of its
+// adjacent cells in VisitPartners' order, and only slots after its own count. Inside a block
+// (cells row-major) a cell whose neighbours all lie in the block has them at fixed rank offsets:
+// the cells before it in that order hold slots before its own, so its candidates are the rest of
+// its own cell and the next cell, then the three-cell rows above (2D: one row; 3D: one in its
+// plane, three in the next), each a contiguous slot range. Other cells look their neighbours up
+// and gather them once per cell. Chunks are runs of whole blocks of about n/chunks slots. The rows
+// are VisitPartners' (with members = identity), entry by entry.
+template <int K, bool P>
+void NeighbourList::BuildCellRows(const double* x, const double* radius, const CellList& cells,
+                                  int threads) {
+  const int n = n_;
+  const double extra = this->extra();
+  const int chunks = std::max(1, std::min(n, 16 * threads));
+  const std::int32_t* start = cells.cell_starts();
+  const std::int64_t blocks = cells.blocks();
+  std::vector<std::int64_t> chunk_block(static_cast<std::size_t>(chunks) + 1, blocks);
+  for (int q = 0; q < chunks; ++q) {
+    const std::int64_t slot = static_cast<std::int64_t>(q) * n / chunks;
+    std::int64_t lo = 0, hi = blocks;  // the first block starting at or after slot
+    while (lo < hi) {
+      const std::int64_t mid = (lo + hi) / 2;
+      if (cells.BlockSlotBegin(mid) < slot)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    chunk_block[static_cast<std::size_t>(q)] = lo;
+  }
+  chunk_slot_.resize(static_cast<std::size_t>(chunks) + 1);
+  for (int q = 0; q <= chunks; ++q) {
+    chunk_slot_[static_cast<std::size_t>(q)] =
+        cells.BlockSlotBegin(chunk_block[static_cast<std::size_t>(q)]);
+  }
+  const PeriodicBox& box = box_;
+  ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
+    std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
+    std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
+    std::size_t used = 0;
+    std::vector<int> run;  // candidate slot ranges of a cell: [run[2i], run[2i + 1])
+    // Rows of slots [b, e): candidates from the ranges in `run` (the first from s + 1 when
+    // own_first), tested without branches.
+    auto rows = [&](int b, int e, bool own_first) {
+      std::size_t most = 0;
+      for (std::size_t i = 0; i < run.size(); i += 2)
+        most += static_cast<std::size_t>(run[i + 1] - run[i]);
+      if (buf.size() < used + most * static_cast<std::size_t>(e - b)) {
+        buf.resize(2 * (used + most * static_cast<std::size_t>(e - b)));
+        if constexpr (P) img.resize(buf.size());
+      }
+      for (int s = b; s < e; ++s) {
+        int* out = buf.data() + used;
+        std::uint8_t* out_img = P ? img.data() + used : nullptr;
+        const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
+        const double rs = radius[s];
+        std::size_t found = 0;
+        for (std::size_t i = 0; i < run.size(); i += 2) {
+          const int from = i == 0 && own_first ? s + 1 : std::max(run[i], s + 1);
+          for (int t = from; t < run[i + 1]; ++t) {
+            double u[K];
+            const int code = MinimumImage<K, P>(xs, x + static_cast<std::ptrdiff_t>(K) * t, box, u);
+            const double c = rs + radius[t] + extra;
+            out[found] = t;
+            if constexpr (P) out_img[found] = static_cast<std::uint8_t>(code);
+            found += static_cast<std::size_t>(SquaredNorm<K>(u) < c * c);
+          }
+        }
+        used += found;
+        row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(found);
+      }
+    };
+    for (std::int64_t blk = chunk_block[static_cast<std::size_t>(q)];
+         blk < chunk_block[static_cast<std::size_t>(q) + 1]; ++blk) {
+      int origin[3], w[3];
+      cells.BlockShape(blk, origin, w);
+      const std::int64_t wx = w[0], plane = static_cast<std::int64_t>(w[0]) * w[1];
+      std::int64_t r = cells.block_cell_begin(blk);
+      for (int lz = 0; lz < w[2]; ++lz) {
+        for (int ly = 0; ly < w[1]; ++ly) {
+          for (int lx = 0; lx < w[0]; ++lx, ++r) {
+            const int b = start[r], e = start[r + 1];
+            if (b == e) continue;
+            run.clear();
+            const bool inside = lx >= 1 && lx + 2 <= w[0] &&
+                                (K < 2 || (ly >= 1 && ly + 2 <= w[1])) &&
+                                (K < 3 || (lz >= 1 && lz + 2 <= w[2]));
+            if (inside) {
+              run.insert(run.end(), {b, start[r + 2]});
+              auto row = [&](std::int64_t o) {
+                run.insert(run.end(), {start[r + o - 1], start[r + o + 2]});
+              };
+              if constexpr (K >= 2) row(wx);
+              if constexpr (K == 3) {
+                row(plane - wx);
+                row(plane);
+                row(plane + wx);
+              }
+              rows(b, e, true);
+              continue;
+            }
+            std::int64_t run_b = -1, run_e = -1;
+            auto flush = [&] {
+              const int from = std::max(start[run_b], b + 1);
+              if (from < start[run_e]) run.insert(run.end(), {from, start[run_e]});
+            };
+            cells.grid().ForEachAdjacentCell<K>(x + static_cast<std::ptrdiff_t>(K) * b,
+                                                [&](std::int64_t cell) {
+                                                  const std::int64_t rank = cells.rank(cell);
+                                                  if (rank == run_e) {
+                                                    run_e = rank + 1;
+                                                    return;
+                                                  }
+                                                  if (run_b >= 0) flush();
+                                                  run_b = rank;
+                                                  run_e = rank + 1;
+                                                });
+            flush();
+            rows(b, e, false);
+          }
+        }
+      }
+    }
+    buf.resize(used);
+    if constexpr (P) img.resize(used);
+  });
+  Concatenate(P, chunks, threads);
+}
+
 // Row offsets: the chunks' totals are summed in chunk order, then every chunk turns its row
 // counts into offsets from its first row on, in parallel; then the rows are copied.
 void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
-  const int n = n_;
   std::vector<std::int64_t> chunk_first(static_cast<std::size_t>(chunks) + 1, 0);
   for (int q = 0; q < chunks; ++q) {
     chunk_first[static_cast<std::size_t>(q) + 1] =
@@ -159,8 +281,8 @@ void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
   if (periodic) image_.resize(static_cast<std::size_t>(total));
   row_start_[0] = 0;
   ParallelFor(threads, 0, chunks, [&](std::int64_t q) {
-    const int begin = static_cast<int>(q * n / chunks);
-    const int end = static_cast<int>((q + 1) * n / chunks);
+    const int begin = chunk_slot_[static_cast<std::size_t>(q)];
+    const int end = chunk_slot_[static_cast<std::size_t>(q) + 1];
     auto run = static_cast<int>(chunk_first[static_cast<std::size_t>(q)]);
     for (int s = begin; s < end; ++s) {
       run += row_start_[static_cast<std::size_t>(s) + 1];

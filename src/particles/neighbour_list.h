@@ -143,6 +143,8 @@ class NeighbourList {
   template <int K, bool P>
   void BuildRows(const double* x, const double* radius, const CellList& cells, const int* members,
                  bool sort_rows, bool brute_force, int threads);
+  template <int K, bool P>
+  void BuildCellRows(const double* x, const double* radius, const CellList& cells, int threads);
   void Concatenate(bool periodic, int chunks, int threads);
   bool Listed(int s, int t) const;
   template <int K>
@@ -167,6 +169,7 @@ class NeighbourList {
   std::vector<double> bound_;                // per slot, AcceptEach's b_s
   std::vector<std::vector<int>> chunk_nbr_;  // build buffers, reused
   std::vector<std::vector<std::uint8_t>> chunk_image_;
+  std::vector<int> chunk_slot_;  // chunk q holds the rows of slots [chunk_slot_[q], [q + 1])
   NeighbourListStats stats_;
 };
 
