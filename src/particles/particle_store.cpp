@@ -27,44 +27,30 @@ ParticleStore::ParticleStore(const ParticleModel& model, std::span<const double>
                                   [&](double m) { return m == mobility.front(); });
 }
 
-// One pass over the slots gathers every per-slot array (radius and mobility only when they
-// differ between particles: a uniform array is the same in any order).
+// Radius and mobility are gathered only when they differ between particles (a uniform array is
+// the same in any order).
 void ParticleStore::Reorder(const std::vector<int>& perm, int threads) {
-  const auto entries = static_cast<std::size_t>(k) * static_cast<std::size_t>(n);
-  const bool gather_radius = !uniform_radius_;
-  const bool gather_mobility = !uniform_mobility_;
-  const bool has_key = !noise_key.empty();
-  const bool has_active = !active.empty();
-  scratch_current_.resize(entries);
-  scratch_predicted_.resize(entries);
-  if (has_active) scratch_active_.resize(entries);
-  if (gather_radius) scratch_radius_.resize(static_cast<std::size_t>(n));
-  if (gather_mobility) scratch_mobility_.resize(static_cast<std::size_t>(n));
-  if (has_key) scratch_key_.resize(noise_key.size());
+  GatherRows(perm, k, threads, &current, &scratch_k_);
+  GatherRows(perm, k, threads, &predicted, &scratch_k_);
+  if (!uniform_radius_) GatherRows(perm, 1, threads, &radius, &scratch1_);
+  if (!uniform_mobility_) GatherRows(perm, 1, threads, &mobility, &scratch1_);
+  GatherRows(perm, k, threads, &active, &scratch_k_);
+  if (!noise_key.empty()) {
+    scratch_key_.resize(noise_key.size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int s = 0; s < n; ++s) {
+      scratch_key_[static_cast<std::size_t>(s)] =
+          noise_key[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])];
+    }
+    noise_key.swap(scratch_key_);
+  }
   scratch_id_.resize(id.size());
-  const int kk = k;
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int s = 0; s < n; ++s) {
-    const auto us = static_cast<std::size_t>(s);
-    const auto o = static_cast<std::size_t>(perm[us]);
-    for (int a = 0; a < kk; ++a) {
-      scratch_current_[kk * us + a] = current[kk * o + a];
-      scratch_predicted_[kk * us + a] = predicted[kk * o + a];
-      if (has_active) scratch_active_[kk * us + a] = active[kk * o + a];
-    }
-    if (gather_radius) scratch_radius_[us] = radius[o];
-    if (gather_mobility) scratch_mobility_[us] = mobility[o];
-    if (has_key) scratch_key_[us] = noise_key[o];
-    const int i = id[o];
-    scratch_id_[us] = i;
+    const int i = id[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])];
+    scratch_id_[static_cast<std::size_t>(s)] = i;
     slot_of[static_cast<std::size_t>(i)] = s;
   }
-  current.swap(scratch_current_);
-  predicted.swap(scratch_predicted_);
-  if (has_active) active.swap(scratch_active_);
-  if (gather_radius) radius.swap(scratch_radius_);
-  if (gather_mobility) mobility.swap(scratch_mobility_);
-  if (has_key) noise_key.swap(scratch_key_);
   id.swap(scratch_id_);
 }
 

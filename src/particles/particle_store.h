@@ -36,8 +36,7 @@ struct ParticleStore {
  private:
   bool uniform_radius_ = false;  // every radius equal (then Reorder leaves the array alone)
   bool uniform_mobility_ = false;
-  std::vector<double> scratch_current_, scratch_predicted_, scratch_active_, scratch_radius_,
-      scratch_mobility_;
+  std::vector<double> scratch1_, scratch_k_;
   std::vector<int> scratch_id_;
   std::vector<std::int64_t> scratch_key_;
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -76,10 +77,19 @@ void GatherRows(const std::vector<int>& perm, int width, int threads, std::vecto
   const int n = static_cast<int>(perm.size());
   const double* src = v->data();
   double* dst = scratch->data();
+  auto gather = [&](auto w) {  // the row width as a constant: the copy unrolled
 #pragma omp parallel for num_threads(threads) schedule(static)
-  for (int s = 0; s < n; ++s) {
-    const int o = perm[static_cast<std::size_t>(s)];
-    for (int a = 0; a < width; ++a) dst[width * s + a] = src[width * o + a];
+    for (int s = 0; s < n; ++s) {
+      const int o = perm[static_cast<std::size_t>(s)];
+      for (int a = 0; a < w; ++a) dst[w * s + a] = src[w * o + a];
+    }
+  };
+  if (width == 1) {
+    gather(std::integral_constant<int, 1>());
+  } else if (width == 2) {
+    gather(std::integral_constant<int, 2>());
+  } else {
+    gather(std::integral_constant<int, 3>());
   }
   v->swap(*scratch);
 }

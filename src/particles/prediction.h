@@ -92,7 +92,8 @@ class Prediction {
   std::vector<double> scratch_;
 };
 
-// Reorders rows of `width` values: new row s is old row perm[s]; *scratch keeps its capacity.
+// Reorders rows of `width` (1, 2 or 3) values: new row s is old row perm[s]; *scratch keeps its
+// capacity.
 void GatherRows(const std::vector<int>& perm, int width, int threads, std::vector<double>* v,
                 std::vector<double>* scratch);
 
