@@ -169,11 +169,13 @@ double ProjectionSweep::SweepImpl(double* x, const double* radius, const Neighbo
     if (near != nullptr) near->max_path = max_path;
     return max_path;
   }
+  progress_.Start(colouring.blocks());
 #pragma omp parallel num_threads(threads) reduction(max : max_path) reduction(+ : proj)
   {
-    ForEachBlockByColour(colouring, cells,
-                         [&](int begin, int end) { rows(begin, end, &max_path, &proj); });
+    ForEachBlockInDependencyOrder(colouring, cells, progress_,
+                                  [&](int begin, int end) { rows(begin, end, &max_path, &proj); });
     if (fixed_sets_ > 0) {
+#pragma omp barrier
 #pragma omp for schedule(static)
       for (int chunk = 0; chunk < (n + 1023) / 1024; ++chunk) {
         SweepFixed<K>(chunk * 1024, std::min(n, chunk * 1024 + 1024), x, radius, &max_path, &proj);

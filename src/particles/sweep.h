@@ -5,7 +5,8 @@
 // Order: kLexicographic visits the rows of slots 0 … N−1 on one thread (storage = id order);
 // kColoured visits the colours in order, the blocks of one colour in parallel, each block's
 // slots in storage order, then the fixed sets in chunks of 1024 slots. Both are the same for any
-// thread count.
+// thread count. The threads do not wait for a whole colour: a block starts once the blocks of
+// smaller colours it depends on are done (colouring.h), which gives the same result.
 //
 // Path bounds: the sweep adds the length of every projection move to the moved particle's path
 // (per sweep, reset lazily by a sweep stamp) and returns the longest path, which bounds how far
@@ -96,6 +97,7 @@ class ProjectionSweep {
   std::vector<double> start_;  // k per slot: the position before the slot's first move
   std::vector<std::uint32_t> stamp_;
   std::uint32_t sweep_id_ = 0;
+  BlockProgress progress_;  // the coloured sweep's block schedule
 };
 
 }  // namespace moreau::particles::internal
