@@ -48,6 +48,9 @@ struct ContinuationOptions {
   int coarse_steps = 512;           // coarse-to-fine: largest coarse grid (>= 0; 0: every stage
                                     // on the requested grid, the plain path)
   int refine_factor = 2;            // ratio of successive grids (>= 2)
+  int start_steps = 64;             // coarse-to-fine with δ continuation (gamma_start > target
+                                    // γ): largest grid of the stages before γ (>= 0; 0: they run
+                                    // on the coarse grid too)
   FixedPointOptions fixed_point;    // initial dual from the guess (section 7.1)
   NewtonOptions newton;             // every Newton solve
   // Throws InputError("continuation.<field>: ...") on a value out of range.
@@ -123,8 +126,15 @@ ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps
                                           const ContinuationOptions& options, Eigen::VectorXd& y,
                                           const Eigen::VectorXd* warm = nullptr);
 
-// The grids the solve visits for N steps: {N} for the plain path, else N_0 < N_1 < … < N.
+// The grids the solve visits for N steps after the stages before γ: {N} for the plain path, else
+// N_0 < N_1 < … < N (the γ stages run on N_0).
 std::vector<int> ContinuationGrids(int steps, const ContinuationOptions& options, bool warm);
+
+// The grids below N_0 on which the stages before γ run (the first) and which they are prolonged
+// through at the start γ: N_0 / f^k … N_0 / f (rounded up as the grids above), the first <=
+// start_steps; empty when start_steps = 0, coarse_steps = 0, warm or gamma_start <= gamma_target.
+std::vector<int> StartGrids(int steps, const ContinuationOptions& options, double gamma_target,
+                            bool warm);
 
 // Interpolates a solution y on N_from steps to N_to steps (linear in time for z and ρ).
 Eigen::VectorXd InterpolateSolution(const PontryaginDiscretization& from, const Eigen::VectorXd& y,
