@@ -9,12 +9,17 @@
 // A stage gives up when its coefficient falls below min_increase (for δ: when 1 − C^δ does).
 // Every attempt, accepted or not, is recorded.
 //
-// Coarse to fine (coarse_steps > 0, no warm start, N > coarse_steps): the stages above run on a
-// coarse grid N_0 <= coarse_steps, N_k = ⌈N_{k+1} / refine_factor⌉, and the target solution is
-// then prolonged (InterpolateSolution) to N_1, N_2, …, N and polished there by Newton ("refine"
-// records). The last solve is Newton on the requested grid to the same tolerance, so the answer
-// is that grid's solution (the one the plain path finds when both converge to the same root). If
-// any solve of the coarse-to-fine path fails, the plain path runs on the requested grid.
+// Coarse to fine (coarse_steps > 0, no warm start): the grids form one chain
+// N_k = ⌈N_{k+1} / refine_factor⌉ ending at the requested N. The γ stages run on N_0, the largest
+// grid of the chain <= coarse_steps. With δ continuation (gamma_start > target γ) and
+// start_steps > 0, the stages before γ run on the largest grid of the chain <= start_steps, and
+// their solution at (1, 1, gamma_start) is prolonged (InterpolateSolution) grid by grid up to N_0
+// and polished there by Newton ("refine" records). After the γ stages the target solution is
+// prolonged to N_1, N_2, …, N and polished alike. The last solve is Newton on the requested grid
+// to the same tolerance, so the answer is that grid's solution (the one the plain path finds when
+// both converge to the same root). If any solve of the coarse-to-fine path fails, the plain path
+// runs on the requested grid. Both sizes are numbers of steps, not fractions of N: a grid has to
+// resolve the controls' switches, whose width shrinks with γ (docs/control.md, "Performance").
 #pragma once
 
 #include <Eigen/Core>
