@@ -2,8 +2,9 @@
 // N = 512 … 16384: the structure-exploiting Riccati solve against Eigen SparseLU (factorise +
 // solve of the same Jacobian), and the residual + Jacobian evaluation for scale. ArmSolve: the
 // whole solve from the documented start of examples/control/arm_2d.toml at N = 1024 and 4096,
-// 1 and 2 threads, coarse-to-fine (c2f = 1, the default) against the plain path (every stage on
-// the requested grid, c2f = 0), with the max difference of the controls from the plain path's.
+// 1 and 2 threads, coarse-to-fine (coarse = -1: the default coarse grid; coarse > 0: that
+// continuation.coarse_steps) against the plain path (every stage on the requested grid,
+// coarse = 0), with the max difference of the controls from the plain path's.
 //
 //   build/release/control_bench --benchmark_counters_tabular=true
 //   build/release/control_bench --benchmark_filter=ArmSolve --benchmark_counters_tabular=true
@@ -95,12 +96,13 @@ double ProcessCpuSeconds() {
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-// The documented start of examples/control/arm_2d.toml, on `threads` threads; coarse_to_fine =
-// false is the plain path (every stage on the requested grid).
-ContinuationOptions DocumentedStart(bool coarse_to_fine, int threads) {
+// The documented start of examples/control/arm_2d.toml, on `threads` threads; coarse < 0 keeps
+// the default coarse grid, coarse >= 0 sets continuation.coarse_steps (0: the plain path, every
+// stage on the requested grid).
+ContinuationOptions DocumentedStart(int coarse, int threads) {
   ContinuationOptions o = moreau::bench::ArmDocumentedStart();
   o.newton.threads = threads;
-  if (!coarse_to_fine) o.coarse_steps = 0;
+  if (coarse >= 0) o.coarse_steps = coarse;
   return o;
 }
 
@@ -119,7 +121,7 @@ const Eigen::MatrixXd& PlainControls(int steps) {
   auto& slot = PlainControlCache()[steps];
   if (slot.size() == 0) {
     Eigen::VectorXd y;
-    SolveWithContinuation(ArmFamily(), steps, DocumentedStart(false, 2), y);
+    SolveWithContinuation(ArmFamily(), steps, DocumentedStart(0, 2), y);
     slot = EffectiveControls(PontryaginDiscretization(ArmFamily()(1.0), steps), y);
   }
   return slot;
@@ -128,8 +130,8 @@ const Eigen::MatrixXd& PlainControls(int steps) {
 void BM_ArmSolve(benchmark::State& state) {
   const int steps = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  const bool coarse_to_fine = state.range(2) != 0;
-  const ContinuationOptions options = DocumentedStart(coarse_to_fine, threads);
+  const int coarse = static_cast<int>(state.range(2));
+  const ContinuationOptions options = DocumentedStart(coarse, threads);
   Eigen::VectorXd y;
   ContinuationSummary summary;
   double cpu = 0.0;
@@ -141,7 +143,7 @@ void BM_ArmSolve(benchmark::State& state) {
   if (!summary.ok()) state.SkipWithError(summary.message.c_str());
   const PontryaginDiscretization disc(ArmFamily()(1.0), steps);
   const Eigen::MatrixXd controls = EffectiveControls(disc, y);
-  if (!coarse_to_fine && threads == 2) PlainControlCache()[steps] = controls;
+  if (coarse == 0 && threads == 2) PlainControlCache()[steps] = controls;
   PontryaginWorkspace ws;
   Eigen::VectorXd residual;
   state.counters["residual"] = EvaluateResidual(disc, y, ws, residual);
@@ -149,21 +151,26 @@ void BM_ArmSolve(benchmark::State& state) {
   state.counters["newton_iterations"] = summary.newton_iterations;
   state.counters["fine_iterations"] = summary.grids.back().newton_iterations;
   state.counters["grids"] = static_cast<double>(summary.grids.size());
+  state.counters["coarse_grid"] = summary.grids.front().steps;
   state.counters["cpu_s"] = cpu / static_cast<double>(state.iterations());
 }
 
 // Plain 2-thread cases first: they fill the comparison cache.
 BENCHMARK(BM_ArmSolve)
     ->Name("ArmSolve")
-    ->ArgNames({"N", "threads", "c2f"})
+    ->ArgNames({"N", "threads", "coarse"})
     ->Args({1024, 2, 0})
     ->Args({1024, 1, 0})
-    ->Args({1024, 1, 1})
-    ->Args({1024, 2, 1})
+    ->Args({1024, 1, -1})
+    ->Args({1024, 2, -1})
+    ->Args({1024, 1, 512})
+    ->Args({1024, 1, 256})
     ->Args({4096, 2, 0})
     ->Args({4096, 1, 0})
-    ->Args({4096, 1, 1})
-    ->Args({4096, 2, 1})
+    ->Args({4096, 1, -1})
+    ->Args({4096, 2, -1})
+    ->Args({4096, 1, 512})
+    ->Args({4096, 1, 256})
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);

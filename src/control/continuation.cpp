@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 
@@ -63,22 +64,18 @@ void ContinuationOptions::Validate() const {
   if (refine_factor < 2) {
     fail("refine_factor", fmt::format("must be >= 2, got {}", refine_factor));
   }
+  if (start_steps < 0) fail("start_steps", fmt::format("must be >= 0, got {}", start_steps));
   fixed_point.Validate();
   newton.Validate();
 }
 
 nlohmann::json ContinuationOptions::ToJson() const {
-  return {{"path_start", path_start},
-          {"path_increase", path_increase},
-          {"stiffness_start", stiffness_start},
-          {"stiffness_increase", stiffness_increase},
-          {"gamma_start", gamma_start},
-          {"gamma_decrease", gamma_decrease},
-          {"min_increase", min_increase},
-          {"max_solves", max_solves},
-          {"coarse_steps", coarse_steps},
-          {"refine_factor", refine_factor},
-          {"fixed_point", fixed_point.ToJson()},
+  return {{"path_start", path_start},           {"path_increase", path_increase},
+          {"stiffness_start", stiffness_start}, {"stiffness_increase", stiffness_increase},
+          {"gamma_start", gamma_start},         {"gamma_decrease", gamma_decrease},
+          {"min_increase", min_increase},       {"max_solves", max_solves},
+          {"coarse_steps", coarse_steps},       {"refine_factor", refine_factor},
+          {"start_steps", start_steps},         {"fixed_point", fixed_point.ToJson()},
           {"newton", newton.ToJson()}};
 }
 
@@ -189,7 +186,7 @@ class ContinuationRun {
     if (guess.size() != disc.unknowns()) {
       FixedPointSweep(disc, ReferenceGuess(disc), options_.fixed_point, guess);
     }
-    NewtonSummary ns = SolveNewton(disc, options_.newton, guess);
+    NewtonSummary ns = SolveNewton(disc, options_.newton, guess, newton_workspace_);
     ++summary_.newton_solves;
     summary_.newton_iterations += ns.iterations;
     GridRecord& grid = summary_.grids.back();
@@ -243,6 +240,7 @@ class ContinuationRun {
   const ContinuationOptions& options_;
   Eigen::VectorXd& y_;
   ContinuationSummary summary_;
+  NewtonWorkspace newton_workspace_;  // shared by every solve: its storage is allocated once
   Stopwatch stopwatch_;
 };
 
@@ -274,8 +272,11 @@ namespace {
 
 // The continuation stages on the run's current grid, from `first` at the start parameters.
 // Returns why it failed, or an empty string when the target problem was solved.
+// `before_gamma` runs between the stiffness and the γ stages (it may move the run to a finer
+// grid); it returns why it failed, or an empty string.
 std::string RunStages(ContinuationRun& run, const ContinuationOptions& options, double gamma_target,
-                      const Eigen::VectorXd& first) {
+                      const Eigen::VectorXd& first,
+                      const std::function<std::string(double gamma)>& before_gamma = nullptr) {
   double p = options.path_start;
   double s = options.stiffness_start;
   double gamma = std::max(options.gamma_start, gamma_target);
@@ -291,6 +292,10 @@ std::string RunStages(ContinuationRun& run, const ContinuationOptions& options, 
       run, "stiffness", "scale ", s, options.stiffness_increase, options.min_increase,
       [&](double trial) { return run.Attempt("stiffness", p, trial, gamma, run.y()); });
   if (!failure.empty()) return failure;
+  if (before_gamma) {
+    failure = before_gamma(gamma);
+    if (!failure.empty()) return failure;
+  }
   double cd = options.gamma_decrease;
   while (gamma > gamma_target) {
     if (!run.BudgetLeft()) return "Newton solve budget exhausted in the gamma stage";
@@ -308,27 +313,59 @@ std::string RunStages(ContinuationRun& run, const ContinuationOptions& options, 
   return "";
 }
 
-// The stages on grids[0], then Newton on each finer grid from the prolonged solution. Returns
-// false (y unusable) when a solve fails.
-bool SolveCoarseToFine(const ProblemFamily& family, const std::vector<int>& grids,
-                       const ContinuationOptions& options, ContinuationRun& run) {
-  const TrackingProblem target = family(1.0);
-  run.SetGrid(grids.front());
-  if (!RunStages(run, options, target.gamma(), Eigen::VectorXd()).empty()) return false;
+// Newton at (p, s, γ) = (1, 1, gamma) on each grid of `grids` after the first, each from the
+// previous grid's solution prolonged. Returns false when a solve fails.
+bool Refine(const ProblemFamily& family, const std::vector<int>& grids, double gamma,
+            ContinuationRun& run) {
+  const TrackingProblem problem = ContinuationProblem(family, 1.0, 1.0, gamma);
   for (std::size_t k = 1; k < grids.size(); ++k) {
     if (!run.BudgetLeft()) return false;
-    const PontryaginDiscretization coarse(target, grids[k - 1]);
-    const PontryaginDiscretization fine(target, grids[k]);
+    const PontryaginDiscretization coarse(problem, grids[k - 1]);
+    const PontryaginDiscretization fine(problem, grids[k]);
     run.SetGrid(grids[k]);
-    if (!run.Attempt("refine", 1.0, 1.0, target.gamma(),
-                     InterpolateSolution(coarse, run.y(), fine))) {
+    if (!run.Attempt("refine", 1.0, 1.0, gamma, InterpolateSolution(coarse, run.y(), fine))) {
       return false;
     }
   }
   return true;
 }
 
+// The stages before γ on start_grids[0] (if any), prolonged up to grids[0] at the start γ; the γ
+// stages on grids[0]; then Newton on each finer grid from the prolonged solution. Returns false
+// (y unusable) when a solve fails.
+bool SolveCoarseToFine(const ProblemFamily& family, double gamma_target,
+                       const std::vector<int>& start_grids, const std::vector<int>& grids,
+                       const ContinuationOptions& options, ContinuationRun& run) {
+  std::vector<int> up = start_grids;  // the start grids and the γ stages' grid
+  up.push_back(grids.front());
+  run.SetGrid(up.front());
+  const auto to_gamma_grid = [&](double gamma) -> std::string {
+    return Refine(family, up, gamma, run) ? "" : "refinement failed";
+  };
+  if (!RunStages(run, options, gamma_target, Eigen::VectorXd(), to_gamma_grid).empty()) {
+    return false;
+  }
+  return Refine(family, grids, gamma_target, run);
+}
+
 }  // namespace
+
+std::vector<int> StartGrids(int steps, const ContinuationOptions& options, double gamma_target,
+                            bool warm) {
+  const std::vector<int> grids = ContinuationGrids(steps, options, warm);
+  std::vector<int> start;
+  if (warm || options.coarse_steps <= 0 || options.start_steps <= 0 ||
+      !(options.gamma_start > gamma_target)) {
+    return start;
+  }
+  int n = grids.front();
+  while (n > options.start_steps) {
+    n = (n + options.refine_factor - 1) / options.refine_factor;
+    start.push_back(n);
+  }
+  std::reverse(start.begin(), start.end());
+  return start;
+}
 
 std::vector<int> ContinuationGrids(int steps, const ContinuationOptions& options, bool warm) {
   std::vector<int> grids = {steps};
@@ -345,14 +382,17 @@ ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps
                                           const Eigen::VectorXd* warm) {
   options.Validate();
   ContinuationRun run(family, options, y);
+  const double gamma_target = family(1.0).gamma();
   const std::vector<int> grids = ContinuationGrids(steps, options, warm != nullptr);
-  if (grids.size() > 1 && SolveCoarseToFine(family, grids, options, run)) {
+  const std::vector<int> start = StartGrids(steps, options, gamma_target, warm != nullptr);
+  if ((grids.size() > 1 || !start.empty()) &&
+      SolveCoarseToFine(family, gamma_target, start, grids, options, run)) {
     return run.Finish(true, "");
   }
   // The plain path (also the fallback when the coarse-to-fine path failed).
   run.SetGrid(steps);
   const Eigen::VectorXd first = (warm != nullptr) ? *warm : Eigen::VectorXd();
-  const std::string failure = RunStages(run, options, family(1.0).gamma(), first);
+  const std::string failure = RunStages(run, options, gamma_target, first);
   return run.Finish(failure.empty(), failure);
 }
 

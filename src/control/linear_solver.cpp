@@ -36,27 +36,33 @@ struct RiccatiKernel {
   using VecMap = Eigen::Map<Vec>;
   using ConstVecMap = Eigen::Map<const Vec>;
 
-  // P_n, K_n and M_n⁻¹ for n = N−1 … 0 (p[N] given). False on a singular or non-finite block.
+  // P_n, K_n and M_n⁻¹ for n = N−1 … 0 (p[N] given). False on a singular or non-finite block:
+  // M_n = I − B_n P_{n+1} counts as singular when its reciprocal 1-norm condition number
+  // 1 / (‖M‖₁ ‖M⁻¹‖₁), computed from the inverse the solve needs anyway, is below 1e−14.
+  // The products are coefficient-based (lazyProduct): for blocks this small, the fixed-size
+  // unrolled loops are several times faster than Eigen's blocked matrix-matrix kernel.
   static bool Factorize(const PontryaginJacobian& J, int n, std::vector<Eigen::MatrixXd>& p,
                         std::vector<Eigen::MatrixXd>& k, std::vector<Eigen::MatrixXd>& m_inv) {
     Mat m(n, n), ptk(n, n);
     for (std::size_t s = k.size(); s-- > 0;) {
       const ConstMatMap A(J.A[s].data(), n, n), B(J.B[s].data(), n, n), C(J.C[s].data(), n, n);
       const ConstMatMap p_next(p[s + 1].data(), n, n);
-      m.noalias() = -B * p_next;
+      m = -B.lazyProduct(p_next);
       m.diagonal().array() += 1.0;
       const Eigen::PartialPivLU<Mat> lu(m);
-      if (!(lu.rcond() > 1e-14)) return false;
       m_inv[s].resize(n, n);
       k[s].resize(n, n);
       p[s].resize(n, n);
-      MatMap(m_inv[s].data(), n, n) = lu.inverse();
+      MatMap M_inv(m_inv[s].data(), n, n);
+      M_inv = lu.inverse();
+      const double norm = m.cwiseAbs().colwise().sum().maxCoeff();
+      const double inv_norm = M_inv.cwiseAbs().colwise().sum().maxCoeff();
+      if (!(1.0 / (norm * inv_norm) > 1e-14)) return false;
       MatMap K(k[s].data(), n, n);
-      K = lu.solve(A);
-      ptk.noalias() = p_next * K;
+      K = M_inv.lazyProduct(A);
+      ptk = p_next.lazyProduct(K);
       MatMap P(p[s].data(), n, n);
-      P = C;
-      P.noalias() += A.transpose() * ptk;
+      P = C + A.transpose().lazyProduct(ptk);
       if (!P.allFinite()) return false;
     }
     return true;
@@ -75,23 +81,23 @@ struct RiccatiKernel {
       const Eigen::Index off = 2 * n * static_cast<Eigen::Index>(s);
       const ConstVecMap q_next(q[s + 1].data(), n);
       tmp = rhs.segment(off, n);
-      tmp.noalias() += ConstMatMap(J.B[s].data(), n, n) * q_next;
+      tmp += ConstMatMap(J.B[s].data(), n, n).lazyProduct(q_next);
       v[s].resize(n);
-      VecMap(v[s].data(), n).noalias() = ConstMatMap(m_inv[s].data(), n, n) * tmp;
+      VecMap(v[s].data(), n) = ConstMatMap(m_inv[s].data(), n, n).lazyProduct(tmp);
       tmp2 = q_next;
-      tmp2.noalias() += ConstMatMap(p[s + 1].data(), n, n) * ConstVecMap(v[s].data(), n);
+      tmp2 += ConstMatMap(p[s + 1].data(), n, n).lazyProduct(ConstVecMap(v[s].data(), n));
       q[s].resize(n);
       VecMap qs(q[s].data(), n);
       qs = rhs.segment(off + n, n);
-      qs.noalias() += ConstMatMap(J.A[s].data(), n, n).transpose() * tmp2;
+      qs += ConstMatMap(J.A[s].data(), n, n).transpose().lazyProduct(tmp2);
     }
     tmp.setZero(n);  // δz^s, from δz^0 = 0
     for (std::size_t s = 0; s < N; ++s) {
       const Eigen::Index off = 2 * n * static_cast<Eigen::Index>(s);
       x.segment(off + n, n) = ConstVecMap(q[s].data(), n);
-      x.segment(off + n, n).noalias() += ConstMatMap(p[s].data(), n, n) * tmp;
+      x.segment(off + n, n) += ConstMatMap(p[s].data(), n, n).lazyProduct(tmp);
       tmp2 = ConstVecMap(v[s].data(), n);
-      tmp2.noalias() += ConstMatMap(k[s].data(), n, n) * tmp;
+      tmp2 += ConstMatMap(k[s].data(), n, n).lazyProduct(tmp);
       x.segment(off, n) = tmp2;
       tmp = tmp2;
     }

@@ -185,19 +185,31 @@ double LineSearch(const PontryaginDiscretization& disc, const NewtonOptions& opt
 
 NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
                           Eigen::VectorXd& y) {
+  NewtonWorkspace workspace;
+  return SolveNewton(disc, options, y, workspace);
+}
+
+NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
+                          Eigen::VectorXd& y, NewtonWorkspace& workspace) {
   options.Validate();
   const Stopwatch total;
   NewtonSummary summary;
   summary.options = options;
-  std::unique_ptr<NewtonLinearSolver> solver;
-  if (options.linear_solver == LinearSolverType::kRiccati) {
-    solver = std::make_unique<RiccatiSolver>();
-  } else {
-    solver = std::make_unique<SparseLuSolver>();
+  if (!workspace.solver || workspace.solver_type != options.linear_solver) {
+    if (options.linear_solver == LinearSolverType::kRiccati) {
+      workspace.solver = std::make_unique<RiccatiSolver>();
+    } else {
+      workspace.solver = std::make_unique<SparseLuSolver>();
+    }
+    workspace.solver_type = options.linear_solver;
   }
-  PontryaginWorkspace ws;
+  NewtonLinearSolver* solver = workspace.solver.get();
+  PontryaginWorkspace& ws = workspace.pontryagin;
   ws.threads = options.threads;
-  Eigen::VectorXd residual, trial_residual, step, trial;
+  Eigen::VectorXd& residual = workspace.residual;
+  Eigen::VectorXd& trial_residual = workspace.trial_residual;
+  Eigen::VectorXd& step = workspace.step;
+  Eigen::VectorXd& trial = workspace.trial;
   Stopwatch phase;
   double norm = EvaluateResidualAndJacobian(disc, y, ws, residual);
   summary.residual_jacobian_seconds += phase.Seconds();

@@ -146,6 +146,8 @@ def bad_case(name):
         return BASE + "\n[continuation]\ncoarse_steps = -1\n", "continuation.coarse_steps", "-1"
     if name == "refine_factor":
         return BASE + "\n[continuation]\nrefine_factor = 1\n", "continuation.refine_factor", ">= 2"
+    if name == "start_steps":
+        return BASE + "\n[continuation]\nstart_steps = -3\n", "continuation.start_steps", "-3"
     if name == "newton_threads":
         return BASE + "\n[newton]\nthreads = -2\n", "newton.threads", "-2"
     raise ValueError(name)
@@ -154,7 +156,7 @@ def bad_case(name):
 @pytest.mark.parametrize("name", ["disconnected", "fixed_pair", "bounds", "mass", "time_step",
                                   "horizon", "reference_length", "reference_columns", "coincide",
                                   "unknown_key", "coarse_steps", "refine_factor",
-                                  "newton_threads"])
+                                  "start_steps", "newton_threads"])
 def test_bad_input_one_line_exit_2_nothing_written(tmp_path, name):
     text, key, reason = bad_case(name)
     scenario = tmp_path / f"bad_{name}.toml"

@@ -152,11 +152,56 @@ TEST(ControlArm, SolvesDirectlyAtSmallN) {
   EXPECT_LT(s.last_newton.final_residual, 1e-10);
 }
 
+// Controls of the target problem after a solve from the documented start with `options`.
+Eigen::MatrixXd ArmControls(const ProblemFamily& family, int steps,
+                            const ContinuationOptions& options, ContinuationSummary& summary) {
+  Eigen::VectorXd y;
+  summary = SolveWithContinuation(family, steps, options, y);
+  const PontryaginDiscretization disc(family(1.0), steps);
+  PontryaginWorkspace ws;
+  Eigen::VectorXd f;
+  EXPECT_LT(EvaluateResidual(disc, y, ws, f), 1e-10);
+  return EffectiveControls(disc, y);
+}
+
+TEST(ControlArmSlow, DefaultCoarseToFineReachesThePlainPathsSolution) {
+  // N = 256 from the documented start with the default grids: the stages before gamma on 64
+  // steps, prolonged at gamma = 1 through 128 to 256, the gamma stages on 256. Against every
+  // stage on 256 steps (the plain path): the same root, controls within 1e-8.
+  const ArmExample ex;
+  const ProblemFamily family = [&ex](double p) { return MakeArmProblem(ex, p); };
+  ContinuationOptions plain = ArmContinuation();
+  plain.coarse_steps = 0;
+  ContinuationSummary sp, sc;
+  const Eigen::MatrixXd controls_plain = ArmControls(family, 256, plain, sp);
+  const Eigen::MatrixXd controls_c2f = ArmControls(family, 256, ArmContinuation(), sc);
+  ASSERT_TRUE(sp.ok()) << sp.BriefReport();
+  ASSERT_TRUE(sc.ok()) << sc.BriefReport();
+  ASSERT_EQ(sp.grids.size(), 1u);
+  ASSERT_EQ(sc.grids.size(), 3u) << sc.ToJson()["grids"].dump();
+  EXPECT_EQ(sc.grids[0].steps, 64);
+  EXPECT_EQ(sc.grids[1].steps, 128);
+  EXPECT_EQ(sc.grids[2].steps, 256);
+  for (const ContinuationRecord& r : sc.path) {
+    // Every gamma stage on the requested grid; every solve before it on 64 steps.
+    if (r.stage == "gamma") {
+      EXPECT_EQ(r.steps, 256);
+    } else if (r.stage == "refine") {
+      EXPECT_EQ(r.gamma, 1.0);
+    } else {
+      EXPECT_EQ(r.steps, 64) << r.stage;
+    }
+  }
+  EXPECT_EQ(sc.gamma, 1e-4);
+  EXPECT_LT((controls_c2f - controls_plain).lpNorm<Eigen::Infinity>(), 1e-8);
+}
+
 TEST(ControlArmSlow, CoarseToFineReachesThePlainPathsSolution) {
-  // From the documented start at N = 1024: continuation on 512 steps (the default coarse grid),
-  // Newton on 1024, against every stage on 1024 steps (the plain path). The same fixed point:
-  // controls within 1e-8. (From 64 steps the refinement to 128 fails and the plain path runs: the
-  // coarse grid has to resolve the switches of the controls.)
+  // From the documented start at N = 1024: the stages before gamma on 64 steps, the gamma stages
+  // on 512 (the default coarse grid), Newton on 1024, against every stage on 1024 steps (the
+  // plain path). The same fixed point: controls within 1e-8. (With start_steps = 0 and
+  // coarse_steps = 64 the refinement to 128 at gamma = 1e-4 fails and the plain path runs: the
+  // grid of the gamma stages has to resolve the switches of the controls.)
   const ArmExample ex;
   const ProblemFamily family = [&ex](double p) { return MakeArmProblem(ex, p); };
   ContinuationOptions plain = ArmContinuation();
@@ -164,32 +209,27 @@ TEST(ControlArmSlow, CoarseToFineReachesThePlainPathsSolution) {
   ContinuationOptions c2f = ArmContinuation();
   c2f.coarse_steps = 512;
   c2f.refine_factor = 2;
-  Eigen::VectorXd y_plain, y_c2f;
-  const ContinuationSummary sp = SolveWithContinuation(family, 1024, plain, y_plain);
-  const ContinuationSummary sc = SolveWithContinuation(family, 1024, c2f, y_c2f);
+  ContinuationSummary sp, sc;
+  const Eigen::MatrixXd controls_plain = ArmControls(family, 1024, plain, sp);
+  const Eigen::MatrixXd controls_c2f = ArmControls(family, 1024, c2f, sc);
   ASSERT_TRUE(sp.ok()) << sp.BriefReport();
   ASSERT_TRUE(sc.ok()) << sc.BriefReport();
   ASSERT_EQ(sp.grids.size(), 1u);
   EXPECT_EQ(sp.grids[0].steps, 1024);
   EXPECT_EQ(sp.grids[0].newton_iterations, sp.newton_iterations);
-  ASSERT_EQ(sc.grids.size(), 2u) << sc.ToJson()["grids"].dump();
-  EXPECT_EQ(sc.grids[0].steps, 512);
-  EXPECT_EQ(sc.grids[1].steps, 1024);
-  EXPECT_EQ(sc.grids[1].newton_solves, 1);
+  ASSERT_EQ(sc.grids.size(), 5u) << sc.ToJson()["grids"].dump();
+  EXPECT_EQ(sc.grids[0].steps, 64);
+  EXPECT_EQ(sc.grids[3].steps, 512);
+  EXPECT_EQ(sc.grids[4].steps, 1024);
+  EXPECT_EQ(sc.grids[4].newton_solves, 1);
   EXPECT_EQ(sc.path.back().stage, "refine");
   EXPECT_EQ(sc.path.back().steps, 1024);
   EXPECT_EQ(sc.gamma, 1e-4);
   int total = 0;
   for (const GridRecord& g : sc.grids) total += g.newton_iterations;
   EXPECT_EQ(total, sc.newton_iterations);
-  const PontryaginDiscretization disc(family(1.0), 1024);
-  PontryaginWorkspace ws;
-  Eigen::VectorXd f;
-  EXPECT_LT(EvaluateResidual(disc, y_c2f, ws, f), 1e-10);
-  const Eigen::MatrixXd controls_plain = EffectiveControls(disc, y_plain);
-  const Eigen::MatrixXd controls_c2f = EffectiveControls(disc, y_c2f);
   EXPECT_LT((controls_c2f - controls_plain).lpNorm<Eigen::Infinity>(), 1e-8);
-  EXPECT_EQ(sc.ToJson()["grids"].size(), 2u);
+  EXPECT_EQ(sc.ToJson()["grids"].size(), 5u);
 }
 
 TEST(ControlArmSlow, ConvergesWithContinuationAndRefines) {

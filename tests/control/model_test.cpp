@@ -227,6 +227,7 @@ TEST(ControlContinuation, HalvesTheStepOnFailureAndRecordsThePath) {
   options.path_increase = 1.0;  // 0.5 → 1 (fails) → 0.75 → 1
   options.gamma_start = 1e-1;
   options.gamma_decrease = 0.1;
+  options.start_steps = 0;  // every stage on the requested grid (no coarse start grid)
   Eigen::VectorXd y;
   const ContinuationSummary s = SolveWithContinuation(family, 100, options, y);
   ASSERT_TRUE(s.ok()) << s.BriefReport();
@@ -284,6 +285,9 @@ TEST(ControlContinuation, OptionsValidateNamingTheKey) {
   o.refine_factor = 1;
   ExpectInputError([&] { o.Validate(); }, {"continuation.refine_factor", ">= 2"});
   o = ContinuationOptions{};
+  o.start_steps = -3;
+  ExpectInputError([&] { o.Validate(); }, {"continuation.start_steps", "-3"});
+  o = ContinuationOptions{};
   o.newton.threads = -2;
   ExpectInputError([&] { o.Validate(); }, {"newton.threads"});
 }
@@ -302,6 +306,27 @@ TEST(ControlContinuation, CoarseToFineGridsEndOnTheRequestedGrid) {
   EXPECT_EQ(ContinuationGrids(4096, o, false), (std::vector<int>{64, 512, 4096}));
   o.coarse_steps = 0;
   EXPECT_EQ(ContinuationGrids(4096, o, false), (std::vector<int>{4096}));
+}
+
+TEST(ControlContinuation, StartGridsLeadUpToTheCoarseGridWithDeltaContinuation) {
+  ContinuationOptions o;
+  o.gamma_start = 1.0;
+  o.coarse_steps = 512;
+  o.refine_factor = 2;
+  o.start_steps = 64;
+  EXPECT_EQ(StartGrids(4096, o, 1e-4, false), (std::vector<int>{64, 128, 256}));
+  EXPECT_EQ(StartGrids(1000, o, 1e-4, false), (std::vector<int>{63, 125, 250}));  // N_0 = 500
+  EXPECT_EQ(StartGrids(256, o, 1e-4, false), (std::vector<int>{64, 128}));        // N_0 = N = 256
+  EXPECT_EQ(StartGrids(64, o, 1e-4, false), (std::vector<int>{}));
+  EXPECT_EQ(StartGrids(4096, o, 1e-4, true), (std::vector<int>{}));  // warm start: plain
+  EXPECT_EQ(StartGrids(4096, o, 1.0, false), (std::vector<int>{}));  // no δ continuation
+  o.start_steps = 100;
+  EXPECT_EQ(StartGrids(4096, o, 1e-4, false), (std::vector<int>{64, 128, 256}));
+  o.start_steps = 0;
+  EXPECT_EQ(StartGrids(4096, o, 1e-4, false), (std::vector<int>{}));
+  o.start_steps = 64;
+  o.coarse_steps = 0;
+  EXPECT_EQ(StartGrids(4096, o, 1e-4, false), (std::vector<int>{}));
 }
 
 TEST(ControlStudy, MaxPositionDifferenceSamplesBothGrids) {

@@ -91,7 +91,9 @@ FieldTable<control::ContinuationOptions> ContinuationFields() {
       .Integer("max_solves", &O::max_solves, Range::Any(), "Newton solves in all")
       .Integer("coarse_steps", &O::coarse_steps, Range::Any(),
                "coarse-to-fine: largest coarse grid (0: all stages on the requested grid)")
-      .Integer("refine_factor", &O::refine_factor, Range::Any(), "ratio of successive grids");
+      .Integer("refine_factor", &O::refine_factor, Range::Any(), "ratio of successive grids")
+      .Integer("start_steps", &O::start_steps, Range::Any(),
+               "largest grid of the stages before gamma (0: the coarse grid)");
   return t;
 }
 

@@ -9,12 +9,17 @@
 // A stage gives up when its coefficient falls below min_increase (for δ: when 1 − C^δ does).
 // Every attempt, accepted or not, is recorded.
 //
-// Coarse to fine (coarse_steps > 0, no warm start, N > coarse_steps): the stages above run on a
-// coarse grid N_0 <= coarse_steps, N_k = ⌈N_{k+1} / refine_factor⌉, and the target solution is
-// then prolonged (InterpolateSolution) to N_1, N_2, …, N and polished there by Newton ("refine"
-// records). The last solve is Newton on the requested grid to the same tolerance, so the answer
-// is that grid's solution (the one the plain path finds when both converge to the same root). If
-// any solve of the coarse-to-fine path fails, the plain path runs on the requested grid.
+// Coarse to fine (coarse_steps > 0, no warm start): the grids form one chain
+// N_k = ⌈N_{k+1} / refine_factor⌉ ending at the requested N. The γ stages run on N_0, the largest
+// grid of the chain <= coarse_steps. With δ continuation (gamma_start > target γ) and
+// start_steps > 0, the stages before γ run on the largest grid of the chain <= start_steps, and
+// their solution at (1, 1, gamma_start) is prolonged (InterpolateSolution) grid by grid up to N_0
+// and polished there by Newton ("refine" records). After the γ stages the target solution is
+// prolonged to N_1, N_2, …, N and polished alike. The last solve is Newton on the requested grid
+// to the same tolerance, so the answer is that grid's solution (the one the plain path finds when
+// both converge to the same root). If any solve of the coarse-to-fine path fails, the plain path
+// runs on the requested grid. Both sizes are numbers of steps, not fractions of N: a grid has to
+// resolve the controls' switches, whose width shrinks with γ (docs/control.md, "Performance").
 #pragma once
 
 #include <Eigen/Core>
@@ -48,6 +53,9 @@ struct ContinuationOptions {
   int coarse_steps = 512;           // coarse-to-fine: largest coarse grid (>= 0; 0: every stage
                                     // on the requested grid, the plain path)
   int refine_factor = 2;            // ratio of successive grids (>= 2)
+  int start_steps = 64;             // coarse-to-fine with δ continuation (gamma_start > target
+                                    // γ): largest grid of the stages before γ (>= 0; 0: they run
+                                    // on the coarse grid too)
   FixedPointOptions fixed_point;    // initial dual from the guess (section 7.1)
   NewtonOptions newton;             // every Newton solve
   // Throws InputError("continuation.<field>: ...") on a value out of range.
@@ -123,8 +131,15 @@ ContinuationSummary SolveWithContinuation(const ProblemFamily& family, int steps
                                           const ContinuationOptions& options, Eigen::VectorXd& y,
                                           const Eigen::VectorXd* warm = nullptr);
 
-// The grids the solve visits for N steps: {N} for the plain path, else N_0 < N_1 < … < N.
+// The grids the solve visits for N steps after the stages before γ: {N} for the plain path, else
+// N_0 < N_1 < … < N (the γ stages run on N_0).
 std::vector<int> ContinuationGrids(int steps, const ContinuationOptions& options, bool warm);
+
+// The grids below N_0 on which the stages before γ run (the first) and which they are prolonged
+// through at the start γ: N_0 / f^k … N_0 / f (rounded up as the grids above), the first <=
+// start_steps; empty when start_steps = 0, coarse_steps = 0, warm or gamma_start <= gamma_target.
+std::vector<int> StartGrids(int steps, const ContinuationOptions& options, double gamma_target,
+                            bool warm);
 
 // Interpolates a solution y on N_from steps to N_to steps (linear in time for z and ρ).
 Eigen::VectorXd InterpolateSolution(const PontryaginDiscretization& from, const Eigen::VectorXd& y,

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -96,5 +97,19 @@ struct NewtonSummary {
 // Newton on F(y) = 0 starting from y (overwritten by the best iterate).
 NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
                           Eigen::VectorXd& y);
+
+// Scratch of SolveNewton (residuals, the Jacobian blocks, the linear solver's factors), kept
+// between solves so that a sequence of solves (continuation) allocates its N-block storage once
+// instead of once per solve. Any grid size; results do not depend on what it held before.
+struct NewtonWorkspace {
+  PontryaginWorkspace pontryagin;
+  std::unique_ptr<NewtonLinearSolver> solver;  // of the type `solver_type` (made on first use)
+  LinearSolverType solver_type = LinearSolverType::kRiccati;
+  Eigen::VectorXd residual, trial_residual, step, trial;
+};
+
+// SolveNewton with the caller's scratch.
+NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
+                          Eigen::VectorXd& y, NewtonWorkspace& workspace);
 
 }  // namespace moreau::control
