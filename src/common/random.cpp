@@ -66,8 +66,8 @@ void PhiloxNormalsPortable(int n, const std::uint32_t* c0, const std::uint32_t* 
     for (int round = 0; round < 10; ++round) {
       for (int i = 0; i < len; ++i) {
         // One round of Philox4x32Rounds on lane i.
-        const std::uint64_t p0 = std::uint64_t{0xD2511F53u} * w0[i];
-        const std::uint64_t p1 = std::uint64_t{0xCD9E8D57u} * w2[i];
+        const std::uint64_t p0 = kPhiloxM0 * w0[i];
+        const std::uint64_t p1 = kPhiloxM1 * w2[i];
         const auto next0 = static_cast<std::uint32_t>(p1 >> 32) ^ w1[i] ^ k[0];
         const auto next2 = static_cast<std::uint32_t>(p0 >> 32) ^ w3[i] ^ k[1];
         w1[i] = static_cast<std::uint32_t>(p1);
@@ -75,8 +75,8 @@ void PhiloxNormalsPortable(int n, const std::uint32_t* c0, const std::uint32_t* 
         w0[i] = next0;
         w2[i] = next2;
       }
-      k[0] += 0x9E3779B9u;
-      k[1] += 0xBB67AE85u;
+      k[0] += kPhiloxW0;
+      k[1] += kPhiloxW1;
     }
     BoxMullerLoops(len, w0, w1, w2, radius, z0 + begin, z1 + begin);
   }
@@ -88,27 +88,42 @@ void PhiloxNormalsPortable(int n, const std::uint32_t* c0, const std::uint32_t* 
 // whose halves are the round's hi and lo words. The tail of a tile (fewer counters than lanes)
 // runs Philox4x32Rounds one counter at a time; integer operations, so the same words.
 
+// Counters i … n − 1 one at a time (the tail of a tile shorter than a register).
+void PhiloxWordsOneByOne(int i, int n, const std::uint32_t* c0, const std::uint32_t* c1,
+                         std::uint32_t c2, std::uint32_t c3, std::array<std::uint32_t, 2> key,
+                         std::uint32_t* w0, std::uint32_t* w1, std::uint32_t* w2) {
+  for (; i < n; ++i) {
+    std::uint32_t a = c0[i], b = c1[i], c = c2, d = c3;
+    Philox4x32Rounds(&a, &b, &c, &d, key);
+    w0[i] = a;
+    w1[i] = b;
+    w2[i] = c;
+  }
+}
+
+// The key word of a round: key_word + round · increment (mod 2^32).
+constexpr std::uint32_t RoundKey(std::uint32_t key_word, std::uint32_t increment, int round) {
+  return key_word + increment * static_cast<std::uint32_t>(round);
+}
+
 // The low halves of v's four 64-bit lanes into w[0 … 3] (low_words: 0, 2, 4, 6 twice).
 __attribute__((target("avx2"), always_inline)) inline void StoreLowWords(__m256i v,
-                                                                        __m256i low_words,
-                                                                        std::uint32_t* w) {
+                                                                         __m256i low_words,
+                                                                         std::uint32_t* w) {
   _mm_storeu_si128(reinterpret_cast<__m128i*>(w),
                    _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(v, low_words)));
 }
 
 // The words of counters (c0[i], c1[i], c2, c3) for i < n into w0, w1, w2, four at a time.
-__attribute__((target("avx2"))) void PhiloxWordsAvx2(int n, const std::uint32_t* c0,
-                                                     const std::uint32_t* c1, std::uint32_t c2,
-                                                     std::uint32_t c3,
-                                                     std::array<std::uint32_t, 2> key,
-                                                     std::uint32_t* w0, std::uint32_t* w1,
-                                                     std::uint32_t* w2) {
+__attribute__((target("avx2"))) void PhiloxWordsAvx2(
+    int n, const std::uint32_t* c0, const std::uint32_t* c1, std::uint32_t c2, std::uint32_t c3,
+    std::array<std::uint32_t, 2> key, std::uint32_t* w0, std::uint32_t* w1, std::uint32_t* w2) {
   __m256i k0[10], k1[10];
   for (int round = 0; round < 10; ++round) {
-    k0[round] = _mm256_set1_epi64x(key[0] + 0x9E3779B9u * static_cast<std::uint32_t>(round));
-    k1[round] = _mm256_set1_epi64x(key[1] + 0xBB67AE85u * static_cast<std::uint32_t>(round));
+    k0[round] = _mm256_set1_epi64x(RoundKey(key[0], kPhiloxW0, round));
+    k1[round] = _mm256_set1_epi64x(RoundKey(key[1], kPhiloxW1, round));
   }
-  const __m256i m0 = _mm256_set1_epi64x(0xD2511F53), m1 = _mm256_set1_epi64x(0xCD9E8D57);
+  const __m256i m0 = _mm256_set1_epi64x(kPhiloxM0), m1 = _mm256_set1_epi64x(kPhiloxM1);
   const __m256i low_words = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
   int i = 0;
   for (; i + 4 <= n; i += 4) {
@@ -127,31 +142,22 @@ __attribute__((target("avx2"))) void PhiloxWordsAvx2(int n, const std::uint32_t*
     StoreLowWords(b, low_words, w1 + i);
     StoreLowWords(c, low_words, w2 + i);
   }
-  for (; i < n; ++i) {
-    std::uint32_t a = c0[i], b = c1[i], c = c2, d = c3;
-    Philox4x32Rounds(&a, &b, &c, &d, key);
-    w0[i] = a;
-    w1[i] = b;
-    w2[i] = c;
-  }
+  PhiloxWordsOneByOne(i, n, c0, c1, c2, c3, key, w0, w1, w2);
 }
 
 // The same, eight at a time. GCC 12 warns of the deliberately undefined vector inside its own
 // AVX-512 intrinsics (_mm512_undefined_epi32) as maybe uninitialised: a false alarm, silenced here.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-__attribute__((target("avx512f"))) void PhiloxWordsAvx512(int n, const std::uint32_t* c0,
-                                                          const std::uint32_t* c1,
-                                                          std::uint32_t c2, std::uint32_t c3,
-                                                          std::array<std::uint32_t, 2> key,
-                                                          std::uint32_t* w0, std::uint32_t* w1,
-                                                          std::uint32_t* w2) {
+__attribute__((target("avx512f"))) void PhiloxWordsAvx512(
+    int n, const std::uint32_t* c0, const std::uint32_t* c1, std::uint32_t c2, std::uint32_t c3,
+    std::array<std::uint32_t, 2> key, std::uint32_t* w0, std::uint32_t* w1, std::uint32_t* w2) {
   __m512i k0[10], k1[10];
   for (int round = 0; round < 10; ++round) {
-    k0[round] = _mm512_set1_epi64(key[0] + 0x9E3779B9u * static_cast<std::uint32_t>(round));
-    k1[round] = _mm512_set1_epi64(key[1] + 0xBB67AE85u * static_cast<std::uint32_t>(round));
+    k0[round] = _mm512_set1_epi64(RoundKey(key[0], kPhiloxW0, round));
+    k1[round] = _mm512_set1_epi64(RoundKey(key[1], kPhiloxW1, round));
   }
-  const __m512i m0 = _mm512_set1_epi64(0xD2511F53), m1 = _mm512_set1_epi64(0xCD9E8D57);
+  const __m512i m0 = _mm512_set1_epi64(kPhiloxM0), m1 = _mm512_set1_epi64(kPhiloxM1);
   int i = 0;
   for (; i + 8 <= n; i += 8) {
     __m512i a = _mm512_cvtepu32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(c0 + i)));
@@ -170,32 +176,26 @@ __attribute__((target("avx512f"))) void PhiloxWordsAvx512(int n, const std::uint
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(w1 + i), _mm512_cvtepi64_epi32(b));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(w2 + i), _mm512_cvtepi64_epi32(c));
   }
-  for (; i < n; ++i) {
-    std::uint32_t a = c0[i], b = c1[i], c = c2, d = c3;
-    Philox4x32Rounds(&a, &b, &c, &d, key);
-    w0[i] = a;
-    w1[i] = b;
-    w2[i] = c;
-  }
+  PhiloxWordsOneByOne(i, n, c0, c1, c2, c3, key, w0, w1, w2);
 }
 
 #pragma GCC diagnostic pop
 
 // Tile by tile: the words, then the Box–Muller loops in the copy's instruction set.
-#define MOREAU_PHILOX_NORMALS_TILES(words)                              \
-  std::uint32_t w0[kTile], w1[kTile], w2[kTile];                        \
-  double radius[kTile];                                                 \
-  for (int begin = 0; begin < n; begin += kTile) {                      \
-    const int len = std::min(kTile, n - begin);                         \
-    words(len, c0 + begin, c1 + begin, c2, c3, key, w0, w1, w2);        \
-    BoxMullerLoops(len, w0, w1, w2, radius, z0 + begin, z1 + begin);    \
+#define MOREAU_PHILOX_NORMALS_TILES(words)                           \
+  std::uint32_t w0[kTile], w1[kTile], w2[kTile];                     \
+  double radius[kTile];                                              \
+  for (int begin = 0; begin < n; begin += kTile) {                   \
+    const int len = std::min(kTile, n - begin);                      \
+    words(len, c0 + begin, c1 + begin, c2, c3, key, w0, w1, w2);     \
+    BoxMullerLoops(len, w0, w1, w2, radius, z0 + begin, z1 + begin); \
   }
 
 __attribute__((target("avx2"))) void PhiloxNormalsAvx2(int n, const std::uint32_t* c0,
                                                        const std::uint32_t* c1, std::uint32_t c2,
                                                        std::uint32_t c3,
-                                                       std::array<std::uint32_t, 2> key,
-                                                       double* z0, double* z1) {
+                                                       std::array<std::uint32_t, 2> key, double* z0,
+                                                       double* z1) {
   MOREAU_PHILOX_NORMALS_TILES(PhiloxWordsAvx2)
 }
 

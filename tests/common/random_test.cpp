@@ -113,7 +113,8 @@ TEST(PhiloxNormals, EveryInstructionSetGivesTheBitsOfSingleDraws) {
     c1[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(r >> 32);
   }
   int sets_run = 0;
-  for (const auto set : {InstructionSet::kPortable, InstructionSet::kAvx2, InstructionSet::kAvx512}) {
+  for (const auto set :
+       {InstructionSet::kPortable, InstructionSet::kAvx2, InstructionSet::kAvx512}) {
     if (!random_internal::Supports(set)) continue;
     ++sets_run;
     for (int trial = 0; trial < 3; ++trial) {
@@ -124,10 +125,9 @@ TEST(PhiloxNormals, EveryInstructionSetGivesTheBitsOfSingleDraws) {
       std::vector<double> z0(n), z1(n);
       for (int begin = 0, len = 1; begin < n; begin += len, len = len % 600 + 7) {
         const int m = std::min(len, n - begin);
-        random_internal::PhiloxNormalsBatchOn(set, m, &c0[static_cast<std::size_t>(begin)],
-                                              &c1[static_cast<std::size_t>(begin)], c2, c3, key,
-                                              &z0[static_cast<std::size_t>(begin)],
-                                              &z1[static_cast<std::size_t>(begin)]);
+        random_internal::PhiloxNormalsBatchOn(
+            set, m, &c0[static_cast<std::size_t>(begin)], &c1[static_cast<std::size_t>(begin)], c2,
+            c3, key, &z0[static_cast<std::size_t>(begin)], &z1[static_cast<std::size_t>(begin)]);
       }
       for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
         const auto w = Philox4x32({c0[i], c1[i], c2, c3}, key);

@@ -29,21 +29,23 @@ std::array<std::uint32_t, 4> Philox4x32(std::array<std::uint32_t, 4> counter,
 
 namespace random_internal {
 
+// Philox4x32's round multipliers and key increments (Salmon et al.).
+inline constexpr std::uint64_t kPhiloxM0 = 0xD2511F53u, kPhiloxM1 = 0xCD9E8D57u;
+inline constexpr std::uint32_t kPhiloxW0 = 0x9E3779B9u, kPhiloxW1 = 0xBB67AE85u;
+
 // The ten Philox4x32-10 rounds of Philox4x32, in place on the counter (c0, c1, c2, c3).
 inline void Philox4x32Rounds(std::uint32_t* c0, std::uint32_t* c1, std::uint32_t* c2,
                              std::uint32_t* c3, std::array<std::uint32_t, 2> key) {
-  constexpr std::uint64_t kM0 = 0xD2511F53u, kM1 = 0xCD9E8D57u;
-  constexpr std::uint32_t kW0 = 0x9E3779B9u, kW1 = 0xBB67AE85u;
 #pragma GCC unroll 10
   for (int round = 0; round < 10; ++round) {
-    const std::uint64_t p0 = kM0 * *c0;
-    const std::uint64_t p1 = kM1 * *c2;
+    const std::uint64_t p0 = kPhiloxM0 * *c0;
+    const std::uint64_t p1 = kPhiloxM1 * *c2;
     *c0 = static_cast<std::uint32_t>(p1 >> 32) ^ *c1 ^ key[0];
     *c2 = static_cast<std::uint32_t>(p0 >> 32) ^ *c3 ^ key[1];
     *c1 = static_cast<std::uint32_t>(p1);
     *c3 = static_cast<std::uint32_t>(p0);
-    key[0] += kW0;
-    key[1] += kW1;
+    key[0] += kPhiloxW0;
+    key[1] += kPhiloxW1;
   }
 }
 
@@ -143,8 +145,7 @@ inline void BoxMullerNormals(std::uint32_t w0, std::uint32_t w1, std::uint32_t w
 // integer operations and the same +, −, ×, ÷, √ in the same order, each correctly rounded, none
 // fused (test PhiloxNormals.EveryInstructionSetGivesTheBitsOfSingleDraws).
 void PhiloxNormalsBatch(int n, const std::uint32_t* c0, const std::uint32_t* c1, std::uint32_t c2,
-                        std::uint32_t c3, std::array<std::uint32_t, 2> key, double* z0,
-                        double* z1);
+                        std::uint32_t c3, std::array<std::uint32_t, 2> key, double* z0, double* z1);
 
 namespace random_internal {
 
