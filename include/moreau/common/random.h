@@ -4,8 +4,8 @@
 // random placements). Philox4x32-10: a counter-based generator; a value is a pure function of
 // (counter, key), so noise for (seed, particle id, step) needs no per-thread state.
 // BoxMullerNormals: two standard normals from 96 bits, branch-free; PhiloxNormalsBatch: both for
-// many counters at once, in one loop that vectorises (the noise of the particle engine draws
-// through it), with the same bits as the single draws on every processor.
+// many counters at once, vectorised (the noise of the particle engine draws through it), with
+// the same bits as the single draws on every processor.
 #pragma once
 
 #include <array>
@@ -139,11 +139,11 @@ inline void BoxMullerNormals(std::uint32_t w0, std::uint32_t w1, std::uint32_t w
 }
 
 // (z0[i], z1[i]) = BoxMullerNormals(w0, w1, w2) of the words of Philox4x32((c0[i], c1[i], c2, c3),
-// key), for i < n: the counters of one step differ in their first two words only. One loop of the
-// rounds and the transform (the words stay in registers), vectorised; on x86-64 an AVX-512 or AVX2
-// copy of it where the processor has one. All copies give the bits of the single draws: the same
-// integer operations and the same +, −, ×, ÷, √ in the same order, each correctly rounded, none
-// fused (test PhiloxNormals.EveryInstructionSetGivesTheBitsOfSingleDraws).
+// key), for i < n: the counters of one step differ in their first two words only. Per tile of 256
+// counters the rounds, then the transform (the tile's words stay in L1), vectorised; on x86-64 an
+// AVX-512 or AVX2 copy where the processor has one. All copies give the bits of the single draws:
+// the same integer operations and the same +, −, ×, ÷, √ in the same order, each correctly rounded,
+// none fused (test PhiloxNormals.EveryInstructionSetGivesTheBitsOfSingleDraws).
 void PhiloxNormalsBatch(int n, const std::uint32_t* c0, const std::uint32_t* c1, std::uint32_t c2,
                         std::uint32_t c3, std::array<std::uint32_t, 2> key, double* z0, double* z1);
 
