@@ -1,7 +1,7 @@
 // The engine's Brownian noise in batches: ξ(seed, key, step) of forces.h (GaussianNoise) for many
-// particles at once, in a loop that the compiler vectorises (Philox4x32-10 and the branch-free
-// Box–Muller of common/random.h). Every value is the same as GaussianNoise's for its key, so it
-// depends on neither the batch nor the thread that draws it.
+// particles at once, in a loop that the compiler vectorises (PhiloxNormalsBatch of common/random.h:
+// Philox4x32-10 and the branch-free Box–Muller). Every value is the same as GaussianNoise's for its
+// key, so it depends on neither the batch nor the thread that draws it.
 #pragma once
 
 #include <cstdint>

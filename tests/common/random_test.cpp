@@ -1,10 +1,12 @@
 // The seeded generators' transforms: the branch-free logarithm, cosine and sine of BoxMullerNormals
 // against long-double references, and BoxMullerNormals against the textbook Box–Muller of the same
-// uniform and angle. (Philox's known answers: tests/particles/noise_test.cpp; the distribution of
+// uniform and angle; every instruction-set copy of PhiloxNormalsBatch against the single draws.
+// (Philox's known answers: tests/particles/noise_test.cpp; the distribution of
 // the engine's noise stream: the same file.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -96,25 +98,48 @@ TEST(BoxMuller, MatchesTheTextbookTransformOfTheSameBits) {
   EXPECT_LT(worst, 2e-15);
 }
 
-// The batch (vectorised, on x86-64 possibly its AVX2 copy) gives the bits of single draws.
-TEST(BoxMuller, BatchGivesTheBitsOfSingleDraws) {
-  SplitMix64 rng(7);
-  const int n = 1001;
-  std::vector<std::uint32_t> w0(n), w1(n), w2(n);
+// Every copy of PhiloxNormalsBatch this processor runs (portable; on x86-64 AVX2 and AVX-512 where
+// present) gives, bit for bit, Philox4x32 then BoxMullerNormals of one counter at a time (compiled
+// here in this file's plain build): 3 keys × 2^17 counters with random first words, in batch
+// lengths that leave every tail length of the vector lanes and cross the 256-counter tiles.
+TEST(PhiloxNormals, EveryInstructionSetGivesTheBitsOfSingleDraws) {
+  using random_internal::InstructionSet;
+  SplitMix64 rng(20261202);
+  const int n = 1 << 17;
+  std::vector<std::uint32_t> c0(n), c1(n);
   for (int i = 0; i < n; ++i) {
-    const std::uint64_t a = rng.Next(), b = rng.Next();
-    w0[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(a);
-    w1[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(a >> 32);
-    w2[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(b);
+    const std::uint64_t r = rng.Next();
+    c0[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(r);
+    c1[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(r >> 32);
   }
-  std::vector<double> z0(n), z1(n), radius(n);
-  BoxMullerBatch(n, w0.data(), w1.data(), w2.data(), z0.data(), z1.data(), radius.data());
-  for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
-    double a, b;
-    BoxMullerNormals(w0[i], w1[i], w2[i], &a, &b);
-    ASSERT_EQ(z0[i], a) << i;
-    ASSERT_EQ(z1[i], b) << i;
+  int sets_run = 0;
+  for (const auto set :
+       {InstructionSet::kPortable, InstructionSet::kAvx2, InstructionSet::kAvx512}) {
+    if (!random_internal::Supports(set)) continue;
+    ++sets_run;
+    for (int trial = 0; trial < 3; ++trial) {
+      const std::uint64_t k = rng.Next(), c = rng.Next();
+      const std::array<std::uint32_t, 2> key{static_cast<std::uint32_t>(k),
+                                             static_cast<std::uint32_t>(k >> 32)};
+      const auto c2 = static_cast<std::uint32_t>(c), c3 = static_cast<std::uint32_t>(c >> 32);
+      std::vector<double> z0(n), z1(n);
+      for (int begin = 0, len = 1; begin < n; begin += len, len = len % 600 + 7) {
+        const int m = std::min(len, n - begin);
+        random_internal::PhiloxNormalsBatchOn(
+            set, m, &c0[static_cast<std::size_t>(begin)], &c1[static_cast<std::size_t>(begin)], c2,
+            c3, key, &z0[static_cast<std::size_t>(begin)], &z1[static_cast<std::size_t>(begin)]);
+      }
+      for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+        const auto w = Philox4x32({c0[i], c1[i], c2, c3}, key);
+        double a, b;
+        BoxMullerNormals(w[0], w[1], w[2], &a, &b);
+        ASSERT_EQ(z0[i], a) << "set " << static_cast<int>(set) << " counter " << i;
+        ASSERT_EQ(z1[i], b) << "set " << static_cast<int>(set) << " counter " << i;
+      }
+    }
   }
+  EXPECT_TRUE(random_internal::Supports(random_internal::BestInstructionSet()));
+  RecordProperty("instruction_sets_compared", sets_run);
 }
 
 TEST(BoxMuller, RadiusRangeIsTheDocumentedOne) {

@@ -3,9 +3,9 @@
 // SplitMix64: a small sequential generator for initial states (random sequential addition,
 // random placements). Philox4x32-10: a counter-based generator; a value is a pure function of
 // (counter, key), so noise for (seed, particle id, step) needs no per-thread state.
-// BoxMullerNormals: two standard normals from 96 bits, branch-free; Philox4x32Batch and
-// BoxMullerBatch: the same for many counters at once, in loops that vectorise (the noise of the
-// particle engine draws through them).
+// BoxMullerNormals: two standard normals from 96 bits, branch-free; PhiloxNormalsBatch: both for
+// many counters at once, vectorised (the noise of the particle engine draws through it), with
+// the same bits as the single draws on every processor.
 #pragma once
 
 #include <array>
@@ -27,13 +27,27 @@ class SplitMix64 {
 std::array<std::uint32_t, 4> Philox4x32(std::array<std::uint32_t, 4> counter,
                                         std::array<std::uint32_t, 2> key);
 
-// Philox4x32 of n counters (c0[i], c1[i], c2[i], c3[i]) with one key, in place: each becomes the
-// four words Philox4x32 gives for it. The rounds run over all n counters in turn, so the lanes
-// are independent and the loop vectorises.
-void Philox4x32Batch(int n, std::uint32_t* c0, std::uint32_t* c1, std::uint32_t* c2,
-                     std::uint32_t* c3, std::array<std::uint32_t, 2> key);
-
 namespace random_internal {
+
+// Philox4x32's round multipliers and key increments (Salmon et al.).
+inline constexpr std::uint64_t kPhiloxM0 = 0xD2511F53u, kPhiloxM1 = 0xCD9E8D57u;
+inline constexpr std::uint32_t kPhiloxW0 = 0x9E3779B9u, kPhiloxW1 = 0xBB67AE85u;
+
+// The ten Philox4x32-10 rounds of Philox4x32, in place on the counter (c0, c1, c2, c3).
+inline void Philox4x32Rounds(std::uint32_t* c0, std::uint32_t* c1, std::uint32_t* c2,
+                             std::uint32_t* c3, std::array<std::uint32_t, 2> key) {
+#pragma GCC unroll 10
+  for (int round = 0; round < 10; ++round) {
+    const std::uint64_t p0 = kPhiloxM0 * *c0;
+    const std::uint64_t p1 = kPhiloxM1 * *c2;
+    *c0 = static_cast<std::uint32_t>(p1 >> 32) ^ *c1 ^ key[0];
+    *c2 = static_cast<std::uint32_t>(p0 >> 32) ^ *c3 ^ key[1];
+    *c1 = static_cast<std::uint32_t>(p1);
+    *c3 = static_cast<std::uint32_t>(p0);
+    key[0] += kPhiloxW0;
+    key[1] += kPhiloxW1;
+  }
+}
 
 // ln u for u in [2^−53, 1): u = 2^e m with m in (√2/2, √2], ln m = 2 atanh(s), s = (m − 1)/(m + 1),
 // |s| ≤ 0.1716, by its Taylor series to s^23 (truncation below 2^−60 relative). A few ulp.
@@ -124,9 +138,28 @@ inline void BoxMullerNormals(std::uint32_t w0, std::uint32_t w1, std::uint32_t w
   random_internal::BoxMullerRotate(w2, random_internal::BoxMullerRadius(w0, w1), z0, z1);
 }
 
-// BoxMullerNormals(w0[i], w1[i], w2[i], &z0[i], &z1[i]) for i < n, the same bits, vectorised.
-// radius: n doubles of scratch.
-void BoxMullerBatch(int n, const std::uint32_t* w0, const std::uint32_t* w1,
-                    const std::uint32_t* w2, double* z0, double* z1, double* radius);
+// (z0[i], z1[i]) = BoxMullerNormals(w0, w1, w2) of the words of Philox4x32((c0[i], c1[i], c2, c3),
+// key), for i < n: the counters of one step differ in their first two words only. Per tile of 256
+// counters the rounds, then the transform (the tile's words stay in L1), vectorised; on x86-64 an
+// AVX-512 or AVX2 copy where the processor has one. All copies give the bits of the single draws:
+// the same integer operations and the same +, −, ×, ÷, √ in the same order, each correctly rounded,
+// none fused (test PhiloxNormals.EveryInstructionSetGivesTheBitsOfSingleDraws).
+void PhiloxNormalsBatch(int n, const std::uint32_t* c0, const std::uint32_t* c1, std::uint32_t c2,
+                        std::uint32_t c3, std::array<std::uint32_t, 2> key, double* z0, double* z1);
+
+namespace random_internal {
+
+// The copies of PhiloxNormalsBatch's loop (tests compare them).
+enum class InstructionSet { kPortable, kAvx2, kAvx512 };
+// Whether this processor (and build) runs the copy for `set`; kPortable always.
+bool Supports(InstructionSet set);
+// The widest supported copy, chosen once.
+InstructionSet BestInstructionSet();
+// PhiloxNormalsBatch by the copy for `set` (must be supported).
+void PhiloxNormalsBatchOn(InstructionSet set, int n, const std::uint32_t* c0,
+                          const std::uint32_t* c1, std::uint32_t c2, std::uint32_t c3,
+                          std::array<std::uint32_t, 2> key, double* z0, double* z1);
+
+}  // namespace random_internal
 
 }  // namespace moreau
