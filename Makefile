@@ -11,8 +11,8 @@ PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON) -DMOREAU_UNITY_BUILD=ON
 
-.PHONY: all deps build python test test-build test-release test-asan test-clients test-fuzz fuzz fuzz-build demo \
-        bench format clean
+.PHONY: all deps build python test test-build test-release sanitize-build test-asan test-clients test-fuzz fuzz \
+        fuzz-build demo bench format clean
 
 all: build
 
@@ -31,19 +31,33 @@ python: deps
 
 # Every test in Release (tests/python through ctest), then the unit tests again under
 # AddressSanitizer + UBSan, then the client suite (the outputs opened with ParaView, VTK, h5py
-# and numpy), then each fuzz target for FUZZ_TEST_SECONDS.
-test: test-release test-asan test-clients test-fuzz
+# and numpy), then each fuzz target for FUZZ_TEST_SECONDS. The Release and the sanitizer trees
+# are compiled at the same time from one pool of JOBS jobs (one make jobserver), so that neither
+# tree's last long file leaves a core idle; the tests run after both builds.
+test: deps
+	+@$(MAKE) --no-print-directory -j $(JOBS) POOL=1 test-build sanitize-build
+	$(run-release)
+	$(run-asan)
+	$(run-clients)
+	$(run-fuzz)
+
+# `-j JOBS` for one build on its own; nothing when `make test` hands out the jobs (POOL=1).
+PARALLEL = $(if $(POOL),,-j $(JOBS))
 
 # What the tests run (the benchmarks are built by `make build`/`make bench`, not by `make test`).
 test-build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
-	@cmake --build $(BUILD) -j $(JOBS) --target moreau_cli moreau_tests moreau_python
+	+@cmake --build $(BUILD) $(PARALLEL) --target moreau_cli moreau_tests moreau_python
 
-test-release: test-build
+define run-release
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+endef
+test-release: test-build
+	$(run-release)
 
-# The sanitizer build (clang 14, AddressSanitizer + UBSan) in $(ASAN): one library, compiled with
-# libFuzzer's coverage instrumentation, for both the unit tests and the fuzz targets (fuzz/).
+# The sanitizer build (clang 14, AddressSanitizer + UBSan) in $(ASAN): one library for both the
+# unit tests and the fuzz targets (fuzz/); only the parsers' sources that the fuzz targets exercise
+# carry libFuzzer's coverage instrumentation (CMakeLists.txt, MOREAU_FUZZ).
 # A tree configured earlier with another compiler is started afresh.
 SANITIZE_FLAGS := -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 \
   -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DMOREAU_SANITIZE=ON -DMOREAU_FUZZ=ON \
@@ -54,11 +68,14 @@ define configure-sanitize
 	@cmake -S . -B $(ASAN) $(SANITIZE_FLAGS) $(CMAKE_FLAGS) > /dev/null
 endef
 
+# The unit tests and the fuzz targets in the sanitizer build.
+sanitize-build: deps
+	$(configure-sanitize)
+	+@cmake --build $(ASAN) $(PARALLEL) --target moreau_tests scenario_fuzz c3d_fuzz
+
 # The unit tests except *Slow* under the sanitizers, in JOBS GoogleTest shards side by side; the
 # log of a failing shard is printed (all logs: $(ASAN)/unit_tests.<shard>.log).
-test-asan: deps
-	$(configure-sanitize)
-	@cmake --build $(ASAN) -j $(JOBS) --target moreau_tests scenario_fuzz c3d_fuzz
+define run-asan
 	@pids=; for i in $$(seq 0 $$(($(JOBS) - 1))); do \
 	  GTEST_TOTAL_SHARDS=$(JOBS) GTEST_SHARD_INDEX=$$i ASAN_OPTIONS=detect_leaks=1 \
 	    UBSAN_OPTIONS=print_stacktrace=1 $(ASAN)/moreau_tests --gtest_brief=1 \
@@ -67,24 +84,33 @@ test-asan: deps
 	  if wait $$pid; then echo "test-asan: shard $$i: $$(grep -E "^\[ +(PASSED|SKIPPED) +\]" $(ASAN)/unit_tests.$$i.log | tr "\n" " ")"; \
 	  else status=1; cat $(ASAN)/unit_tests.$$i.log; fi; i=$$((i + 1)); \
 	done; exit $$status
+endef
+test-asan: sanitize-build
+	$(run-asan)
 
 # Outputs opened with the programs people use (tests/clients; needs scripts/install-deps).
-test-clients: test-build
+define run-clients
 	@MOREAU_CLI=$(MOREAU) MOREAU_TESTS=$(BUILD)/moreau_tests MOREAU_ROOT=$(CURDIR) \
 	  $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
+endef
+test-clients: test-build
+	$(run-clients)
 
 # libFuzzer targets of the scenario and C3D readers (fuzz/, in the sanitizer build): `make fuzz`
 # runs each for FUZZ_SECONDS, `make test` for FUZZ_TEST_SECONDS; a finding fails the run
 # (fuzz/run.sh).
 fuzz-build: deps
 	$(configure-sanitize)
-	@cmake --build $(ASAN) -j $(JOBS) --target scenario_fuzz c3d_fuzz
+	+@cmake --build $(ASAN) $(PARALLEL) --target scenario_fuzz c3d_fuzz
 
 fuzz: fuzz-build
 	@./fuzz/run.sh $(ASAN) $(FUZZ_SECONDS) $(MOCAP_DATA)
 
-test-fuzz: fuzz-build
+define run-fuzz
 	@./fuzz/run.sh $(ASAN) $(FUZZ_TEST_SECONDS) $(MOCAP_DATA)
+endef
+test-fuzz: fuzz-build
+	$(run-fuzz)
 
 # The flagship examples: studies and figures under out/.
 demo: build
