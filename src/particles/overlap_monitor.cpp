@@ -7,6 +7,22 @@ namespace moreau::particles::internal {
 
 namespace {
 
+constexpr std::size_t kRowsPerTeam = 16384;  // fewer near rows are measured on one thread
+
+// *worst = max(*worst, f(i)) over i in [0, count), on `threads` threads (max: any order gives the
+// same value).
+template <typename F>
+void ParallelForMax(int threads, int count, double* worst, F&& f) {
+  double w = *worst;
+  if (threads <= 1) {
+    for (int i = 0; i < count; ++i) w = std::max(w, f(i));
+  } else {
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : w)
+    for (int i = 0; i < count; ++i) w = std::max(w, f(i));
+  }
+  *worst = w;
+}
+
 // The largest overlap over the pairs of the given rows, computed as MaxPairOverlap does.
 template <int K, bool P>
 double RowsOverlap(const NeighbourList& list, const double* x, const double* radius,
@@ -40,12 +56,14 @@ double OverlapMonitor::Measure(const NeighbourList& list, const double* x, const
   double worst = 0.0;
   if (screened) {
     const int lists = static_cast<int>(near_.rows.size());
+    std::size_t rows = 0;
+    for (const std::vector<int>& r : near_.rows) rows += r.size();
+    // A few rows are measured on this thread: waking a team costs more than they do.
+    const int team = rows >= kRowsPerTeam ? threads : 1;
     DispatchDimensionPeriodic(box.k, box.any, [&](auto kk, auto p) {
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst)
-      for (int t = 0; t < lists; ++t) {
-        worst = std::max(
-            worst, RowsOverlap<kk, p>(list, x, radius, near_.rows[static_cast<std::size_t>(t)]));
-      }
+      ParallelForMax(team, lists, &worst, [&](int t) {
+        return RowsOverlap<kk, p>(list, x, radius, near_.rows[static_cast<std::size_t>(t)]);
+      });
     });
     ++screened_steps_;
   } else {
