@@ -145,6 +145,9 @@ class NeighbourList {
                  bool sort_rows, bool brute_force, int threads);
   template <int K, bool P>
   void BuildCellRows(const double* x, const double* radius, const CellList& cells, int threads);
+  template <int K, bool P>
+  void AppendCellRows(const double* x, const double* radius, int b, int e,
+                      const std::vector<int>& run, int q, std::size_t* used);
   void Concatenate(bool periodic, int chunks, int threads);
   bool Listed(int s, int t) const;
   template <int K>

@@ -1,0 +1,336 @@
+// The neighbour list's build (neighbour_list.h): the candidates of every slot from the cell list
+// (or all slots), each pair within reach kept with its image code, rows filled in parallel chunks
+// and concatenated in slot order.
+#include "particles/neighbour_list.h"
+
+#include <algorithm>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "moreau/common/error.h"
+#include "particles/parallel.h"
+
+namespace moreau::particles::internal {
+
+namespace {
+
+// u = xs − xt, the minimum image on periodic axes (P); returns the image code (13: none).
+template <int K, bool P>
+inline int MinimumImage(const double* xs, const double* xt, const PeriodicBox& box, double* u) {
+  int code = 13;
+  int weight = 1;
+  for (int a = 0; a < K; ++a) {
+    u[a] = xs[a] - xt[a];
+    if constexpr (P) {
+      if (box.periodic[a]) {
+        if (u[a] > 0.5 * box.len[a]) {
+          u[a] -= box.len[a];
+          code += weight;
+        } else if (u[a] < -0.5 * box.len[a]) {
+          u[a] += box.len[a];
+          code -= weight;
+        }
+      }
+    }
+    weight *= 3;
+  }
+  return code;
+}
+
+// Calls f(t, image code) for the slots t > s within reach of slot s, in the list's order: the
+// slots of the adjacent cells through `members`, or all slots (brute_force).
+template <int K, bool P, typename F>
+void VisitPartners(int s, const double* x, const double* radius, double extra,
+                   const PeriodicBox& box, const CellList& cells, const int* members, int n,
+                   bool brute_force, F&& f) {
+  const double* xs = x + K * s;
+  const double rs = radius[s];
+  auto consider = [&](int t) {
+    if (t <= s) return;
+    double u[K];
+    const int code = MinimumImage<K, P>(xs, x + K * t, box, u);
+    const double r2 = SquaredNorm<K>(u);
+    const double c = rs + radius[t] + extra;
+    if (r2 < c * c) f(t, code);
+  };
+  if (brute_force) {
+    for (int t = s + 1; t < n; ++t) consider(t);
+    return;
+  }
+  cells.grid().ForEachAdjacentCell<K>(xs, [&](std::int64_t cell) {
+    const std::int64_t rank = cells.rank(cell);
+    const std::int64_t e = cells.cell_start(rank + 1);
+    for (std::int64_t q = cells.cell_start(rank); q < e; ++q) consider(members[q]);
+  });
+}
+
+// Insertion sort of buf[first …] by t, the image codes along (t is unique in a row).
+template <bool P>
+void SortRow(std::vector<int>& buf, std::vector<std::uint8_t>& img, std::size_t first) {
+  for (std::size_t i = first + 1; i < buf.size(); ++i) {
+    const int t = buf[i];
+    const std::uint8_t c = P ? img[i] : 0;
+    std::size_t j = i;
+    while (j > first && buf[j - 1] > t) {
+      buf[j] = buf[j - 1];
+      if constexpr (P) img[j] = img[j - 1];
+      --j;
+    }
+    buf[j] = t;
+    if constexpr (P) img[j] = c;
+  }
+}
+
+}  // namespace
+
+// One pass: contiguous chunks of slots append their rows to reusable chunk buffers, then the
+// buffers are concatenated in chunk order (the same list for any thread count).
+template <int K, bool P>
+void NeighbourList::BuildRows(const double* x, const double* radius, const CellList& cells,
+                              const int* members, bool sort_rows, bool brute_force, int threads) {
+  const int n = n_;
+  const double extra = this->extra();
+  const int chunks = std::max(1, std::min(n, 16 * threads));
+  if (static_cast<int>(chunk_nbr_.size()) < chunks) {
+    chunk_nbr_.resize(static_cast<std::size_t>(chunks));
+    chunk_image_.resize(static_cast<std::size_t>(chunks));
+  }
+  if (members == nullptr && !brute_force) {
+    MOREAU_ASSERT(!sort_rows);
+    BuildCellRows<K, P>(x, radius, cells, threads);
+    return;
+  }
+  chunk_slot_.resize(static_cast<std::size_t>(chunks) + 1);
+  for (int q = 0; q <= chunks; ++q) {
+    chunk_slot_[static_cast<std::size_t>(q)] =
+        static_cast<int>(static_cast<std::int64_t>(q) * n / chunks);
+  }
+  ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
+    const int begin = chunk_slot_[static_cast<std::size_t>(q)];
+    const int end = chunk_slot_[static_cast<std::size_t>(q) + 1];
+    std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
+    std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
+    buf.clear();
+    img.clear();
+    for (int s = begin; s < end; ++s) {
+      const std::size_t first = buf.size();
+      VisitPartners<K, P>(s, x, radius, extra, box_, cells, members, n, brute_force,
+                          [&](int t, int code) {
+                            buf.push_back(t);
+                            if constexpr (P) img.push_back(static_cast<std::uint8_t>(code));
+                          });
+      row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(buf.size() - first);
+      if (sort_rows) SortRow<P>(buf, img, first);
+    }
+  });
+  Concatenate(P, chunks, threads);
+}
+
+namespace {
+
+// The candidate slot ranges [run[2i], run[2i + 1]) of the slots [b, …) of the cell of rank r,
+// the cell (lx, ly, lz) of a block of w cells per axis (storage in cell order). A cell whose
+// neighbours all lie in its block has them at fixed rank offsets (cells row-major in a block),
+// and the cells before it in that order hold slots before b, which a half list skips: the rest of
+// its own cell and the next, then the three-cell rows above (2D: one row; 3D: one in its plane,
+// three in the next). Other cells look their neighbours up, consecutive ranks merged.
+template <int K>
+[[gnu::always_inline]] inline void CellCandidates(const CellList& cells, const double* xb,
+                                                  std::int64_t r, int b, const int* l, const int* w,
+                                                  std::vector<int>* run) {
+  const std::int32_t* start = cells.cell_starts();
+  run->clear();
+  const bool inside = l[0] >= 1 && l[0] + 2 <= w[0] && (K < 2 || (l[1] >= 1 && l[1] + 2 <= w[1])) &&
+                      (K < 3 || (l[2] >= 1 && l[2] + 2 <= w[2]));
+  if (inside) {
+    const std::int64_t wx = w[0], plane = static_cast<std::int64_t>(w[0]) * w[1];
+    run->insert(run->end(), {b, start[r + 2]});
+    auto row = [&](std::int64_t o) {
+      run->insert(run->end(), {start[r + o - 1], start[r + o + 2]});
+    };
+    if constexpr (K >= 2) row(wx);
+    if constexpr (K == 3) {
+      row(plane - wx);
+      row(plane);
+      row(plane + wx);
+    }
+    return;
+  }
+  std::int64_t run_b = -1, run_e = -1;
+  auto flush = [&] {
+    const int from = std::max(start[run_b], b + 1);
+    if (from < start[run_e]) run->insert(run->end(), {from, start[run_e]});
+  };
+  cells.grid().ForEachAdjacentCell<K>(xb, [&](std::int64_t cell) {
+    const std::int64_t rank = cells.rank(cell);
+    if (rank == run_e) {
+      run_e = rank + 1;
+      return;
+    }
+    if (run_b >= 0) flush();
+    run_b = rank;
+    run_e = rank + 1;
+  });
+  flush();
+}
+
+}  // namespace
+
+// The rows of slots [b, e) of one cell into chunk q's buffers from entry *used on: the candidates
+// t > s of the ranges in `run`, each written and kept only when within reach (no branch on it).
+template <int K, bool P>
+[[gnu::always_inline]] inline void NeighbourList::AppendCellRows(const double* x,
+                                                                 const double* radius, int b, int e,
+                                                                 const std::vector<int>& run, int q,
+                                                                 std::size_t* used) {
+  std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
+  std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
+  std::size_t most = 0;
+  for (std::size_t i = 0; i < run.size(); i += 2)
+    most += static_cast<std::size_t>(run[i + 1] - run[i]);
+  const std::size_t need = *used + most * static_cast<std::size_t>(e - b);
+  if (buf.size() < need) {
+    buf.resize(2 * need);
+    if constexpr (P) img.resize(buf.size());
+  }
+  const double extra = this->extra();
+  for (int s = b; s < e; ++s) {
+    int* out = buf.data() + *used;
+    std::uint8_t* out_img = P ? img.data() + *used : nullptr;
+    const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
+    const double rs = radius[s];
+    std::size_t found = 0;
+    for (std::size_t i = 0; i < run.size(); i += 2) {
+      for (int t = std::max(run[i], s + 1); t < run[i + 1]; ++t) {
+        double u[K];
+        const int code = MinimumImage<K, P>(xs, x + static_cast<std::ptrdiff_t>(K) * t, box_, u);
+        const double c = rs + radius[t] + extra;
+        out[found] = t;
+        if constexpr (P) out_img[found] = static_cast<std::uint8_t>(code);
+        found += static_cast<std::size_t>(SquaredNorm<K>(u) < c * c);
+      }
+    }
+    *used += found;
+    row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(found);
+  }
+}
+
+// Storage in cell order: every slot of a cell has the same candidates (CellCandidates, the slot
+// ranges of its adjacent cells in VisitPartners' order), gathered once per cell; each slot of the
+// cell tests those after it without branching on the result. Chunks are runs of whole blocks of
+// about n/chunks slots. The rows are VisitPartners' (with members = identity), entry by entry.
+template <int K, bool P>
+void NeighbourList::BuildCellRows(const double* x, const double* radius, const CellList& cells,
+                                  int threads) {
+  const int chunks = std::max(1, std::min(n_, 16 * threads));
+  const std::int64_t blocks = cells.blocks();
+  std::vector<std::int64_t> chunk_block(static_cast<std::size_t>(chunks) + 1, blocks);
+  for (int q = 0; q < chunks; ++q) {  // the first block starting at or after slot q·n/chunks
+    const std::int64_t slot = static_cast<std::int64_t>(q) * n_ / chunks;
+    std::int64_t lo = 0, hi = blocks;
+    while (lo < hi) {
+      const std::int64_t mid = (lo + hi) / 2;
+      if (cells.BlockSlotBegin(mid) < slot) {
+        lo = mid + 1;
+      } else {
+        hi = mid;
+      }
+    }
+    chunk_block[static_cast<std::size_t>(q)] = lo;
+  }
+  chunk_slot_.resize(static_cast<std::size_t>(chunks) + 1);
+  for (int q = 0; q <= chunks; ++q) {
+    chunk_slot_[static_cast<std::size_t>(q)] =
+        cells.BlockSlotBegin(chunk_block[static_cast<std::size_t>(q)]);
+  }
+  ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
+    std::vector<int> run;
+    std::size_t used = 0;
+    for (std::int64_t blk = chunk_block[static_cast<std::size_t>(q)];
+         blk < chunk_block[static_cast<std::size_t>(q) + 1]; ++blk) {
+      int origin[3], w[3];
+      cells.BlockShape(blk, origin, w);
+      std::int64_t r = cells.block_cell_begin(blk);
+      int l[3];
+      for (l[2] = 0; l[2] < w[2]; ++l[2]) {
+        for (l[1] = 0; l[1] < w[1]; ++l[1]) {
+          for (l[0] = 0; l[0] < w[0]; ++l[0], ++r) {
+            const int b = cells.cell_starts()[r], e = cells.cell_starts()[r + 1];
+            if (b == e) continue;
+            CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, l, w, &run);
+            AppendCellRows<K, P>(x, radius, b, e, run, static_cast<int>(q), &used);
+          }
+        }
+      }
+    }
+    chunk_nbr_[static_cast<std::size_t>(q)].resize(used);
+    if constexpr (P) chunk_image_[static_cast<std::size_t>(q)].resize(used);
+  });
+  Concatenate(P, chunks, threads);
+}
+
+// Row offsets: the chunks' totals are summed in chunk order, then every chunk turns its row
+// counts into offsets from its first row on, in parallel; then the rows are copied.
+void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
+  std::vector<std::int64_t> chunk_first(static_cast<std::size_t>(chunks) + 1, 0);
+  for (int q = 0; q < chunks; ++q) {
+    chunk_first[static_cast<std::size_t>(q) + 1] =
+        chunk_first[static_cast<std::size_t>(q)] +
+        static_cast<std::int64_t>(chunk_nbr_[static_cast<std::size_t>(q)].size());
+  }
+  const std::int64_t total = chunk_first[static_cast<std::size_t>(chunks)];
+  if (total > std::numeric_limits<int>::max()) {
+    throw NumericalError(fmt::format("neighbour list with more than {} pairs is too large",
+                                     std::numeric_limits<int>::max()));
+  }
+  nbr_.resize(static_cast<std::size_t>(total));
+  if (periodic) image_.resize(static_cast<std::size_t>(total));
+  row_start_[0] = 0;
+  ParallelFor(threads, 0, chunks, [&](std::int64_t q) {
+    const int begin = chunk_slot_[static_cast<std::size_t>(q)];
+    const int end = chunk_slot_[static_cast<std::size_t>(q) + 1];
+    auto run = static_cast<int>(chunk_first[static_cast<std::size_t>(q)]);
+    for (int s = begin; s < end; ++s) {
+      run += row_start_[static_cast<std::size_t>(s) + 1];
+      row_start_[static_cast<std::size_t>(s) + 1] = run;
+    }
+    const auto at = static_cast<std::size_t>(chunk_first[static_cast<std::size_t>(q)]);
+    const std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
+    std::copy(buf.begin(), buf.end(), nbr_.begin() + static_cast<std::ptrdiff_t>(at));
+    if (periodic) {
+      const std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
+      std::copy(img.begin(), img.end(), image_.begin() + static_cast<std::ptrdiff_t>(at));
+    }
+  });
+}
+
+void NeighbourList::Build(const double* x, const double* radius, const CellList& cells,
+                          const int* members, bool sort_rows, bool brute_force, std::int64_t step,
+                          int threads) {
+  double* ref = reference_.data();
+  const auto total = static_cast<std::int64_t>(reference_.size());
+  ParallelFor(threads, 0, total, [&](std::int64_t i) { ref[i] = x[i]; });
+  if (box_.k == 1 && box_.any) {
+    BuildRows<1, true>(x, radius, cells, members, sort_rows, brute_force, threads);
+  } else if (box_.k == 1) {
+    BuildRows<1, false>(x, radius, cells, members, sort_rows, brute_force, threads);
+  } else {
+    DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
+      BuildRows<k, p>(x, radius, cells, members, sort_rows, brute_force, threads);
+    });
+  }
+  ++stats_.builds;
+  stats_.candidate_pairs = pairs();
+  if (last_build_step_ >= 0) {
+    const std::int64_t interval = step - last_build_step_;
+    if (stats_.shortest_rebuild_interval < 0 || interval < stats_.shortest_rebuild_interval) {
+      stats_.shortest_rebuild_interval = interval;
+    }
+  }
+  last_build_step_ = step;
+  built_here_ = true;
+  drift_bound_ = 0.0;
+}
+
+}  // namespace moreau::particles::internal
