@@ -50,8 +50,9 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
   for (int s = begin; s < end; ++s) {
     // Partners lie mostly within a few dozen slots ahead (the half list over cell order): the
     // positions and path marks a little ahead are fetched early.
-    __builtin_prefetch(x + K * (s + kAhead));
-    __builtin_prefetch(stamp_.data() + s + kAhead);
+    const int ahead = std::min(s + kAhead, n_ - 1);  // stays inside the arrays
+    __builtin_prefetch(x + K * ahead);
+    __builtin_prefetch(stamp_.data() + ahead);
     std::int64_t p = rs[s];
     const std::int64_t e = rs[s + 1];
     if (p == e) continue;
