@@ -174,8 +174,9 @@ template <int K, bool P>
 double MaxPairOverlapImpl(const NeighbourList& list, const double* x, const double* radius, int n,
                           int threads) {
   double worst = 0.0;
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst)
-  for (int s = 0; s < n; ++s) worst = std::max(worst, list.RowOverlap<K, P>(x, radius, s));
+  ParallelForMax(threads, 0, n, &worst, [&](std::int64_t s) {
+    return list.RowOverlap<K, P>(x, radius, static_cast<int>(s));
+  });
   return worst;
 }
 

@@ -3,25 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "particles/parallel.h"
+
 namespace moreau::particles::internal {
 
 namespace {
 
 constexpr std::size_t kRowsPerTeam = 16384;  // fewer near rows are measured on one thread
-
-// *worst = max(*worst, f(i)) over i in [0, count), on `threads` threads (max: any order gives the
-// same value).
-template <typename F>
-void ParallelForMax(int threads, int count, double* worst, F&& f) {
-  double w = *worst;
-  if (threads <= 1) {
-    for (int i = 0; i < count; ++i) w = std::max(w, f(i));
-  } else {
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : w)
-    for (int i = 0; i < count; ++i) w = std::max(w, f(i));
-  }
-  *worst = w;
-}
 
 // The largest overlap over the pairs of the given rows, computed as MaxPairOverlap does.
 template <int K, bool P>
@@ -61,7 +49,7 @@ double OverlapMonitor::Measure(const NeighbourList& list, const double* x, const
     // A few rows are measured on this thread: waking a team costs more than they do.
     const int team = rows >= kRowsPerTeam ? threads : 1;
     DispatchDimensionPeriodic(box.k, box.any, [&](auto kk, auto p) {
-      ParallelForMax(team, lists, &worst, [&](int t) {
+      ParallelForMax(team, 0, lists, &worst, [&](std::int64_t t) {
         return RowsOverlap<kk, p>(list, x, radius, near_.rows[static_cast<std::size_t>(t)]);
       });
     });

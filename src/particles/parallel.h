@@ -3,6 +3,7 @@
 // rebuilt every few hundred sweeps) feel. Results do not depend on the thread count.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 namespace moreau::particles::internal {
@@ -20,6 +21,20 @@ void ParallelFor(int threads, std::int64_t begin, std::int64_t end, F&& f) {
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (std::int64_t i = begin; i < end; ++i) f(i);
   }
+}
+
+// max(*worst, f(i)) over i in [begin, end) into *worst, statically split among `threads` threads
+// (a maximum is the same in any order, so the result does not depend on the thread count).
+template <typename F>
+void ParallelForMax(int threads, std::int64_t begin, std::int64_t end, double* worst, F&& f) {
+  double w = *worst;
+  if (threads <= 1) {
+    for (std::int64_t i = begin; i < end; ++i) w = std::max(w, f(i));
+  } else {
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : w)
+    for (std::int64_t i = begin; i < end; ++i) w = std::max(w, f(i));
+  }
+  *worst = w;
 }
 
 // f() on a team of `threads` threads, or directly on this one (worksharing directives and
