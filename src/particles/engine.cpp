@@ -116,11 +116,12 @@ void Engine::Impl::Rebuild(std::vector<double>* at, std::int64_t at_step) {
   stats.neighbour_seconds += Seconds(t0, Clock::now());
 }
 
-void Engine::Impl::Predict(double* max_move, std::int64_t* bad_id) {
+void Engine::Impl::Predict(double* max_move, std::int64_t* bad_id, internal::ExactBound* bound) {
   prediction->Predict(store->current.data(), store->predicted.data(), store->id.data(),
                       store->noise_key.empty() ? nullptr : store->noise_key.data(),
                       store->active.empty() ? nullptr : store->active.data(),
-                      store->mobility.data(), step, threads, max_move, bad_id, &max_coordinate);
+                      store->mobility.data(), step, threads, max_move, bad_id, &max_coordinate,
+                      bound);
 }
 
 void Engine::Impl::Fail(std::int64_t bad) {
@@ -204,14 +205,20 @@ bool Engine::Impl::Step() {
   }
   double step_move = 0.0;
   std::int64_t bad = -1;
-  Predict(&step_move, &bad);
+  // The list's exact bound rides along with the prediction when the last step's move says it
+  // will be needed (saving a pass over the positions).
+  std::optional<internal::ExactBound> fused;
+  if (list.ExactBoundLikely(last_step_move)) fused = list.ExactBoundRequest();
+  Predict(&step_move, &bad, fused ? &*fused : nullptr);
+  last_step_move = step_move;
   stats.force_seconds += Seconds(t0, Clock::now());
   if (bad >= 0) {
     Fail(bad);
     return false;
   }
   list.MarkPredicted();
-  double moved = list.BoundAfterPrediction(step_move, store->predicted.data(), threads);
+  double moved = list.BoundAfterPrediction(step_move, store->predicted.data(), threads,
+                                           fused ? &*fused : nullptr);
   if (list.NeedsBuild(moved, options.sweeps == 1)) {
     list.RelaxSkin();
     Rebuild(&store->predicted, step + 1);

@@ -38,6 +38,7 @@ struct Engine::Impl {
   std::optional<internal::ProjectionSweep> sweep;
   internal::OverlapMonitor monitor;  // after each step (options.monitor_overlap)
   double max_coordinate = 0.0;       // the last prediction's largest |Y_i,a|
+  double last_step_move = 0.0;       // its largest move (whether to fuse the exact skin bound)
 
   std::int64_t step = 0;
   EngineStats stats;
@@ -49,7 +50,7 @@ struct Engine::Impl {
   void Setup(std::span<const double> positions);
   void ConfigureSkin();
   void Rebuild(std::vector<double>* at, std::int64_t at_step);
-  void Predict(double* max_move, std::int64_t* bad_id);
+  void Predict(double* max_move, std::int64_t* bad_id, internal::ExactBound* bound = nullptr);
   void SweepUntilAccepted(double moved, int sweeps, bool relax);
   bool Step();
   void Restore(const EngineState& state);  // engine_checkpoint.cpp

@@ -21,12 +21,19 @@ void NeighbourList::Configure(const PeriodicBox& box, int n, double skin, double
   reference_.assign(static_cast<std::size_t>(box.k) * static_cast<std::size_t>(n), 0.0);
 }
 
-double NeighbourList::BoundAfterPrediction(double step_move, const double* y, int threads) {
+double NeighbourList::BoundAfterPrediction(double step_move, const double* y, int threads,
+                                           const ExactBound* fused) {
   // max_i ‖Y_i − X_i^build‖ ≤ (bound on ‖X_i − X_i^build‖) + max_i ‖Y_i − X_i‖: a bound without
   // reading the build positions; only when it reaches skin/4 is the exact maximum computed.
   const double moved = drift_bound_ + step_move;
   far_slots_ = std::numeric_limits<std::int64_t>::max();
   if (!(moved > 0.25 * skin_)) return moved;
+  if (fused != nullptr) {
+    MOREAU_ASSERT(fused->reference == reference_.data() &&
+                  fused->quarter2 == 0.0625 * skin_ * skin_);
+    far_slots_ = fused->far;
+    return std::sqrt(fused->worst2);
+  }
   const double* r0 = reference_.data();
   const int k = box_.k;
   const std::int64_t n = n_;

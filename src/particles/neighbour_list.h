@@ -25,6 +25,15 @@
 namespace moreau::particles::internal {
 
 // Counters of one neighbour list; exact and independent of the thread count.
+// The exact skin bound: max_i ‖Y_i − reference_i‖² (worst2) over the slots and the count of
+// slots with ‖Y_i − reference_i‖² > quarter2 (far), asked of a pass that reads Y anyway.
+struct ExactBound {
+  const double* reference = nullptr;  // k per slot, the build positions
+  double quarter2 = 0.0;              // (skin/4)²
+  double worst2 = 0.0;
+  std::int64_t far = 0;
+};
+
 struct NeighbourListStats {
   std::int64_t builds = 0;
   std::int64_t candidate_pairs = 0;  // at the last build
@@ -57,7 +66,17 @@ class NeighbourList {
   // The skin bound. BoundAfterPrediction: max_i ‖Y_i − X_i^build‖ from the bound of the last
   // accepted step plus step_move, or (when that reaches skin/4) exactly from y.
   // When computed exactly it also counts the slots beyond skin/4.
-  double BoundAfterPrediction(double step_move, const double* y, int threads);
+  // fused (optional): the exact bound already computed with the prediction (Prediction::Predict),
+  // used instead of a pass over y when it is needed.
+  double BoundAfterPrediction(double step_move, const double* y, int threads,
+                              const ExactBound* fused = nullptr);
+  // Whether the next BoundAfterPrediction will need the exact bound if the step moves slots by
+  // about expected_move; the request for Prediction::Predict to compute it (with the build
+  // positions and skin/4).
+  bool ExactBoundLikely(double expected_move) const {
+    return drift_bound_ + expected_move > 0.25 * skin_;
+  }
+  ExactBound ExactBoundRequest() const { return {reference_.data(), 0.0625 * skin_ * skin_}; }
   // A build is needed beyond skin/4, unless `few_may_pass` (one sweep per step: AcceptEach can
   // take the sweep) and only a few slots (≤ max(kMaxFastSlots, n/16), counted by the exact bound)
   // are there and none reached skin/2.

@@ -61,9 +61,12 @@ class Prediction {
   // *max_coordinate (optional): the largest |Y_i,a| over finite rows. key: per slot the noise
   // key (null: the id); active: k per slot, a velocity added to the drift (null: none). The noise
   // is drawn in batches of kNoiseBatch slots (noise.h).
+  // bound (optional): also max_i ‖Y_i − reference_i‖² and the count of slots beyond
+  // √quarter2 (the neighbour list's exact skin bound, NeighbourList::ExactBound) in the same pass.
   void Predict(const double* x, double* y, const int* id, const std::int64_t* key,
                const double* active, const double* mobility, std::int64_t step, int threads,
-               double* max_move, std::int64_t* bad_id, double* max_coordinate = nullptr) const;
+               double* max_move, std::int64_t* bad_id, double* max_coordinate = nullptr,
+               ExactBound* bound = nullptr) const;
   // The force buffer follows a reordering of the slots (new slot s holds old slot perm[s]).
   void Reorder(const std::vector<int>& perm, int threads);
 
@@ -78,7 +81,16 @@ class Prediction {
   template <int K, bool P, bool Noise>
   void PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
                    const double* active, const double* mobility, std::int64_t step, int threads,
-                   double* max_move, std::int64_t* bad_id, double* max_coordinate) const;
+                   double* max_move, std::int64_t* bad_id, double* max_coordinate,
+                   ExactBound* bound) const;
+  // The drift is at most the trap (every μ_i = 1, no attraction, propulsion, active velocity or
+  // wrap): the same arithmetic as PredictImpl in a loop without branches, which the compiler
+  // vectorises; a batch with a non-finite row is looked at again row by row.
+  bool Plain(const double* active) const;
+  template <int K, bool Noise, bool Trap, bool Bound>
+  void PredictPlain(const double* x, double* y, const int* id, const std::int64_t* key,
+                    std::int64_t step, int threads, double* max_move, std::int64_t* bad_id,
+                    double* max_coordinate, ExactBound* bound) const;
 
   DriftParameters parameters_;
   PeriodicBox box_;

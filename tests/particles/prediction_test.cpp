@@ -5,7 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "moreau/common/random.h"
 
 #include "particles/sweep.h"
 
@@ -78,6 +85,74 @@ TEST(ParticlePrediction, NoiseIsKeyedByIdAndStep) {
   const double nan_x[6] = {0, 0, 0, std::numeric_limits<double>::quiet_NaN(), 5, 5};
   prediction.Predict(nan_x, y, id, nullptr, nullptr, nullptr, 12, 1, &max_move, &bad);
   EXPECT_EQ(bad, 3);
+}
+
+// The plain prediction (trap and noise only: a vectorised loop) gives the general loop's bits:
+// positions, largest move and coordinate, the smallest bad id, and the fused exact skin bound
+// (against a direct count). The general loop is taken by passing a zero active velocity (the
+// positions are random, so no drift component is −0, where adding +0 would flip the sign bit).
+TEST(ParticlePrediction, PlainLoopMatchesTheGeneralLoopBitForBit) {
+  for (const int k : {2, 3}) {
+    for (const bool trap : {false, true}) {
+      for (const bool noise : {false, true}) {
+        const int n = 1000;  // several noise batches, the last one partial
+        ParticleModel m;
+        m.dimension = k;
+        m.radius.assign(n, 0.5);
+        Forces f;
+        if (trap) f.trap = HarmonicTrap{0.7, {1.0, -2.0, 0.5}};
+        f.diffusion = noise ? 0.3 : 0.0;
+        const Prediction prediction(f, PeriodicBox::Of(m), n, 0.01, 5, true);
+        SplitMix64 rng(k * 4 + trap * 2 + noise);
+        std::vector<double> x(static_cast<std::size_t>(k * n)), ref(x.size());
+        for (double& v : x) v = 40.0 * rng.Uniform01() - 20.0;
+        for (std::size_t i = 0; i < x.size(); ++i) ref[i] = x[i] + 0.2 * rng.Uniform01() - 0.1;
+        std::vector<int> id(static_cast<std::size_t>(n));
+        for (int s = 0; s < n; ++s) id[static_cast<std::size_t>(s)] = (7 * s + 3) % n;
+        const std::vector<double> zero(x.size(), 0.0);
+        for (const bool poisoned : {false, true}) {
+          if (poisoned) {  // two non-finite rows in different batches
+            x[static_cast<std::size_t>(k * 300 + 1)] = std::numeric_limits<double>::infinity();
+            x[static_cast<std::size_t>(k * 700)] = std::numeric_limits<double>::quiet_NaN();
+          }
+          std::vector<double> y_plain(x.size()), y_general(x.size());
+          double move_plain = 0, move_general = 0, far_plain = 0, far_general = 0;
+          std::int64_t bad_plain = 0, bad_general = 0;
+          ExactBound b_plain{ref.data(), 0.0025}, b_general{ref.data(), 0.0025};
+          prediction.Predict(x.data(), y_plain.data(), id.data(), nullptr, nullptr, nullptr, 4, 2,
+                             &move_plain, &bad_plain, &far_plain, &b_plain);
+          prediction.Predict(x.data(), y_general.data(), id.data(), nullptr, zero.data(), nullptr,
+                             4, 2, &move_general, &bad_general, &far_general, &b_general);
+          const std::string what =
+              fmt::format("k {} trap {} noise {} poisoned {}", k, trap, noise, poisoned);
+          EXPECT_EQ(std::memcmp(y_plain.data(), y_general.data(), 8 * x.size()), 0) << what;
+          EXPECT_EQ(move_plain, move_general) << what;
+          EXPECT_EQ(far_plain, far_general) << what;
+          EXPECT_EQ(bad_plain, bad_general) << what;
+          EXPECT_EQ(bad_plain, poisoned ? std::min(id[300], id[700]) : -1) << what;
+          if (poisoned) continue;
+          double worst2 = 0.0;
+          std::int64_t count = 0;
+          for (int s = 0; s < n; ++s) {
+            double e2 = 0.0;
+            for (int a = 0; a < k; ++a) {
+              const double d = y_plain[static_cast<std::size_t>(k * s + a)] -
+                               ref[static_cast<std::size_t>(k * s + a)];
+              e2 += d * d;
+            }
+            worst2 = std::max(worst2, e2);
+            count += e2 > 0.0025 ? 1 : 0;
+          }
+          EXPECT_EQ(b_plain.worst2, worst2) << what;
+          EXPECT_EQ(b_general.worst2, worst2) << what;
+          EXPECT_EQ(b_plain.far, count) << what;
+          EXPECT_EQ(b_general.far, count) << what;
+          EXPECT_GT(count, 0) << what;
+          EXPECT_LT(count, n) << what;
+        }
+      }
+    }
+  }
 }
 
 // Two overlapping disks on a wall: one sweep separates the pair exactly (each moves half the
