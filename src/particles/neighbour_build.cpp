@@ -320,6 +320,7 @@ void NeighbourList::Build(const double* x, const double* radius, const CellList&
       BuildRows<k, p>(x, radius, cells, members, sort_rows, brute_force, threads);
     });
   }
+  IndexActiveRows(threads);
   ++stats_.builds;
   stats_.candidate_pairs = pairs();
   if (last_build_step_ >= 0) {

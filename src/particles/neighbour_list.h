@@ -127,6 +127,10 @@ class NeighbourList {
   const int* row_start() const { return row_start_.data(); }
   const int* neighbours() const { return nbr_.data(); }
   const std::uint8_t* images() const { return image_.data(); }  // periodic boxes only
+  // The slots with a non-empty row, increasing ([active_rows(), active_rows_end())): a sweep
+  // visits only these, without a branch per empty row.
+  const int* active_rows() const { return active_rows_.data(); }
+  const int* active_rows_end() const { return active_rows_.data() + active_rows_.size(); }
 
   // u = X_s − X_t for the pair p = (s, t) of the list (its image on periodic axes).
   template <int K, bool P>
@@ -168,6 +172,7 @@ class NeighbourList {
   void AppendCellRows(const double* x, const double* radius, int b, int e,
                       const std::vector<int>& run, int q, std::size_t* used);
   void Concatenate(bool periodic, int chunks, int threads);
+  void IndexActiveRows(int threads);
   bool Listed(int s, int t) const;
   template <int K>
   bool LocalPairsApart(int f, const CellList& cells, const int* members,
@@ -188,6 +193,8 @@ class NeighbourList {
   std::vector<int> row_start_;  // int: the list is capped at INT_MAX pairs
   std::vector<int> nbr_;
   std::vector<std::uint8_t> image_;          // per pair, periodic only: the image code
+  std::vector<int> active_rows_;             // the slots with a non-empty row, increasing
+  std::vector<std::int64_t> chunk_active_;   // IndexActiveRows' per-thread counts
   std::vector<double> bound_;                // per slot, AcceptEach's b_s
   std::vector<std::vector<int>> chunk_nbr_;  // build buffers, reused
   std::vector<std::vector<std::uint8_t>> chunk_image_;

@@ -47,7 +47,11 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
   const double uniform_near2 = (uniform_c + margin) * (uniform_c + margin);
   double local_max = *max_path;
   std::int64_t moved = 0;
-  for (int s = begin; s < end; ++s) {
+  // The non-empty rows of [begin, end) only (an empty row does nothing).
+  const int* first = std::lower_bound(list.active_rows(), list.active_rows_end(), begin);
+  const int* last = std::lower_bound(first, list.active_rows_end(), end);
+  for (const int* row = first; row != last; ++row) {
+    const int s = *row;
     // Partners lie mostly within a few dozen slots ahead (the half list over cell order): the
     // positions and path marks a little ahead are fetched early.
     const int ahead = std::min(s + kAhead, n_ - 1);  // stays inside the arrays
@@ -55,7 +59,6 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
     __builtin_prefetch(stamp_.data() + ahead);
     std::int64_t p = rs[s];
     const std::int64_t e = rs[s + 1];
-    if (p == e) continue;
     double* xs_mem = x + K * s;
     double xs[K];
     for (int a = 0; a < K; ++a) xs[a] = xs_mem[a];

@@ -192,6 +192,16 @@ TEST(ParticleNeighbourList, ParallelBuildEqualsSerialBuildEntryByEntry) {
         EXPECT_TRUE(std::equal(list.images(), list.images() + list.pairs(), serial.images()))
             << threads;
       }
+      // The sweep's index of non-empty rows: exactly those slots, increasing.
+      std::vector<int> active;
+      for (int s = 0; s < n; ++s) {
+        if (rows[static_cast<std::size_t>(s) + 1] > rows[static_cast<std::size_t>(s)]) {
+          active.push_back(s);
+        }
+      }
+      ASSERT_GT(active.size(), 0u);
+      ASSERT_LT(active.size(), static_cast<std::size_t>(n));  // some rows are empty
+      EXPECT_EQ(std::vector<int>(list.active_rows(), list.active_rows_end()), active) << threads;
     }
   }
 }
