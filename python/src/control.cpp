@@ -125,7 +125,8 @@ void BindOptions(py::module_& m) {
           })
       .def_readwrite("armijo", &NewtonOptions::armijo)
       .def_readwrite("min_step", &NewtonOptions::min_step)
-      .def_readwrite("divergence_threshold", &NewtonOptions::divergence_threshold);
+      .def_readwrite("divergence_threshold", &NewtonOptions::divergence_threshold)
+      .def_readwrite("threads", &NewtonOptions::threads);
   py::class_<ContinuationOptions>(m, "ContinuationOptions", "Keys of [continuation].")
       .def(py::init(&FromKwargs<ContinuationOptions>))
       .def_readwrite("path_start", &ContinuationOptions::path_start)
@@ -136,6 +137,9 @@ void BindOptions(py::module_& m) {
       .def_readwrite("gamma_decrease", &ContinuationOptions::gamma_decrease)
       .def_readwrite("min_increase", &ContinuationOptions::min_increase)
       .def_readwrite("max_solves", &ContinuationOptions::max_solves)
+      .def_readwrite("coarse_steps", &ContinuationOptions::coarse_steps)
+      .def_readwrite("refine_factor", &ContinuationOptions::refine_factor)
+      .def_readwrite("start_steps", &ContinuationOptions::start_steps)
       .def_readwrite("fixed_point", &ContinuationOptions::fixed_point)
       .def_readwrite("newton", &ContinuationOptions::newton)
       .def("validate", &ContinuationOptions::Validate)
