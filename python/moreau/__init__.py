@@ -12,7 +12,14 @@ numerical failure raises moreau.NumericalError carrying .summary and .state (the
 state). Long C++ work runs with the GIL released; Ctrl-C raises KeyboardInterrupt between steps.
 """
 
+import os as _os
 import sys as _sys
+
+# libgomp reads OMP_WAIT_POLICY when it loads, with the extension below unless something loaded
+# it before. Its default busy-waiting costs a scheduler slice per barrier on a shared machine
+# (a 20 ms control solve took 0.8 s under load), so unless the user chose, waiting is passive, as
+# the command line chooses (apps/moreau/main.cpp).
+_os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 from moreau._moreau import NumericalError, control, hash_doubles, mocap, particles, pbd
 

@@ -223,3 +223,23 @@ def test_engine_run_equals_moreau_run(tmp_path):
     for key in ("steps", "neighbour_list_builds", "verlet_retries", "projections",
                 "constraint_evaluations", "max_overlap", "last_overlap"):
         assert getattr(summary, key) == cli[key], key
+
+
+def test_import_makes_openmp_wait_passively_unless_the_user_chose():
+    """libgomp prints the spin count it chose at load (OMP_DISPLAY_ENV=verbose): 0 (passive) by
+    default, where an unset policy would give 300000; the user's own choice is kept."""
+    import os
+    import subprocess
+
+    def spin_count(extra):
+        env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+        env.update(extra, OMP_DISPLAY_ENV="verbose")
+        r = subprocess.run([sys.executable, "-c", "import moreau"], env=env, capture_output=True,
+                           text=True, timeout=60)
+        assert r.returncode == 0, r.stderr
+        line = [l for l in r.stderr.splitlines() if "GOMP_SPINCOUNT" in l]
+        assert len(line) == 1, r.stderr
+        return int(line[0].split("'")[1])
+
+    assert spin_count({}) == 0
+    assert spin_count({"OMP_WAIT_POLICY": "active"}) > 0
