@@ -208,10 +208,12 @@ namespace {
 template <int K, bool P>
 double MaxPairOverlapImpl(const NeighbourList& list, const double* x, const double* radius, int n,
                           int threads) {
+  // The non-empty rows only (an empty row's overlap is 0).
+  MOREAU_ASSERT(list.active_rows_end() - list.active_rows() <= n);
+  const int* rows = list.active_rows();
   double worst = 0.0;
-  ParallelForMax(threads, 0, n, &worst, [&](std::int64_t s) {
-    return list.RowOverlap<K, P>(x, radius, static_cast<int>(s));
-  });
+  ParallelForMax(threads, 0, list.active_rows_end() - rows, &worst,
+                 [&](std::int64_t i) { return list.RowOverlap<K, P>(x, radius, rows[i]); });
   return worst;
 }
 
