@@ -56,7 +56,6 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
     // positions and path marks a little ahead are fetched early.
     const int ahead = std::min(s + kAhead, n_ - 1);  // stays inside the arrays
     __builtin_prefetch(x + K * ahead);
-    __builtin_prefetch(stamp_.data() + ahead);
     std::int64_t p = rs[s];
     const std::int64_t e = rs[s + 1];
     double* xs_mem = x + K * s;
