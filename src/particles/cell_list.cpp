@@ -57,24 +57,35 @@ void CellGrid::Fit(int dimension, const double* lo_in, const double* hi_in, cons
 
 namespace {
 
-// The smallest and largest coordinate on axis a of the n points x (k coordinates each).
-void AxisRange(const double* x, int n, int k, int a, int threads, double* lo, double* hi) {
-  std::vector<double> mn(static_cast<std::size_t>(threads),
-                         std::numeric_limits<double>::infinity());
-  std::vector<double> mx(static_cast<std::size_t>(threads),
-                         -std::numeric_limits<double>::infinity());
+// The smallest and largest coordinate on each of the K axes of the n points x, in one pass.
+template <int K>
+void AxisRanges(const double* x, int n, int threads, double* lo, double* hi) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> mn(static_cast<std::size_t>(threads) * K, kInf);
+  std::vector<double> mx(static_cast<std::size_t>(threads) * K, -kInf);
   ParallelFor(threads, 0, threads, [&](std::int64_t t) {
-    double low = mn[static_cast<std::size_t>(t)];
-    double high = mx[static_cast<std::size_t>(t)];
-    for (std::int64_t s = t * n / threads; s < (t + 1) * n / threads; ++s) {
-      low = std::min(low, x[k * s + a]);
-      high = std::max(high, x[k * s + a]);
+    double low[K], high[K];
+    for (int a = 0; a < K; ++a) {
+      low[a] = kInf;
+      high[a] = -kInf;
     }
-    mn[static_cast<std::size_t>(t)] = low;
-    mx[static_cast<std::size_t>(t)] = high;
+    for (std::int64_t s = t * n / threads; s < (t + 1) * n / threads; ++s) {
+      for (int a = 0; a < K; ++a) {
+        low[a] = std::min(low[a], x[K * s + a]);
+        high[a] = std::max(high[a], x[K * s + a]);
+      }
+    }
+    std::copy(low, low + K, mn.begin() + t * K);
+    std::copy(high, high + K, mx.begin() + t * K);
   });
-  *lo = *std::min_element(mn.begin(), mn.end());
-  *hi = *std::max_element(mx.begin(), mx.end());
+  for (int a = 0; a < K; ++a) {
+    lo[a] = kInf;
+    hi[a] = -kInf;
+    for (int t = 0; t < threads; ++t) {
+      lo[a] = std::min(lo[a], mn[static_cast<std::size_t>(t * K + a)]);
+      hi[a] = std::max(hi[a], mx[static_cast<std::size_t>(t * K + a)]);
+    }
+  }
 }
 
 }  // namespace
@@ -97,13 +108,14 @@ bool CellList::Fit(const double* x, int n, const PeriodicBox& box, double reach,
                    int threads) {
   const int k = box.k;
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  if (!std::all_of(box.periodic, box.periodic + k, [](bool p) { return p; })) {
+    DispatchDimension(k, [&](auto kk) { AxisRanges<kk>(x, n, threads, lo, hi); });
+  }
   for (int a = 0; a < k; ++a) {
     if (box.periodic[a]) {
       lo[a] = box.lo[a];
       hi[a] = box.lo[a] + box.len[a];
-      continue;
     }
-    AxisRange(x, n, k, a, threads, &lo[a], &hi[a]);
   }
   if (KeepsGeometry(lo, hi, reach)) return false;
   FitRecord fit;
@@ -242,37 +254,40 @@ void CellList::RankCells() {
   }
 }
 
-// Counting sort by cell rank, parallel and stable: thread t counts its contiguous chunk of
-// slots, the offsets of (cell, t) follow cells then threads, and each thread scatters its chunk
-// in order. A stable sort has one result, so the permutation does not depend on the thread
-// count. Then each cell's slots are sorted by id.
+// Counting sort by cell rank, parallel and stable: thread t computes the keys of its contiguous
+// chunk of slots and counts them per cell (and per thread's share of the cells, for the offsets
+// of those shares), the offsets of (cell, t) follow cells then threads, and each thread scatters
+// its chunk in order. Then each cell's slots are sorted by id. The order (cell rank, then id) is
+// unique, so the permutation does not depend on the thread count.
 void CellList::Sort(const double* x, const int* id, int n, int threads) {
   const std::int64_t cells = this->cells();
   const auto ucells = static_cast<std::size_t>(cells);
   key_.resize(static_cast<std::size_t>(n));
   perm_.resize(static_cast<std::size_t>(n));
   const int k = grid_.k;
-  ParallelFor(threads, 0, n, [&](std::int64_t s) {
-    key_[static_cast<std::size_t>(s)] = static_cast<int>(rank(grid_.CellOf(x + k * s)));
-  });
   const int T = threads;
   count_scratch_.resize(static_cast<std::size_t>(T) * ucells);
   std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
+  // bound[u]: the first cell of thread u's cells for the scan and the id order;
+  // tally[t·T + u]: thread t's slots in the cells of thread u.
+  std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1);
+  for (int u = 0; u <= T; ++u) bound[static_cast<std::size_t>(u)] = u * cells / T;
+  std::vector<std::int64_t> tally(static_cast<std::size_t>(T) * static_cast<std::size_t>(T), 0);
   InTeam(T, [&] {
-    const int t = omp_get_thread_num();
+    const int t = T > 1 ? omp_get_thread_num() : 0;
     std::int32_t* cnt = count_scratch_.data() + static_cast<std::size_t>(t) * ucells;
     std::fill(cnt, cnt + cells, 0);
     const int sb = static_cast<int>(static_cast<std::int64_t>(t) * n / T);
     const int se = static_cast<int>(static_cast<std::int64_t>(t + 1) * n / T);
-    for (int s = sb; s < se; ++s) ++cnt[key_[static_cast<std::size_t>(s)]];
+    std::int64_t* mine = tally.data() + static_cast<std::size_t>(t) * static_cast<std::size_t>(T);
+    DispatchDimension(k, [&](auto kk) { CountKeys<kk>(x, sb, se, t, T, bound.data(), cnt, mine); });
 #pragma omp barrier
-    // Cells [cb, ce) are this thread's for the scan.
-    const std::int64_t cb = static_cast<std::int64_t>(t) * cells / T;
-    const std::int64_t ce = static_cast<std::int64_t>(t + 1) * cells / T;
+    const std::int64_t cb = bound[static_cast<std::size_t>(t)];
+    const std::int64_t ce = bound[static_cast<std::size_t>(t) + 1];
     std::int64_t local = 0;
-    for (std::int64_t c = cb; c < ce; ++c) {
-      for (int u = 0; u < T; ++u)
-        local += count_scratch_[static_cast<std::size_t>(u) * ucells + static_cast<std::size_t>(c)];
+    for (int u = 0; u < T; ++u) {
+      local += tally[static_cast<std::size_t>(u) * static_cast<std::size_t>(T) +
+                     static_cast<std::size_t>(t)];
     }
     partial[static_cast<std::size_t>(t) + 1] = local;
 #pragma omp barrier
@@ -293,12 +308,40 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
 #pragma omp barrier
     for (int s = sb; s < se; ++s)
       perm_[static_cast<std::size_t>(cnt[key_[static_cast<std::size_t>(s)]]++)] = s;
+    if (t == T - 1) cell_start_[ucells] = n;
+#pragma omp barrier
+    SortCellsById(id, cb, ce);
   });
-  cell_start_[ucells] = n;
-  ParallelFor(threads, 0, cells, [&](std::int64_t c) {
+}
+
+// Insertion sort by id of the cells whose slots are the sorted positions [begin, end) (whole
+// cells): a slot is moved only when its id is below its predecessor's in the same cell.
+// Slots [sb, se) of thread t of T: their keys (cell ranks) into key_, their counts per cell into
+// cnt, and into tally[u] how many fall in the cells [bound[u], bound[u + 1]) of thread u.
+template <int K>
+void CellList::CountKeys(const double* x, int sb, int se, int t, int T, const std::int64_t* bound,
+                         std::int32_t* cnt, std::int64_t* tally) {
+  const CellGrid grid = grid_;
+  const std::int32_t* rank = cell_rank_.data();
+  int* key = key_.data();
+  for (int s = sb; s < se; ++s) {
+    int c[3] = {0, 0, 0};
+    for (int a = 0; a < K; ++a) c[a] = grid.Coord(a, x[static_cast<std::ptrdiff_t>(K) * s + a]);
+    const int r = rank[grid.Index(c[0], c[1], c[2])];
+    key[s] = r;
+    ++cnt[r];
+    int u = t;  // most of a thread's slots are in its own cells (storage in cell order)
+    while (u > 0 && r < bound[u]) --u;
+    while (u + 1 < T && r >= bound[u + 1]) ++u;
+    ++tally[u];
+  }
+}
+
+void CellList::SortCellsById(const int* id, std::int64_t cb, std::int64_t ce) {
+  for (std::int64_t c = cb; c < ce; ++c) {
     const std::int64_t b = cell_start_[static_cast<std::size_t>(c)];
     const std::int64_t e = cell_start_[static_cast<std::size_t>(c) + 1];
-    for (std::int64_t i = b + 1; i < e; ++i) {  // insertion sort by id (cells hold few slots)
+    for (std::int64_t i = b + 1; i < e; ++i) {
       const int v = perm_[static_cast<std::size_t>(i)];
       std::int64_t j = i;
       while (j > b && id[perm_[static_cast<std::size_t>(j - 1)]] > id[v]) {
@@ -307,7 +350,7 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
       }
       perm_[static_cast<std::size_t>(j)] = v;
     }
-  });
+  }
 }
 
 }  // namespace moreau::particles::internal

@@ -137,6 +137,10 @@ class CellList {
   void ChooseBlocks(int block_cells);
   void RankBlocks();
   void RankCells();
+  template <int K>
+  void CountKeys(const double* x, int sb, int se, int t, int T, const std::int64_t* bound,
+                 std::int32_t* cnt, std::int64_t* tally);
+  void SortCellsById(const int* id, std::int64_t begin, std::int64_t end);
 
   CellGrid grid_;
   bool have_geometry_ = false;
