@@ -254,42 +254,57 @@ void CellList::RankCells() {
   }
 }
 
-// Counting sort by cell rank, parallel and stable: thread t computes the keys of its contiguous
-// chunk of slots and counts them per cell (and per thread's share of the cells, for the offsets
-// of those shares), the offsets of (cell, t) follow cells then threads, and each thread scatters
-// its chunk in order. Then each cell's slots are sorted by id. The order (cell rank, then id) is
-// unique, so the permutation does not depend on the thread count.
+// Counting sort by cell rank, then each cell's slots by id; the order (cell rank, then id) is
+// unique, so the permutation does not depend on the thread count, nor on the order in which a
+// cell's slots are scattered. Thread t has the contiguous chunk of slots [sb, se) and the cells
+// [bound[t], bound[t + 1]) from the cell of its chunk's first slot on: with storage in the previous
+// build's cell order most of a chunk's slots lie in its own cells. Each thread counts its chunk's
+// keys in its own cells (one count per cell in all: no threads × cells array to clear) and lists
+// the other (foreign) slots; then it adds the foreign slots of the other chunks in its cells,
+// turns counts into offsets, scatters its own and those foreign slots, and sorts its cells by id.
 void CellList::Sort(const double* x, const int* id, int n, int threads) {
   const std::int64_t cells = this->cells();
-  const auto ucells = static_cast<std::size_t>(cells);
-  key_.resize(static_cast<std::size_t>(n));
-  perm_.resize(static_cast<std::size_t>(n));
   const int k = grid_.k;
   const int T = threads;
-  count_scratch_.resize(static_cast<std::size_t>(T) * ucells);
+  key_.resize(static_cast<std::size_t>(n));
+  perm_.resize(static_cast<std::size_t>(n));
+  count_scratch_.resize(static_cast<std::size_t>(cells));
+  if (foreign_.size() < static_cast<std::size_t>(T)) foreign_.resize(static_cast<std::size_t>(T));
+  std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1, cells);
   std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
-  // bound[u]: the first cell of thread u's cells for the scan and the id order;
-  // tally[t·T + u]: thread t's slots in the cells of thread u.
-  std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1);
-  for (int u = 0; u <= T; ++u) bound[static_cast<std::size_t>(u)] = u * cells / T;
-  std::vector<std::int64_t> tally(static_cast<std::size_t>(T) * static_cast<std::size_t>(T), 0);
+  bound[0] = 0;
+  for (int t = 1; t < T; ++t) {
+    const std::int64_t sb = static_cast<std::int64_t>(t) * n / T;
+    const std::int64_t first = sb < n ? rank(grid_.CellOf(x + k * sb)) : cells;
+    bound[static_cast<std::size_t>(t)] = std::max(bound[static_cast<std::size_t>(t) - 1], first);
+  }
   InTeam(T, [&] {
     const int t = T > 1 ? omp_get_thread_num() : 0;
-    std::int32_t* cnt = count_scratch_.data() + static_cast<std::size_t>(t) * ucells;
-    std::fill(cnt, cnt + cells, 0);
     const int sb = static_cast<int>(static_cast<std::int64_t>(t) * n / T);
     const int se = static_cast<int>(static_cast<std::int64_t>(t + 1) * n / T);
-    std::int64_t* mine = tally.data() + static_cast<std::size_t>(t) * static_cast<std::size_t>(T);
-    DispatchDimension(k, [&](auto kk) { CountKeys<kk>(x, sb, se, t, T, bound.data(), cnt, mine); });
-#pragma omp barrier
     const std::int64_t cb = bound[static_cast<std::size_t>(t)];
     const std::int64_t ce = bound[static_cast<std::size_t>(t) + 1];
-    std::int64_t local = 0;
-    for (int u = 0; u < T; ++u) {
-      local += tally[static_cast<std::size_t>(u) * static_cast<std::size_t>(T) +
-                     static_cast<std::size_t>(t)];
-    }
-    partial[static_cast<std::size_t>(t) + 1] = local;
+    std::int32_t* cnt = count_scratch_.data();
+    std::fill(cnt + cb, cnt + ce, 0);
+    std::vector<int>& mine = foreign_[static_cast<std::size_t>(t)];
+    mine.clear();
+    std::int64_t total =
+        DispatchDimension(k, [&](auto kk) { return CountKeys<kk>(x, sb, se, cb, ce, &mine); });
+#pragma omp barrier
+    auto for_foreign = [&](auto&& f) {  // the other chunks' slots in this thread's cells
+      for (int u = 0; u < T; ++u) {
+        if (u == t) continue;
+        for (const int s : foreign_[static_cast<std::size_t>(u)]) {
+          const int key = key_[static_cast<std::size_t>(s)];
+          if (key >= cb && key < ce) f(s, key);
+        }
+      }
+    };
+    for_foreign([&](int, int key) {
+      ++cnt[key];
+      ++total;
+    });
+    partial[static_cast<std::size_t>(t) + 1] = total;
 #pragma omp barrier
 #pragma omp single
     for (int u = 0; u < T; ++u)
@@ -297,46 +312,47 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
     std::int64_t run = partial[static_cast<std::size_t>(t)];
     for (std::int64_t c = cb; c < ce; ++c) {
       cell_start_[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(run);
-      for (int u = 0; u < T; ++u) {
-        std::int32_t& v =
-            count_scratch_[static_cast<std::size_t>(u) * ucells + static_cast<std::size_t>(c)];
-        const std::int64_t count = v;
-        v = static_cast<std::int32_t>(run);
-        run += count;
-      }
+      const std::int64_t count = cnt[c];
+      cnt[c] = static_cast<std::int32_t>(run);
+      run += count;
     }
-#pragma omp barrier
-    for (int s = sb; s < se; ++s)
-      perm_[static_cast<std::size_t>(cnt[key_[static_cast<std::size_t>(s)]]++)] = s;
-    if (t == T - 1) cell_start_[ucells] = n;
+    if (t == T - 1) cell_start_[static_cast<std::size_t>(cells)] = n;
+    for (int s = sb; s < se; ++s) {
+      const int key = key_[static_cast<std::size_t>(s)];
+      if (key >= cb && key < ce) perm_[static_cast<std::size_t>(cnt[key]++)] = s;
+    }
+    for_foreign([&](int s, int key) { perm_[static_cast<std::size_t>(cnt[key]++)] = s; });
 #pragma omp barrier
     SortCellsById(id, cb, ce);
   });
 }
 
-// Insertion sort by id of the cells whose slots are the sorted positions [begin, end) (whole
-// cells): a slot is moved only when its id is below its predecessor's in the same cell.
-// Slots [sb, se) of thread t of T: their keys (cell ranks) into key_, their counts per cell into
-// cnt, and into tally[u] how many fall in the cells [bound[u], bound[u + 1]) of thread u.
+// Slots [sb, se): their keys (cell ranks) into key_, counted in count_scratch_ when in the cells
+// [cb, ce), else listed in *foreign. Returns the number counted.
 template <int K>
-void CellList::CountKeys(const double* x, int sb, int se, int t, int T, const std::int64_t* bound,
-                         std::int32_t* cnt, std::int64_t* tally) {
+std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t cb,
+                                 std::int64_t ce, std::vector<int>* foreign) {
   const CellGrid grid = grid_;
   const std::int32_t* rank = cell_rank_.data();
+  std::int32_t* cnt = count_scratch_.data();
   int* key = key_.data();
+  std::int64_t counted = 0;
   for (int s = sb; s < se; ++s) {
     int c[3] = {0, 0, 0};
     for (int a = 0; a < K; ++a) c[a] = grid.Coord(a, x[static_cast<std::ptrdiff_t>(K) * s + a]);
     const int r = rank[grid.Index(c[0], c[1], c[2])];
     key[s] = r;
-    ++cnt[r];
-    int u = t;  // most of a thread's slots are in its own cells (storage in cell order)
-    while (u > 0 && r < bound[u]) --u;
-    while (u + 1 < T && r >= bound[u + 1]) ++u;
-    ++tally[u];
+    if (r >= cb && r < ce) [[likely]] {
+      ++cnt[r];
+      ++counted;
+    } else {
+      foreign->push_back(s);
+    }
   }
+  return counted;
 }
 
+// Insertion sort by id of the slots of each cell of rank in [cb, ce) (cells hold few slots).
 void CellList::SortCellsById(const int* id, std::int64_t cb, std::int64_t ce) {
   for (std::int64_t c = cb; c < ce; ++c) {
     const std::int64_t b = cell_start_[static_cast<std::size_t>(c)];
