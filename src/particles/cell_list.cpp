@@ -330,8 +330,8 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
 // Slots [sb, se): their keys (cell ranks) into key_, counted in count_scratch_ when in the cells
 // [cb, ce), else listed in *foreign. Returns the number counted.
 template <int K>
-std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t cb,
-                                 std::int64_t ce, std::vector<int>* foreign) {
+std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t cb, std::int64_t ce,
+                                 std::vector<int>* foreign) {
   const CellGrid grid = grid_;
   const std::int32_t* rank = cell_rank_.data();
   std::int32_t* cnt = count_scratch_.data();

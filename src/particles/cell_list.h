@@ -157,7 +157,7 @@ class CellList {
   std::vector<int> key_;                  // per slot: the rank of its cell
   std::vector<int> perm_;
   std::vector<std::int32_t> count_scratch_;  // per cell: count, then next offset (Sort)
-  std::vector<std::vector<int>> foreign_;     // per thread: slots outside its cells (Sort)
+  std::vector<std::vector<int>> foreign_;    // per thread: slots outside its cells (Sort)
 };
 
 // Morton code of the cell/block coordinates c (k of them, < 2^21 each).

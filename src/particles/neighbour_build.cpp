@@ -244,9 +244,8 @@ struct RowWriter {
 // The rows of the slots of blocks [first, last) into chunk q's buffers; returns the entries used.
 // The buffers only grow (their entries past the rows are scratch).
 template <int K, bool P>
-std::size_t NeighbourList::FillBlocks(const double* x, const double* radius,
-                                      const CellList& cells, std::int64_t first, std::int64_t last,
-                                      int q) {
+std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, const CellList& cells,
+                                      std::int64_t first, std::int64_t last, int q) {
   std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
   std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
   const RowWriter<K, P> writer{x, radius, extra(), &box_, row_start_.data() + 1};
@@ -327,9 +326,9 @@ void NeighbourList::BuildCellRows(const double* x, const double* radius, const C
         cells.BlockSlotBegin(chunk_block[static_cast<std::size_t>(q)]);
   }
   ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
-    chunk_used_[static_cast<std::size_t>(q)] = FillBlocks<K, P>(
-        x, radius, cells, chunk_block[static_cast<std::size_t>(q)],
-        chunk_block[static_cast<std::size_t>(q) + 1], static_cast<int>(q));
+    chunk_used_[static_cast<std::size_t>(q)] =
+        FillBlocks<K, P>(x, radius, cells, chunk_block[static_cast<std::size_t>(q)],
+                         chunk_block[static_cast<std::size_t>(q) + 1], static_cast<int>(q));
   });
   Concatenate(P, chunks, threads);
 }

@@ -54,7 +54,9 @@ void ParticleStore::Reorder(const std::vector<int>& perm, int threads) {
 
 std::vector<int> ParticleStore::SlotsOf() const {
   std::vector<int> slot_of(id.size());
-  for (int s = 0; s < n; ++s) slot_of[static_cast<std::size_t>(id[static_cast<std::size_t>(s)])] = s;
+  for (int s = 0; s < n; ++s) {
+    slot_of[static_cast<std::size_t>(id[static_cast<std::size_t>(s)])] = s;
+  }
   return slot_of;
 }
 
