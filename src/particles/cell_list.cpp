@@ -57,24 +57,35 @@ void CellGrid::Fit(int dimension, const double* lo_in, const double* hi_in, cons
 
 namespace {
 
-// The smallest and largest coordinate on axis a of the n points x (k coordinates each).
-void AxisRange(const double* x, int n, int k, int a, int threads, double* lo, double* hi) {
-  std::vector<double> mn(static_cast<std::size_t>(threads),
-                         std::numeric_limits<double>::infinity());
-  std::vector<double> mx(static_cast<std::size_t>(threads),
-                         -std::numeric_limits<double>::infinity());
+// The smallest and largest coordinate on each of the K axes of the n points x, in one pass.
+template <int K>
+void AxisRanges(const double* x, int n, int threads, double* lo, double* hi) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> mn(static_cast<std::size_t>(threads) * K, kInf);
+  std::vector<double> mx(static_cast<std::size_t>(threads) * K, -kInf);
   ParallelFor(threads, 0, threads, [&](std::int64_t t) {
-    double low = mn[static_cast<std::size_t>(t)];
-    double high = mx[static_cast<std::size_t>(t)];
-    for (std::int64_t s = t * n / threads; s < (t + 1) * n / threads; ++s) {
-      low = std::min(low, x[k * s + a]);
-      high = std::max(high, x[k * s + a]);
+    double low[K], high[K];
+    for (int a = 0; a < K; ++a) {
+      low[a] = kInf;
+      high[a] = -kInf;
     }
-    mn[static_cast<std::size_t>(t)] = low;
-    mx[static_cast<std::size_t>(t)] = high;
+    for (std::int64_t s = t * n / threads; s < (t + 1) * n / threads; ++s) {
+      for (int a = 0; a < K; ++a) {
+        low[a] = std::min(low[a], x[K * s + a]);
+        high[a] = std::max(high[a], x[K * s + a]);
+      }
+    }
+    std::copy(low, low + K, mn.begin() + t * K);
+    std::copy(high, high + K, mx.begin() + t * K);
   });
-  *lo = *std::min_element(mn.begin(), mn.end());
-  *hi = *std::max_element(mx.begin(), mx.end());
+  for (int a = 0; a < K; ++a) {
+    lo[a] = kInf;
+    hi[a] = -kInf;
+    for (int t = 0; t < threads; ++t) {
+      lo[a] = std::min(lo[a], mn[static_cast<std::size_t>(t * K + a)]);
+      hi[a] = std::max(hi[a], mx[static_cast<std::size_t>(t * K + a)]);
+    }
+  }
 }
 
 }  // namespace
@@ -97,13 +108,14 @@ bool CellList::Fit(const double* x, int n, const PeriodicBox& box, double reach,
                    int threads) {
   const int k = box.k;
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  if (!std::all_of(box.periodic, box.periodic + k, [](bool p) { return p; })) {
+    DispatchDimension(k, [&](auto kk) { AxisRanges<kk>(x, n, threads, lo, hi); });
+  }
   for (int a = 0; a < k; ++a) {
     if (box.periodic[a]) {
       lo[a] = box.lo[a];
       hi[a] = box.lo[a] + box.len[a];
-      continue;
     }
-    AxisRange(x, n, k, a, threads, &lo[a], &hi[a]);
   }
   if (KeepsGeometry(lo, hi, reach)) return false;
   FitRecord fit;
@@ -242,39 +254,57 @@ void CellList::RankCells() {
   }
 }
 
-// Counting sort by cell rank, parallel and stable: thread t counts its contiguous chunk of
-// slots, the offsets of (cell, t) follow cells then threads, and each thread scatters its chunk
-// in order. A stable sort has one result, so the permutation does not depend on the thread
-// count. Then each cell's slots are sorted by id.
+// Counting sort by cell rank, then each cell's slots by id; the order (cell rank, then id) is
+// unique, so the permutation does not depend on the thread count, nor on the order in which a
+// cell's slots are scattered. Thread t has the contiguous chunk of slots [sb, se) and the cells
+// [bound[t], bound[t + 1]) from the cell of its chunk's first slot on: with storage in the previous
+// build's cell order most of a chunk's slots lie in its own cells. Each thread counts its chunk's
+// keys in its own cells (one count per cell in all: no threads × cells array to clear) and lists
+// the other (foreign) slots; then it adds the foreign slots of the other chunks in its cells,
+// turns counts into offsets, scatters its own and those foreign slots, and sorts its cells by id.
 void CellList::Sort(const double* x, const int* id, int n, int threads) {
   const std::int64_t cells = this->cells();
-  const auto ucells = static_cast<std::size_t>(cells);
+  const int k = grid_.k;
+  const int T = threads;
   key_.resize(static_cast<std::size_t>(n));
   perm_.resize(static_cast<std::size_t>(n));
-  const int k = grid_.k;
-  ParallelFor(threads, 0, n, [&](std::int64_t s) {
-    key_[static_cast<std::size_t>(s)] = static_cast<int>(rank(grid_.CellOf(x + k * s)));
-  });
-  const int T = threads;
-  count_scratch_.resize(static_cast<std::size_t>(T) * ucells);
+  count_scratch_.resize(static_cast<std::size_t>(cells));
+  if (foreign_.size() < static_cast<std::size_t>(T)) foreign_.resize(static_cast<std::size_t>(T));
+  std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1, cells);
   std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
+  bound[0] = 0;
+  for (int t = 1; t < T; ++t) {
+    const std::int64_t sb = static_cast<std::int64_t>(t) * n / T;
+    const std::int64_t first = sb < n ? rank(grid_.CellOf(x + k * sb)) : cells;
+    bound[static_cast<std::size_t>(t)] = std::max(bound[static_cast<std::size_t>(t) - 1], first);
+  }
   InTeam(T, [&] {
-    const int t = omp_get_thread_num();
-    std::int32_t* cnt = count_scratch_.data() + static_cast<std::size_t>(t) * ucells;
-    std::fill(cnt, cnt + cells, 0);
+    const int t = T > 1 ? omp_get_thread_num() : 0;
     const int sb = static_cast<int>(static_cast<std::int64_t>(t) * n / T);
     const int se = static_cast<int>(static_cast<std::int64_t>(t + 1) * n / T);
-    for (int s = sb; s < se; ++s) ++cnt[key_[static_cast<std::size_t>(s)]];
+    const std::int64_t cb = bound[static_cast<std::size_t>(t)];
+    const std::int64_t ce = bound[static_cast<std::size_t>(t) + 1];
+    std::int32_t* cnt = count_scratch_.data();
+    std::fill(cnt + cb, cnt + ce, 0);
+    std::vector<int>& mine = foreign_[static_cast<std::size_t>(t)];
+    mine.clear();
+    std::int64_t total =
+        DispatchDimension(k, [&](auto kk) { return CountKeys<kk>(x, sb, se, cb, ce, &mine); });
 #pragma omp barrier
-    // Cells [cb, ce) are this thread's for the scan.
-    const std::int64_t cb = static_cast<std::int64_t>(t) * cells / T;
-    const std::int64_t ce = static_cast<std::int64_t>(t + 1) * cells / T;
-    std::int64_t local = 0;
-    for (std::int64_t c = cb; c < ce; ++c) {
-      for (int u = 0; u < T; ++u)
-        local += count_scratch_[static_cast<std::size_t>(u) * ucells + static_cast<std::size_t>(c)];
-    }
-    partial[static_cast<std::size_t>(t) + 1] = local;
+    auto for_foreign = [&](auto&& f) {  // the other chunks' slots in this thread's cells
+      for (int u = 0; u < T; ++u) {
+        if (u == t) continue;
+        for (const int s : foreign_[static_cast<std::size_t>(u)]) {
+          const int key = key_[static_cast<std::size_t>(s)];
+          if (key >= cb && key < ce) f(s, key);
+        }
+      }
+    };
+    for_foreign([&](int, int key) {
+      ++cnt[key];
+      ++total;
+    });
+    partial[static_cast<std::size_t>(t) + 1] = total;
 #pragma omp barrier
 #pragma omp single
     for (int u = 0; u < T; ++u)
@@ -282,23 +312,52 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
     std::int64_t run = partial[static_cast<std::size_t>(t)];
     for (std::int64_t c = cb; c < ce; ++c) {
       cell_start_[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(run);
-      for (int u = 0; u < T; ++u) {
-        std::int32_t& v =
-            count_scratch_[static_cast<std::size_t>(u) * ucells + static_cast<std::size_t>(c)];
-        const std::int64_t count = v;
-        v = static_cast<std::int32_t>(run);
-        run += count;
-      }
+      const std::int64_t count = cnt[c];
+      cnt[c] = static_cast<std::int32_t>(run);
+      run += count;
     }
+    if (t == T - 1) cell_start_[static_cast<std::size_t>(cells)] = n;
+    for (int s = sb; s < se; ++s) {
+      const int key = key_[static_cast<std::size_t>(s)];
+      if (key >= cb && key < ce) perm_[static_cast<std::size_t>(cnt[key]++)] = s;
+    }
+    for_foreign([&](int s, int key) { perm_[static_cast<std::size_t>(cnt[key]++)] = s; });
 #pragma omp barrier
-    for (int s = sb; s < se; ++s)
-      perm_[static_cast<std::size_t>(cnt[key_[static_cast<std::size_t>(s)]]++)] = s;
+    SortCellsById(id, cb, ce);
   });
-  cell_start_[ucells] = n;
-  ParallelFor(threads, 0, cells, [&](std::int64_t c) {
+}
+
+// Slots [sb, se): their keys (cell ranks) into key_, counted in count_scratch_ when in the cells
+// [cb, ce), else listed in *foreign. Returns the number counted.
+template <int K>
+std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t cb, std::int64_t ce,
+                                 std::vector<int>* foreign) {
+  const CellGrid grid = grid_;
+  const std::int32_t* rank = cell_rank_.data();
+  std::int32_t* cnt = count_scratch_.data();
+  int* key = key_.data();
+  std::int64_t counted = 0;
+  for (int s = sb; s < se; ++s) {
+    int c[3] = {0, 0, 0};
+    for (int a = 0; a < K; ++a) c[a] = grid.Coord(a, x[static_cast<std::ptrdiff_t>(K) * s + a]);
+    const int r = rank[grid.Index(c[0], c[1], c[2])];
+    key[s] = r;
+    if (r >= cb && r < ce) [[likely]] {
+      ++cnt[r];
+      ++counted;
+    } else {
+      foreign->push_back(s);
+    }
+  }
+  return counted;
+}
+
+// Insertion sort by id of the slots of each cell of rank in [cb, ce) (cells hold few slots).
+void CellList::SortCellsById(const int* id, std::int64_t cb, std::int64_t ce) {
+  for (std::int64_t c = cb; c < ce; ++c) {
     const std::int64_t b = cell_start_[static_cast<std::size_t>(c)];
     const std::int64_t e = cell_start_[static_cast<std::size_t>(c) + 1];
-    for (std::int64_t i = b + 1; i < e; ++i) {  // insertion sort by id (cells hold few slots)
+    for (std::int64_t i = b + 1; i < e; ++i) {
       const int v = perm_[static_cast<std::size_t>(i)];
       std::int64_t j = i;
       while (j > b && id[perm_[static_cast<std::size_t>(j - 1)]] > id[v]) {
@@ -307,7 +366,7 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
       }
       perm_[static_cast<std::size_t>(j)] = v;
     }
-  });
+  }
 }
 
 }  // namespace moreau::particles::internal

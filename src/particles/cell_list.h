@@ -137,6 +137,10 @@ class CellList {
   void ChooseBlocks(int block_cells);
   void RankBlocks();
   void RankCells();
+  template <int K>
+  std::int64_t CountKeys(const double* x, int sb, int se, std::int64_t cb, std::int64_t ce,
+                         std::vector<int>* foreign);
+  void SortCellsById(const int* id, std::int64_t begin, std::int64_t end);
 
   CellGrid grid_;
   bool have_geometry_ = false;
@@ -152,7 +156,8 @@ class CellList {
   std::vector<std::int32_t> cell_start_;  // rank → first entry of perm_; size cells + 1
   std::vector<int> key_;                  // per slot: the rank of its cell
   std::vector<int> perm_;
-  std::vector<std::int32_t> count_scratch_;
+  std::vector<std::int32_t> count_scratch_;  // per cell: count, then next offset (Sort)
+  std::vector<std::vector<int>> foreign_;    // per thread: slots outside its cells (Sort)
 };
 
 // Morton code of the cell/block coordinates c (k of them, < 2^21 each).

@@ -43,8 +43,9 @@ void CheckState(const EngineState& s, int k, int n) {
 void Engine::Impl::Restore(const EngineState& s) {
   CheckState(s, k, n);
   std::vector<int> perm(static_cast<std::size_t>(n));
+  const std::vector<int> slot_of = store->SlotsOf();
   for (std::size_t q = 0; q < perm.size(); ++q) {
-    perm[q] = store->slot_of[static_cast<std::size_t>(s.slot_ids[q])];
+    perm[q] = slot_of[static_cast<std::size_t>(s.slot_ids[q])];
   }
   store->Reorder(perm, threads);
   prediction->Reorder(perm, threads);

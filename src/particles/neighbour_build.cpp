@@ -102,6 +102,7 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
     return;
   }
   chunk_slot_.resize(static_cast<std::size_t>(chunks) + 1);
+  chunk_used_.resize(static_cast<std::size_t>(chunks));
   for (int q = 0; q <= chunks; ++q) {
     chunk_slot_[static_cast<std::size_t>(q)] =
         static_cast<int>(static_cast<std::int64_t>(q) * n / chunks);
@@ -123,32 +124,45 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
       row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(buf.size() - first);
       if (sort_rows) SortRow<P>(buf, img, first);
     }
+    chunk_used_[static_cast<std::size_t>(q)] = buf.size();
   });
   Concatenate(P, chunks, threads);
 }
 
 namespace {
 
-// The candidate slot ranges [run[2i], run[2i + 1]) of the slots [b, …) of the cell of rank r,
-// the cell (lx, ly, lz) of a block of w cells per axis (storage in cell order). A cell whose
-// neighbours all lie in its block has them at fixed rank offsets (cells row-major in a block),
-// and the cells before it in that order hold slots before b, which a half list skips: the rest of
-// its own cell and the next, then the three-cell rows above (2D: one row; 3D: one in its plane,
-// three in the next). Other cells look their neighbours up, consecutive ranks merged.
+// The candidate slot ranges [lo[i], hi[i]) of a cell's slots (at most one per adjacent cell) and
+// the number of candidates they hold.
+struct CellRanges {
+  int lo[27];
+  int hi[27];
+  int count = 0;
+  int most = 0;
+  void Add(int from, int to) {
+    lo[count] = from;
+    hi[count] = to;
+    ++count;
+    most += to - from;
+  }
+};
+
+// Storage in cell order, cells row-major inside a block of w cells per axis. The candidates
+// t > s of the slots of a cell of rank r whose neighbours all lie in its block are at fixed rank
+// offsets, and the cells before it in that order hold slots before its own: the rest of its own
+// cell and the next (from b), then the three-cell rows above (2D: one row; 3D: one in its plane,
+// three in the next). Any other cell looks its neighbours up, consecutive ranks merged, each range
+// from after b. Each slot then skips the t ≤ s.
 template <int K>
 [[gnu::always_inline]] inline void CellCandidates(const CellList& cells, const double* xb,
-                                                  std::int64_t r, int b, const int* l, const int* w,
-                                                  std::vector<int>* run) {
+                                                  std::int64_t r, int b, bool inside, const int* w,
+                                                  CellRanges* run) {
   const std::int32_t* start = cells.cell_starts();
-  run->clear();
-  const bool inside = l[0] >= 1 && l[0] + 2 <= w[0] && (K < 2 || (l[1] >= 1 && l[1] + 2 <= w[1])) &&
-                      (K < 3 || (l[2] >= 1 && l[2] + 2 <= w[2]));
+  run->count = 0;
+  run->most = 0;
   if (inside) {
     const std::int64_t wx = w[0], plane = static_cast<std::int64_t>(w[0]) * w[1];
-    run->insert(run->end(), {b, start[r + 2]});
-    auto row = [&](std::int64_t o) {
-      run->insert(run->end(), {start[r + o - 1], start[r + o + 2]});
-    };
+    run->Add(b, start[r + 2]);
+    auto row = [&](std::int64_t o) { run->Add(start[r + o - 1], start[r + o + 2]); };
     if constexpr (K >= 2) row(wx);
     if constexpr (K == 3) {
       row(plane - wx);
@@ -160,7 +174,7 @@ template <int K>
   std::int64_t run_b = -1, run_e = -1;
   auto flush = [&] {
     const int from = std::max(start[run_b], b + 1);
-    if (from < start[run_e]) run->insert(run->end(), {from, start[run_e]});
+    if (from < start[run_e]) run->Add(from, start[run_e]);
   };
   cells.grid().ForEachAdjacentCell<K>(xb, [&](std::int64_t cell) {
     const std::int64_t rank = cells.rank(cell);
@@ -175,51 +189,117 @@ template <int K>
   flush();
 }
 
-}  // namespace
-
-// The rows of slots [b, e) of one cell into chunk q's buffers from entry *used on: the candidates
-// t > s of the ranges in `run`, each written and kept only when within reach (no branch on it).
+// Writes rows: slot s's candidates t, each written and kept only when within reach (no branch on
+// it), the row's length into count[s].
 template <int K, bool P>
-[[gnu::always_inline]] inline void NeighbourList::AppendCellRows(const double* x,
-                                                                 const double* radius, int b, int e,
-                                                                 const std::vector<int>& run, int q,
-                                                                 std::size_t* used) {
-  std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
-  std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
-  std::size_t most = 0;
-  for (std::size_t i = 0; i < run.size(); i += 2)
-    most += static_cast<std::size_t>(run[i + 1] - run[i]);
-  const std::size_t need = *used + most * static_cast<std::size_t>(e - b);
-  if (buf.size() < need) {
-    buf.resize(2 * need);
-    if constexpr (P) img.resize(buf.size());
-  }
-  const double extra = this->extra();
-  for (int s = b; s < e; ++s) {
-    int* out = buf.data() + *used;
-    std::uint8_t* out_img = P ? img.data() + *used : nullptr;
+struct RowWriter {
+  const double* x;
+  const double* radius;
+  double extra;
+  const PeriodicBox* box;
+  int* count;  // row lengths, by slot
+
+  // The row of s over the candidates t = first + c (c < n0), then t = jump + c (n0 ≤ c < m): two
+  // ranges walked as one loop. Returns its length.
+  [[gnu::always_inline]] int Row2(int s, int first, int n0, int jump, int m, int* out,
+                                  std::uint8_t* out_img) const {
     const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
     const double rs = radius[s];
-    std::size_t found = 0;
-    for (std::size_t i = 0; i < run.size(); i += 2) {
-      for (int t = std::max(run[i], s + 1); t < run[i + 1]; ++t) {
-        double u[K];
-        const int code = MinimumImage<K, P>(xs, x + static_cast<std::ptrdiff_t>(K) * t, box_, u);
-        const double c = rs + radius[t] + extra;
-        out[found] = t;
-        if constexpr (P) out_img[found] = static_cast<std::uint8_t>(code);
-        found += static_cast<std::size_t>(SquaredNorm<K>(u) < c * c);
+    int found = 0;
+    for (int c = 0; c < m; ++c) {
+      const int t = (c < n0 ? first : jump) + c;
+      found += Test(xs, rs, t, out + found, P ? out_img + found : nullptr);
+    }
+    count[s] = found;
+    return found;
+  }
+  // The row of s over the candidates t > s of the ranges.
+  [[gnu::always_inline]] int Row(int s, const CellRanges& run, int* out,
+                                 std::uint8_t* out_img) const {
+    const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
+    const double rs = radius[s];
+    int found = 0;
+    for (int i = 0; i < run.count; ++i) {
+      for (int t = std::max(run.lo[i], s + 1); t < run.hi[i]; ++t) {
+        found += Test(xs, rs, t, out + found, P ? out_img + found : nullptr);
       }
     }
-    *used += found;
-    row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(found);
+    count[s] = found;
+    return found;
   }
+  // Writes t (and its image code); 1 when within reach.
+  [[gnu::always_inline]] int Test(const double* xs, double rs, int t, int* out,
+                                  std::uint8_t* out_img) const {
+    double u[K];
+    const int code = MinimumImage<K, P>(xs, x + static_cast<std::ptrdiff_t>(K) * t, *box, u);
+    const double c = rs + radius[t] + extra;
+    *out = t;
+    if constexpr (P) *out_img = static_cast<std::uint8_t>(code);
+    return static_cast<int>(SquaredNorm<K>(u) < c * c);
+  }
+};
+
+}  // namespace
+
+// The rows of the slots of blocks [first, last) into chunk q's buffers; returns the entries used.
+// The buffers only grow (their entries past the rows are scratch).
+template <int K, bool P>
+std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, const CellList& cells,
+                                      std::int64_t first, std::int64_t last, int q) {
+  std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
+  std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
+  const RowWriter<K, P> writer{x, radius, extra(), &box_, row_start_.data() + 1};
+  const std::int32_t* start = cells.cell_starts();
+  CellRanges run;
+  std::size_t used = 0;
+  auto reserve = [&](std::size_t most) {
+    if (buf.size() < used + most) [[unlikely]] {
+      buf.resize(2 * (used + most));
+      if constexpr (P) img.resize(buf.size());
+    }
+  };
+  for (std::int64_t blk = first; blk < last; ++blk) {
+    int origin[3], w[3];
+    cells.BlockShape(blk, origin, w);
+    const std::int64_t wx = w[0];
+    std::int64_t r = cells.block_cell_begin(blk);
+    for (int lz = 0; lz < w[2]; ++lz) {
+      const bool plane_inside = K < 3 || (lz >= 1 && lz + 2 <= w[2]);
+      for (int ly = 0; ly < w[1]; ++ly) {
+        const bool row_inside = plane_inside && (K < 2 || (ly >= 1 && ly + 2 <= w[1]));
+        for (int lx = 0; lx < w[0]; ++lx, ++r) {
+          const int b = start[r], e = start[r + 1];
+          if (b == e) continue;
+          const bool inside = row_inside && lx >= 1 && lx + 2 <= w[0];
+          if (K == 2 && inside) {  // [s + 1, start[r + 2]), then the row above
+            const int hi0 = start[r + 2], lo1 = start[r + wx - 1], hi1 = start[r + wx + 2];
+            reserve(static_cast<std::size_t>(hi0 - b + hi1 - lo1) *
+                    static_cast<std::size_t>(e - b));
+            for (int s = b; s < e; ++s) {
+              const int n0 = hi0 - s - 1;
+              used += static_cast<std::size_t>(writer.Row2(s, s + 1, n0, lo1 - n0, n0 + hi1 - lo1,
+                                                           buf.data() + used,
+                                                           P ? img.data() + used : nullptr));
+            }
+            continue;
+          }
+          CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, inside, w, &run);
+          reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b));
+          for (int s = b; s < e; ++s) {
+            used += static_cast<std::size_t>(
+                writer.Row(s, run, buf.data() + used, P ? img.data() + used : nullptr));
+          }
+        }
+      }
+    }
+  }
+  return used;
 }
 
 // Storage in cell order: every slot of a cell has the same candidates (CellCandidates, the slot
 // ranges of its adjacent cells in VisitPartners' order), gathered once per cell; each slot of the
-// cell tests those after it without branching on the result. Chunks are runs of whole blocks of
-// about n/chunks slots. The rows are VisitPartners' (with members = identity), entry by entry.
+// cell tests those after it. Chunks are runs of whole blocks of about n/chunks slots. The rows are
+// VisitPartners' (with members = identity), entry by entry.
 template <int K, bool P>
 void NeighbourList::BuildCellRows(const double* x, const double* radius, const CellList& cells,
                                   int threads) {
@@ -240,32 +320,15 @@ void NeighbourList::BuildCellRows(const double* x, const double* radius, const C
     chunk_block[static_cast<std::size_t>(q)] = lo;
   }
   chunk_slot_.resize(static_cast<std::size_t>(chunks) + 1);
+  chunk_used_.resize(static_cast<std::size_t>(chunks));
   for (int q = 0; q <= chunks; ++q) {
     chunk_slot_[static_cast<std::size_t>(q)] =
         cells.BlockSlotBegin(chunk_block[static_cast<std::size_t>(q)]);
   }
   ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
-    std::vector<int> run;
-    std::size_t used = 0;
-    for (std::int64_t blk = chunk_block[static_cast<std::size_t>(q)];
-         blk < chunk_block[static_cast<std::size_t>(q) + 1]; ++blk) {
-      int origin[3], w[3];
-      cells.BlockShape(blk, origin, w);
-      std::int64_t r = cells.block_cell_begin(blk);
-      int l[3];
-      for (l[2] = 0; l[2] < w[2]; ++l[2]) {
-        for (l[1] = 0; l[1] < w[1]; ++l[1]) {
-          for (l[0] = 0; l[0] < w[0]; ++l[0], ++r) {
-            const int b = cells.cell_starts()[r], e = cells.cell_starts()[r + 1];
-            if (b == e) continue;
-            CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, l, w, &run);
-            AppendCellRows<K, P>(x, radius, b, e, run, static_cast<int>(q), &used);
-          }
-        }
-      }
-    }
-    chunk_nbr_[static_cast<std::size_t>(q)].resize(used);
-    if constexpr (P) chunk_image_[static_cast<std::size_t>(q)].resize(used);
+    chunk_used_[static_cast<std::size_t>(q)] =
+        FillBlocks<K, P>(x, radius, cells, chunk_block[static_cast<std::size_t>(q)],
+                         chunk_block[static_cast<std::size_t>(q) + 1], static_cast<int>(q));
   });
   Concatenate(P, chunks, threads);
 }
@@ -277,7 +340,7 @@ void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
   for (int q = 0; q < chunks; ++q) {
     chunk_first[static_cast<std::size_t>(q) + 1] =
         chunk_first[static_cast<std::size_t>(q)] +
-        static_cast<std::int64_t>(chunk_nbr_[static_cast<std::size_t>(q)].size());
+        static_cast<std::int64_t>(chunk_used_[static_cast<std::size_t>(q)]);
   }
   const std::int64_t total = chunk_first[static_cast<std::size_t>(chunks)];
   if (total > std::numeric_limits<int>::max()) {
@@ -296,11 +359,12 @@ void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
       row_start_[static_cast<std::size_t>(s) + 1] = run;
     }
     const auto at = static_cast<std::size_t>(chunk_first[static_cast<std::size_t>(q)]);
+    const auto used = static_cast<std::ptrdiff_t>(chunk_used_[static_cast<std::size_t>(q)]);
     const std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
-    std::copy(buf.begin(), buf.end(), nbr_.begin() + static_cast<std::ptrdiff_t>(at));
+    std::copy(buf.begin(), buf.begin() + used, nbr_.begin() + static_cast<std::ptrdiff_t>(at));
     if (periodic) {
       const std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
-      std::copy(img.begin(), img.end(), image_.begin() + static_cast<std::ptrdiff_t>(at));
+      std::copy(img.begin(), img.begin() + used, image_.begin() + static_cast<std::ptrdiff_t>(at));
     }
   });
 }

@@ -169,8 +169,8 @@ class NeighbourList {
   template <int K, bool P>
   void BuildCellRows(const double* x, const double* radius, const CellList& cells, int threads);
   template <int K, bool P>
-  void AppendCellRows(const double* x, const double* radius, int b, int e,
-                      const std::vector<int>& run, int q, std::size_t* used);
+  std::size_t FillBlocks(const double* x, const double* radius, const CellList& cells,
+                         std::int64_t first, std::int64_t last, int q);
   void Concatenate(bool periodic, int chunks, int threads);
   void IndexActiveRows(int threads);
   bool Listed(int s, int t) const;
@@ -199,6 +199,7 @@ class NeighbourList {
   std::vector<std::vector<int>> chunk_nbr_;  // build buffers, reused
   std::vector<std::vector<std::uint8_t>> chunk_image_;
   std::vector<int> chunk_slot_;  // chunk q holds the rows of slots [chunk_slot_[q], [q + 1])
+  std::vector<std::size_t> chunk_used_;  // the entries of chunk q's buffers that hold its rows
   NeighbourListStats stats_;
 };
 

@@ -20,7 +20,6 @@ ParticleStore::ParticleStore(const ParticleModel& model, std::span<const double>
   for (int i = 0; i < n; ++i) mobility[static_cast<std::size_t>(i)] = model.mobility_of(i);
   id.resize(static_cast<std::size_t>(n));
   std::iota(id.begin(), id.end(), 0);
-  slot_of = id;
   uniform_radius_ = std::all_of(radius.begin(), radius.end(),
                                 [&](double r) { return r == radius.front(); });
   uniform_mobility_ = std::all_of(mobility.begin(), mobility.end(),
@@ -47,11 +46,18 @@ void ParticleStore::Reorder(const std::vector<int>& perm, int threads) {
   scratch_id_.resize(id.size());
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int s = 0; s < n; ++s) {
-    const int i = id[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])];
-    scratch_id_[static_cast<std::size_t>(s)] = i;
-    slot_of[static_cast<std::size_t>(i)] = s;
+    scratch_id_[static_cast<std::size_t>(s)] =
+        id[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])];
   }
   id.swap(scratch_id_);
+}
+
+std::vector<int> ParticleStore::SlotsOf() const {
+  std::vector<int> slot_of(id.size());
+  for (int s = 0; s < n; ++s) {
+    slot_of[static_cast<std::size_t>(id[static_cast<std::size_t>(s)])] = s;
+  }
+  return slot_of;
 }
 
 void ParticleStore::CopyPositionsById(const PeriodicBox& box, std::span<double> out,

@@ -20,7 +20,6 @@ struct ParticleStore {
   std::vector<double> radius;
   std::vector<double> mobility;
   std::vector<int> id;                  // particle id of each slot
-  std::vector<int> slot_of;             // slot of each particle id
   std::vector<std::int64_t> noise_key;  // per slot, the model's stable id; empty: the id
   std::vector<double> active;           // k per slot, an active velocity v_i; empty: none
 
@@ -30,6 +29,8 @@ struct ParticleStore {
                 std::span<const double> active = {});
   // New slot s holds old slot perm[s] (positions, radius, mobility, ids, keys, velocities).
   void Reorder(const std::vector<int>& perm, int threads);
+  // The slot of each particle id (the inverse of id).
+  std::vector<int> SlotsOf() const;
   // The current positions in id order, wrapped into the periodic domain; out: size k·N.
   void CopyPositionsById(const PeriodicBox& box, std::span<double> out, int threads) const;
 

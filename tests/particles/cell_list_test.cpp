@@ -56,6 +56,30 @@ TEST(ParticleCellList, SortIsAPermutationByCellRankThenId) {
   CheckSorted(RandomConfiguration(3, {true, true, true}, 600, 12.0, 4), 2);
 }
 
+// Storage in the previous sort's cell order with some particles moved a few cells and a few moved
+// across the domain: each thread's chunk lies mostly in its own cells, the rest are counted by
+// the threads whose cells they reach. The same order by cell rank, then id, for any thread count.
+TEST(ParticleCellList, SortOfStorageInCellOrderWithMovedParticles) {
+  RandomConfiguration c(2, {false, false, false}, 2000, 60.0, 6);
+  const int n = c.model.count();
+  std::vector<int> id(static_cast<std::size_t>(n));
+  std::iota(id.begin(), id.end(), 0);
+  CellList cells;
+  cells.Fit(c.x.data(), n, PeriodicBox::Of(c.model), 1.5, 0, 1);
+  cells.Sort(c.x.data(), id.data(), n, 1);
+  std::vector<double> x(c.x.size());
+  for (int q = 0; q < n; ++q) {
+    const auto s = static_cast<std::size_t>(cells.permutation()[static_cast<std::size_t>(q)]);
+    x[2 * static_cast<std::size_t>(q)] = c.x[2 * s];
+    x[2 * static_cast<std::size_t>(q) + 1] = c.x[2 * s + 1];
+  }
+  for (std::size_t s = 0; s < static_cast<std::size_t>(n); s += 7) x[2 * s] += 1.7;
+  for (std::size_t s = 3; s < static_cast<std::size_t>(n); s += 97)
+    x[2 * s + 1] = 60.0 - x[2 * s + 1];
+  c.x = x;
+  for (const int threads : {2, 3, 5}) CheckSorted(c, threads);
+}
+
 TEST(ParticleCellList, BlocksFollowTheMortonCurveAndCellRanksArePermutation) {
   const RandomConfiguration c(2, {false, false, false}, 3000, 90.0, 5);
   CellList cells;
