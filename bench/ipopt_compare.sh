@@ -3,9 +3,11 @@
 # IPOPT"). IPOPT is a benchmark-only dependency: without it this prints one line and exits 0.
 #
 #   bench/ipopt_compare.sh [ARGS...]     (default: --check, then N = 256 … 4096)
+#   bench/ipopt_compare.sh --window      the gap-filling windows of shared/data/mocap/Vicon.c3d
+#                                        (docs/benchmarks.md, "Issue 11, session 6")
 #
 # ARGS go to build/release/ipopt_bench (--check, --steps N,N,..., --tol T, --obj-scaling S,
-# --verbose). Environment: BUILD (the build folder, default build/release). The bench runs in a
+# --verbose; --window [--recording FILE] [--ipopt-seconds S]). Environment: BUILD (the build folder, default build/release). The bench runs in a
 # scratch folder, so that no ipopt.opt of the caller's folder changes IPOPT's settings; one thread
 # for BLAS and MUMPS.
 set -euo pipefail

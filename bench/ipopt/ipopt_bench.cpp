@@ -5,6 +5,10 @@
 //
 //   ipopt_bench [--steps 256,512,1024,2048,4096] [--tol 1e-10] [--obj-scaling 1e3] [--verbose]
 //   ipopt_bench --check      derivative checker (N = 8) and agreement at N = 64; exit 1 on failure
+//   ipopt_bench --window [--recording FILE] [--ipopt-seconds 120]   every gap-filling window of
+//                            a real recording (default shared/data/mocap/Vicon.c3d): moreau as
+//                            the fill solves it, IPOPT (CPU time capped) on the same target
+//                            problem from the same warm start
 //
 // One line per N and solver: seconds, iterations, and the differences to moreau's solution from
 // the documented start (max |ΔL| over all controls, |ΔJ| / |J|, max |Δρ|).
@@ -22,6 +26,7 @@
 #include <vector>
 
 #include "../arm_documented_start.h"
+#include "fill_window.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/control/continuation.h"
 #include "moreau/control/examples.h"
@@ -80,6 +85,8 @@ int g_print_level = 0;
 // are absolute in the scaled problem: scaled by 10³, tol 1e−10 gives controls within ≈ 1e−10
 // of moreau's; unscaled, within ≈ 1e−7 (docs/benchmarks.md).
 double g_obj_scaling = 1e3;
+// --window: IPOPT's CPU time limit per window (--ipopt-seconds).
+double g_window_cpu_seconds = 120.0;
 
 Ipopt::SmartPtr<Ipopt::IpoptApplication> MakeIpopt(double tol) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
@@ -105,9 +112,11 @@ Ipopt::SmartPtr<bench::TrackingNlp> MakeNlp(const PontryaginDiscretization& disc
   return new bench::TrackingNlp(disc, guess, EffectiveControls(disc, y));
 }
 
-Solution SolveIpopt(const PontryaginDiscretization& disc, double tol) {
-  Ipopt::SmartPtr<bench::TrackingNlp> nlp = MakeNlp(disc);
+// IPOPT's max_cpu_time in seconds (0: IPOPT's default).
+Solution SolveIpopt(const Ipopt::SmartPtr<bench::TrackingNlp>& nlp, double tol,
+                    double cpu_limit = 0.0) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = MakeIpopt(tol);
+  if (cpu_limit > 0.0) app->Options()->SetNumericValue("max_cpu_time", cpu_limit);
   Stopwatch clock;
   const double cpu = CpuSeconds();
   Solution s;
@@ -183,7 +192,7 @@ int Check(const ProblemFamily& family) {
   const int steps = 64;
   const PontryaginDiscretization disc(family(1.0), steps);
   const Solution ref = SolveMoreau(family, steps, moreau::bench::ArmDocumentedStart());
-  const Solution ip = SolveIpopt(disc, 1e-10);
+  const Solution ip = SolveIpopt(MakeNlp(disc), 1e-10);
   PrintLine(steps, "moreau documented", ref, ref);
   PrintLine(steps, "ipopt", ip, ref);
   const double dl = (ip.controls - ref.controls).cwiseAbs().maxCoeff();
@@ -195,6 +204,87 @@ int Check(const ProblemFamily& family) {
       "agreement at N = %d (max|dL| < 1e-6, |dJ|/J < 1e-8, max|drho|/max|rho| < 1e-6): %s\n", steps,
       agree ? "yes" : "NO");
   ok = ok && agree;
+  return ok ? 0 : 1;
+}
+
+// One window: moreau exactly as the fill solves it (MakeOcpWindowProblem, SolveOcpWindowProblem;
+// checked against SolveOcpWindow's positions), IPOPT on its target problem from its warm start
+// (states and effective controls at the target γ), objective scaled by 1 / |J| (J: moreau's
+// value; 1 where moreau failed) unless --obj-scaling was given.
+bool SolveWindow(const moreau::bench::FillWindows& fill, std::size_t index,
+                 const mocap::OcpFillOptions& o, double tol, bool scaling_given) {
+  const mocap::internal::OcpWindow& w = fill.windows[index];
+  mocap::internal::OcpWindowProblem p;
+  mocap::internal::MakeOcpWindowProblem(fill.in, fill.base, fill.network, w, o, p);
+  const PontryaginDiscretization disc(*p.target, p.steps);
+  std::printf("# %s: %d anchors, %d springs, %d substeps, N = %d, n_z = %d\n",
+              moreau::bench::Describe(fill, index).c_str(), p.anchors, p.springs, p.substeps,
+              p.steps, static_cast<int>(disc.problem().network().state_size()));
+  Eigen::VectorXd y;
+  int iterations = 0;
+  Stopwatch clock;  // both attempts (the summary times the last one)
+  const double cpu = CpuSeconds();
+  const ContinuationSummary summary = mocap::internal::SolveOcpWindowProblem(p, o, y, iterations);
+  const double cpu_seconds = CpuSeconds() - cpu;
+  Solution ref = FromMoreau(disc, y);
+  ref.ok = summary.ok();
+  ref.seconds = clock.Seconds();
+  const bool retried = !summary.path.empty() && summary.path.front().stiffness_scale < 1.0;
+  ref.cpu_seconds = cpu_seconds;
+  ref.iterations = iterations;
+  // The same positions as the fill's own solve (bit for bit).
+  const mocap::internal::OcpWindowResult fill_result =
+      mocap::internal::SolveOcpWindow(fill.in, fill.base, fill.network, w, o);
+  double same = 0.0;
+  for (Eigen::Index k = 0; k < fill_result.positions.rows(); ++k) {
+    for (std::size_t j = 0; j < w.free.size(); ++j) {
+      const Eigen::Vector3d x =
+          p.origin +
+          p.scale * ref.states.col(k * p.substeps).segment<3>(6 * static_cast<Eigen::Index>(j));
+      same = std::max(
+          same,
+          (fill_result.positions.block<1, 3>(k, 3 * static_cast<Eigen::Index>(j)).transpose() - x)
+              .cwiseAbs()
+              .maxCoeff());
+    }
+  }
+  std::printf(
+      "# moreau: %s %s (%d Newton solves in it); J %.6e, ||F||_inf %.1e; max |x - "
+      "SolveOcpWindow's x| %.1e\n",
+      retried ? "retry" : "first attempt", summary.ok() ? "converged" : summary.message.c_str(),
+      summary.newton_solves, ref.value, summary.last_newton.final_residual, same);
+  PrintLine(p.steps, "moreau fill", ref, ref);
+  Eigen::MatrixXd states, rho;
+  disc.Unpack(p.warm_start, states, rho);
+  // The same relative accuracy as the arm's (value scaled to ≈ 1); unscaled where moreau failed.
+  if (!scaling_given) g_obj_scaling = ref.ok ? 1.0 / std::abs(ref.value) : 1.0;
+  Ipopt::SmartPtr<bench::TrackingNlp> nlp =
+      new bench::TrackingNlp(disc, states, EffectiveControls(disc, p.warm_start));
+  const Solution ip = SolveIpopt(nlp, tol, g_window_cpu_seconds);
+  if (!ip.ok) std::printf("# ipopt: status %d\n", static_cast<int>(nlp->status()));
+  char label[32];
+  std::snprintf(label, sizeof label, "ipopt %.0e x%.1e", tol, g_obj_scaling);
+  PrintLine(p.steps, label, ip, ref);
+  return ref.ok && ip.ok && same == 0.0;
+}
+
+int RunWindows(const std::string& recording, double tol, bool scaling_given) {
+  mocap::FillOptions options;
+  options.method = mocap::FillMethod::kOcp;
+  const moreau::bench::FillWindows fill = moreau::bench::MakeFillWindows(recording, options);
+  std::printf("# %s: %d markers, %lld frames at %g Hz; %d gaps in %zu windows (fill defaults)\n",
+              recording.c_str(), fill.in.markers(), static_cast<long long>(fill.in.frames()),
+              fill.in.rate(), fill.gaps, fill.windows.size());
+  std::printf(
+      "# differences to moreau's solution: max|dL| over all controls (solver units), |dJ|/|J|, "
+      "max|drho|\n");
+  std::printf(
+      "    N  solver              ok   wall_s    cpu_s  iter  max|dL|   |dJ|/J    "
+      "max|drho|\n");
+  bool ok = true;
+  for (std::size_t w = 0; w < fill.windows.size(); ++w) {
+    ok = SolveWindow(fill, w, options.ocp, tol, scaling_given) && ok;
+  }
   return ok ? 0 : 1;
 }
 
@@ -212,28 +302,40 @@ int main(int argc, char** argv) {
   std::vector<int> steps = {256, 512, 1024, 2048, 4096};
   double tol = 1e-10;
   bool check = false;
+  bool window = false;
+  bool scaling_given = false;
+  std::string recording = MOREAU_SOURCE_DIR "/../shared/data/mocap/Vicon.c3d";
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--check") {
       check = true;
     } else if (arg == "--steps" && i + 1 < argc) {
       steps = ParseSteps(argv[++i]);
+    } else if (arg == "--window") {
+      window = true;
+    } else if (arg == "--ipopt-seconds" && i + 1 < argc) {
+      g_window_cpu_seconds = std::stod(argv[++i]);
+    } else if (arg == "--recording" && i + 1 < argc) {
+      recording = argv[++i];
     } else if (arg == "--obj-scaling" && i + 1 < argc) {
       g_obj_scaling = std::stod(argv[++i]);
+      scaling_given = true;
     } else if (arg == "--verbose") {
       g_print_level = 5;
     } else if (arg == "--tol" && i + 1 < argc) {
       tol = std::stod(argv[++i]);
     } else {
       std::fprintf(stderr,
-                   "usage: ipopt_bench [--check] [--steps N,N,...] [--tol T] "
-                   "[--obj-scaling S] [--verbose]\n");
+                   "usage: ipopt_bench [--check | --window [--recording FILE] [--ipopt-seconds S]] "
+                   "[--steps N,N,...] "
+                   "[--tol T] [--obj-scaling S] [--verbose]\n");
       return 2;
     }
   }
   const ArmExample arm;
   const ProblemFamily family = [arm](double p) { return MakeArmProblem(arm, p); };
   if (check) return Check(family);
+  if (window) return RunWindows(recording, tol, scaling_given);
   std::printf(
       "# differences to moreau from the documented start: max|dL| over all controls, "
       "|dJ|/|J| of the value, max|drho| over the duals\n");
@@ -249,7 +351,7 @@ int main(int argc, char** argv) {
     PrintLine(n, "moreau direct", SolveMoreau(family, n, direct), documented);
     char label[32];
     std::snprintf(label, sizeof label, "ipopt %.0e x%.0e", tol, g_obj_scaling);
-    PrintLine(n, label, SolveIpopt(disc, tol), documented);
+    PrintLine(n, label, SolveIpopt(MakeNlp(disc), tol), documented);
   }
   return 0;
 }

@@ -17,6 +17,8 @@ namespace {
 
 using Track = Eigen::Matrix<double, Eigen::Dynamic, 3>;  // frames × 3, solver units
 
+}  // namespace
+
 // C¹ cubic Hermite interpolation of a track sampled at every frame, tangents by central
 // differences (one-sided at the ends). Time t is in solver units, `frames_per_unit` frames each.
 struct HermiteTrack {
@@ -50,6 +52,15 @@ struct HermiteTrack {
     }
   }
 };
+
+struct OcpWindowModel {
+  std::vector<control::NetworkNode> nodes;
+  std::vector<control::NetworkSpring> springs;
+  std::vector<std::shared_ptr<const HermiteTrack>> free_tracks;
+  int anchors = 0;
+};
+
+namespace {
 
 // The marker's track over the window in solver units; samples missing in `base` (gaps not asked
 // for) are interpolated linearly between the window's finite samples, or held at the ends.
@@ -104,17 +115,11 @@ std::pair<double, double> PriorBounds(const Recording& base, const MarkerSpring&
   return {rest_min, rest_max};
 }
 
-struct WindowModel {
-  std::vector<control::NetworkNode> nodes;
-  std::vector<control::NetworkSpring> springs;
-  std::vector<std::shared_ptr<const HermiteTrack>> free_tracks;
-  int anchors = 0;
-};
-
-WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, const OcpWindow& w,
-                             const Eigen::Vector3d& origin, double scale, const OcpFillOptions& o) {
+OcpWindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, const OcpWindow& w,
+                                const Eigen::Vector3d& origin, double scale,
+                                const OcpFillOptions& o) {
   const int max_anchor_springs = o.anchor_springs;
-  WindowModel model;
+  OcpWindowModel model;
   std::map<int, int> node_of;
   // Time unit: one frame.
   const double fpu = 1.0;
@@ -172,22 +177,15 @@ WindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net, co
 // `substeps` steps with ω Δt <= 0.5 and Δt <= max_step_frames), weights and γ per frame. Only
 // the ratio γ / weight matters (scaling both scales the cost), and in seconds both are per-sample
 // quantities times the rate, so the same γ serves every rate (docs/mocap.md).
-struct WindowProblem {
-  std::unique_ptr<control::TrackingProblem> target;
-  int substeps = 1;
-  int steps = 1;
-};
-
-WindowProblem MakeWindowProblem(const Recording& in, const Recording& base,
-                                const MarkerNetwork& net, const OcpWindow& w,
-                                const OcpFillOptions& o, const WindowModel& model) {
+void MakeWindowProblem(const Recording& in, const Recording& base, const MarkerNetwork& net,
+                       const OcpWindow& w, const OcpFillOptions& o, const OcpWindowModel& model,
+                       OcpWindowProblem& p) {
   const Eigen::Index frames = w.last - w.first + 1;
   const int m = static_cast<int>(w.free.size());
   const control::SpringNetwork network(3, model.nodes, model.springs);
   const double omega = std::sqrt(net.stiffness / net.mass) / base.rate();
-  WindowProblem p;
-  p.substeps = static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
-  p.steps = static_cast<int>(frames - 1) * p.substeps;
+  const int substeps =
+      static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
   const double horizon = static_cast<double>(frames - 1);
   Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
   for (int j = 0; j < m; ++j) {
@@ -203,13 +201,14 @@ WindowProblem MakeWindowProblem(const Recording& in, const Recording& base,
       network, horizon, std::move(ref), Eigen::MatrixXd(), std::move(weights), "ocp.reference");
   p.target = std::make_unique<control::TrackingProblem>(network, horizon, std::move(reference),
                                                         control::CostWeights{}, o.gamma);
-  return p;
+  p.substeps = substeps;
+  p.steps = static_cast<int>(frames - 1) * substeps;
 }
 
 // Warm start at (stiffness scale, γ): the prior trajectory (positions and Hermite velocities) and
 // the dual from one backward sweep (section 7.1).
-Eigen::VectorXd WarmStart(const WindowProblem& p, const WindowModel& model, double stiffness_scale,
-                          double gamma) {
+Eigen::VectorXd WarmStart(const OcpWindowProblem& p, double stiffness_scale, double gamma) {
+  const OcpWindowModel& model = *p.model;
   const control::ProblemFamily family = [&p](double) { return *p.target; };
   const control::TrackingProblem start =
       control::ContinuationProblem(family, 1.0, stiffness_scale, gamma);
@@ -226,46 +225,59 @@ Eigen::VectorXd WarmStart(const WindowProblem& p, const WindowModel& model, doub
   return y;
 }
 
-// Continuation in γ from gamma_start; on failure, again from a smooth problem (stiffness and γ).
-control::ContinuationSummary SolveWindow(const WindowProblem& p, const WindowModel& model,
-                                         const OcpFillOptions& o, Eigen::VectorXd& y,
-                                         int& newton_iterations) {
+}  // namespace
+
+void MakeOcpWindowProblem(const Recording& in, const Recording& base, const MarkerNetwork& net,
+                          const OcpWindow& w, const OcpFillOptions& o, OcpWindowProblem& p) {
+  const int m = static_cast<int>(w.free.size());
+  p.scale = net.length_scale;
+  p.origin = Eigen::Vector3d::Zero();
+  for (int marker : w.free) p.origin += base.point(w.first, marker) / m;
+  auto model =
+      std::make_shared<const OcpWindowModel>(BuildWindowModel(base, net, w, p.origin, p.scale, o));
+  p.model = model;
+  p.anchors = model->anchors;
+  p.springs = static_cast<int>(model->springs.size());
+  MakeWindowProblem(in, base, net, w, o, *model, p);
+  p.continuation = control::ContinuationOptions{};
+  p.continuation.gamma_start = o.gamma_start;
+  p.continuation.newton = o.newton;
+  p.warm_start = WarmStart(p, 1.0, p.continuation.gamma_start);
+}
+
+control::ContinuationSummary SolveOcpWindowProblem(const OcpWindowProblem& p,
+                                                   const OcpFillOptions& o, Eigen::VectorXd& y,
+                                                   int& newton_iterations) {
   const control::ProblemFamily family = [&p](double) { return *p.target; };
-  control::ContinuationOptions copt;
-  copt.gamma_start = o.gamma_start;
-  copt.newton = o.newton;
-  Eigen::VectorXd warm = WarmStart(p, model, 1.0, copt.gamma_start);
+  control::ContinuationOptions copt = p.continuation;
+  Eigen::VectorXd warm = p.warm_start;
   control::ContinuationSummary cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);
   newton_iterations = cs.newton_iterations;
   if (!cs.ok()) {
     copt.stiffness_start = o.stiffness_start;
     copt.gamma_start = o.retry_gamma_start;
     copt.gamma_decrease = 0.1;
-    warm = WarmStart(p, model, o.stiffness_start, copt.gamma_start);
+    warm = WarmStart(p, o.stiffness_start, copt.gamma_start);
     cs = control::SolveWithContinuation(family, p.steps, copt, y, &warm);
     newton_iterations += cs.newton_iterations;
   }
   return cs;
 }
 
-}  // namespace
-
 OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
                                const OcpWindow& w, const OcpFillOptions& o) {
   OcpWindowResult result;
   const Eigen::Index frames = w.last - w.first + 1;
   const int m = static_cast<int>(w.free.size());
-  const double scale = net.length_scale;
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  for (int marker : w.free) origin += base.point(w.first, marker) / m;
+  OcpWindowProblem p;
   try {
-    const WindowModel model = BuildWindowModel(base, net, w, origin, scale, o);
-    result.anchors = model.anchors;
-    result.springs = static_cast<int>(model.springs.size());
-    const WindowProblem p = MakeWindowProblem(in, base, net, w, o, model);
+    MakeOcpWindowProblem(in, base, net, w, o, p);
+    result.anchors = p.anchors;
+    result.springs = p.springs;
     result.steps = p.steps;
     Eigen::VectorXd y;
-    const control::ContinuationSummary cs = SolveWindow(p, model, o, y, result.newton_iterations);
+    const control::ContinuationSummary cs =
+        SolveOcpWindowProblem(p, o, y, result.newton_iterations);
     result.residual = cs.last_newton.final_residual;
     if (!cs.ok()) {
       result.termination = cs.termination;
@@ -279,12 +291,15 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
     for (Eigen::Index k = 0; k < frames; ++k) {
       for (int j = 0; j < m; ++j) {
         const Eigen::Vector3d x = z.col(k * p.substeps).segment<3>(6 * j);
-        result.positions.block<1, 3>(k, 3 * j) = (origin + scale * x).transpose();
+        result.positions.block<1, 3>(k, 3 * j) = (p.origin + p.scale * x).transpose();
       }
     }
     result.termination =
         result.positions.allFinite() ? Termination::kConverged : Termination::kDiverged;
   } catch (const InputError& e) {
+    result.anchors = p.anchors;
+    result.springs = p.springs;
+    result.steps = p.steps;
     // A degenerate window (e.g. an anchor on top of a free marker): reported, filled by fallback.
     result.termination = Termination::kDiverged;
     result.message = fmt::format("window model rejected: {}", e.what());

@@ -1,0 +1,31 @@
+// The gap-filling windows of a real recording as the optimal-control fill builds them (benchmark
+// only; docs/benchmarks.md, "Issue 11, session 6: IPOPT on a gap-filling window").
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mocap/ocp_window.h"
+#include "moreau/mocap/fill.h"
+
+namespace moreau::bench {
+
+// A recording's gaps set up for the fill's windows: `base` is `in` with every gap that the fill
+// solves set to its prior (FillGaps with method "ocp" and the optimal control off), `windows`
+// the fill's windows of those gaps (its grouping and padding), in the fill's order.
+struct FillWindows {
+  mocap::Recording in;
+  mocap::Recording base;
+  mocap::MarkerNetwork network;
+  std::vector<mocap::internal::OcpWindow> windows;
+  int gaps = 0;  // gaps the fill solves
+};
+
+// Reads `path` and finds its gaps (FindGaps), with `options` (method "ocp" assumed).
+FillWindows MakeFillWindows(const std::filesystem::path& path, const mocap::FillOptions& options);
+
+// "frames a…b, free A, B" in the recording's labels.
+std::string Describe(const FillWindows& fill, std::size_t window);
+
+}  // namespace moreau::bench
