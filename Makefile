@@ -29,16 +29,15 @@ python: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
 	@cmake --build $(BUILD) -j $(JOBS) --target moreau_python
 
-# Every test in Release (tests/python through ctest), then the unit tests again under
-# AddressSanitizer + UBSan, then the client suite (the outputs opened with ParaView, VTK, h5py
-# and numpy), then each fuzz target for FUZZ_TEST_SECONDS. The Release and the sanitizer trees
-# are compiled at the same time from one pool of JOBS jobs (one make jobserver), so that neither
-# tree's last long file leaves a core idle; the tests run after both builds.
+# Every test in Release (tests/python through ctest), the unit tests again under
+# AddressSanitizer + UBSan, the client suite (the outputs opened with ParaView, VTK, h5py and
+# numpy), then each fuzz target for FUZZ_TEST_SECONDS. One make with a pool of JOBS jobs (one
+# jobserver) runs the first three and the two builds they need: the Release and the sanitizer
+# trees compile at the same time, and each test run starts as soon as its own tree is built, so
+# that no core waits for the other tree's last file or the slowest test of another run. The
+# fuzz targets run last, alone, for their full time on every core. Any failure fails the run.
 test: deps
-	+@$(MAKE) --no-print-directory -j $(JOBS) POOL=1 test-build sanitize-build
-	$(run-release)
-	$(run-asan)
-	$(run-clients)
+	+@$(MAKE) --no-print-directory -j $(JOBS) POOL=1 test-release test-asan test-clients
 	$(run-fuzz)
 
 # `-j JOBS` for one build on its own; nothing when `make test` hands out the jobs (POOL=1).
