@@ -222,6 +222,16 @@ template <int K>
   }
 }
 
+// The noise ξ of slots [begin, end) (at most kNoiseBatch), keyed by key[s] (or id[s]), into
+// xi[a · kNoiseBatch + s − begin].
+template <int K>
+void BatchNoise(std::uint64_t seed, const std::int64_t* key, const int* id, std::int64_t step,
+                int begin, int end, double* xi) {
+  std::int64_t keys[kNoiseBatch];
+  for (int s = begin; s < end; ++s) keys[s - begin] = key != nullptr ? key[s] : id[s];
+  GaussianNoiseBatch(seed, keys, step, K, end - begin, kNoiseBatch, xi);
+}
+
 }  // namespace
 
 template <int K, bool P, bool Noise>
@@ -266,11 +276,7 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
     const int begin = batch * kNoiseBatch;
     const int end = std::min(n, begin + kNoiseBatch);
     [[maybe_unused]] double xi[3 * kNoiseBatch];
-    if constexpr (Noise) {
-      std::int64_t keys[kNoiseBatch];
-      for (int s = begin; s < end; ++s) keys[s - begin] = key != nullptr ? key[s] : id[s];
-      GaussianNoiseBatch(seed, keys, step, K, end - begin, kNoiseBatch, xi);
-    }
+    if constexpr (Noise) BatchNoise<K>(seed, key, id, step, begin, end, xi);
     for (int s = begin; s < end; ++s) {
       double xw[K];
       for (int a = 0; a < K; ++a) {
@@ -370,11 +376,7 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
     const int begin = batch * kNoiseBatch;
     const int end = std::min(n, begin + kNoiseBatch);
     [[maybe_unused]] double xi[3 * kNoiseBatch];
-    if constexpr (Noise) {
-      std::int64_t keys[kNoiseBatch];
-      for (int s = begin; s < end; ++s) keys[s - begin] = key != nullptr ? key[s] : id[s];
-      GaussianNoiseBatch(seed, keys, step, K, end - begin, kNoiseBatch, xi);
-    }
+    if constexpr (Noise) BatchNoise<K>(seed, key, id, step, begin, end, xi);
     // PredictImpl's expressions: F = −γ (x − c) (or 0), v = F, y = x + h v (+ σ ξ). Four
     // independent running maxima (lanes), so that no chain of dependent max operations paces the
     // loop; a maximum is exact, so the lanes do not change the result.

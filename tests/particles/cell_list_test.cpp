@@ -77,7 +77,9 @@ TEST(ParticleCellList, SortOfStorageInCellOrderWithMovedParticles) {
   for (std::size_t s = 3; s < static_cast<std::size_t>(n); s += 97)
     x[2 * s + 1] = 60.0 - x[2 * s + 1];
   c.x = x;
-  for (const int threads : {2, 3, 5}) CheckSorted(c, threads);
+  // At most 4 threads: clang 14's libomp (the sanitizer build) leaks its thread records at exit
+  // with a team of 5 on 2 cores, which LeakSanitizer reports.
+  for (const int threads : {2, 3, 4}) CheckSorted(c, threads);
 }
 
 TEST(ParticleCellList, BlocksFollowTheMortonCurveAndCellRanksArePermutation) {
