@@ -15,4 +15,14 @@ inline constexpr int kNoiseBatch = 256;
 void GaussianNoiseBatch(std::uint64_t seed, const std::int64_t* key, std::int64_t step, int k,
                         int m, int stride, double* out);
 
+// The noise ξ of slots [begin, end) (at most kNoiseBatch), keyed by key[s] (or id[s]), into
+// xi[a · kNoiseBatch + s − begin].
+template <int K>
+inline void BatchNoise(std::uint64_t seed, const std::int64_t* key, const int* id,
+                       std::int64_t step, int begin, int end, double* xi) {
+  std::int64_t keys[kNoiseBatch];
+  for (int s = begin; s < end; ++s) keys[s - begin] = key != nullptr ? key[s] : id[s];
+  GaussianNoiseBatch(seed, keys, step, K, end - begin, kNoiseBatch, xi);
+}
+
 }  // namespace moreau::particles::internal

@@ -84,9 +84,12 @@ class Prediction {
                    double* max_move, std::int64_t* bad_id, double* max_coordinate,
                    ExactBound* bound) const;
   // The drift is at most the trap (every μ_i = 1, no attraction, propulsion, active velocity or
-  // wrap): the same arithmetic as PredictImpl in a loop without branches, which the compiler
-  // vectorises; a batch with a non-finite row is looked at again row by row.
+  // wrap): the same arithmetic as PredictImpl in a loop without branches (prediction_plain.cpp); a
+  // batch with a non-finite row is looked at again row by row.
   bool Plain(const double* active) const;
+  void PredictPlainDispatch(const double* x, double* y, const int* id, const std::int64_t* key,
+                            std::int64_t step, int threads, double* max_move, std::int64_t* bad_id,
+                            double* max_coordinate, ExactBound* bound) const;
   template <int K, bool Noise, bool Trap, bool Bound>
   void PredictPlain(const double* x, double* y, const int* id, const std::int64_t* key,
                     std::int64_t step, int threads, double* max_move, std::int64_t* bad_id,
