@@ -68,6 +68,7 @@ void Engine::Impl::Setup(std::span<const double> positions) {
   const bool uniform_mobility =
       model.mobility.empty() ||
       std::all_of(model.mobility.begin(), model.mobility.end(), [](double m) { return m == 1.0; });
+  list.AssumeUniformRadius(uniform_radius && n > 0 ? model.radius.front() : 0.0);
   store.emplace(model, positions);
   prediction.emplace(forces, box, n, options.h, options.seed, uniform_mobility);
   sweep.emplace(model, uniform_radius);
@@ -275,6 +276,7 @@ void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const
   const bool uniform_mobility =
       model.mobility.empty() ||
       std::all_of(model.mobility.begin(), model.mobility.end(), [](double m) { return m == 1.0; });
+  list.AssumeUniformRadius(uniform_radius && n > 0 ? model.radius.front() : 0.0);
   store.emplace(model, positions, active);
   prediction.emplace(forces, box, n, options.h, options.seed, uniform_mobility);
   sweep.emplace(model, uniform_radius);

@@ -103,6 +103,7 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
   }
   chunk_slot_.resize(static_cast<std::size_t>(chunks) + 1);
   chunk_used_.resize(static_cast<std::size_t>(chunks));
+  chunk_active_.resize(static_cast<std::size_t>(chunks));
   for (int q = 0; q <= chunks; ++q) {
     chunk_slot_[static_cast<std::size_t>(q)] =
         static_cast<int>(static_cast<std::int64_t>(q) * n / chunks);
@@ -114,6 +115,7 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
     std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
     buf.clear();
     img.clear();
+    std::int64_t active = 0;
     for (int s = begin; s < end; ++s) {
       const std::size_t first = buf.size();
       VisitPartners<K, P>(s, x, radius, extra, box_, cells, members, n, brute_force,
@@ -122,11 +124,13 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
                             if constexpr (P) img.push_back(static_cast<std::uint8_t>(code));
                           });
       row_start_[static_cast<std::size_t>(s) + 1] = static_cast<int>(buf.size() - first);
+      active += buf.size() > first ? 1 : 0;
       if (sort_rows) SortRow<P>(buf, img, first);
     }
     chunk_used_[static_cast<std::size_t>(q)] = buf.size();
+    chunk_active_[static_cast<std::size_t>(q)] = active;
   });
-  Concatenate(P, chunks, threads);
+  Concatenate(x, K, P, chunks, threads);
 }
 
 namespace {
@@ -190,21 +194,23 @@ template <int K>
 }
 
 // Writes rows: slot s's candidates t, each written and kept only when within reach (no branch on
-// it), the row's length into count[s].
-template <int K, bool P>
+// it), the row's length into count[s]. U: every radius is `uniform` (the reach (r + r) + extra
+// is then computed once, as each pair would compute it, and no radius is loaded).
+template <int K, bool P, bool U>
 struct RowWriter {
   const double* x;
   const double* radius;
   double extra;
   const PeriodicBox* box;
-  int* count;  // row lengths, by slot
+  int* count;                   // row lengths, by slot
+  double uniform_reach2 = 0.0;  // U: ((r + r) + extra)²
 
   // The row of s over the candidates t = first + c (c < n0), then t = jump + c (n0 ≤ c < m): two
   // ranges walked as one loop. Returns its length.
   [[gnu::always_inline]] int Row2(int s, int first, int n0, int jump, int m, int* out,
                                   std::uint8_t* out_img) const {
     const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
-    const double rs = radius[s];
+    const double rs = U ? 0.0 : radius[s];
     int found = 0;
     for (int c = 0; c < m; ++c) {
       const int t = (c < n0 ? first : jump) + c;
@@ -217,7 +223,7 @@ struct RowWriter {
   [[gnu::always_inline]] int Row(int s, const CellRanges& run, int* out,
                                  std::uint8_t* out_img) const {
     const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
-    const double rs = radius[s];
+    const double rs = U ? 0.0 : radius[s];
     int found = 0;
     for (int i = 0; i < run.count; ++i) {
       for (int t = std::max(run.lo[i], s + 1); t < run.hi[i]; ++t) {
@@ -232,9 +238,10 @@ struct RowWriter {
                                   std::uint8_t* out_img) const {
     double u[K];
     const int code = MinimumImage<K, P>(xs, x + static_cast<std::ptrdiff_t>(K) * t, *box, u);
-    const double c = rs + radius[t] + extra;
     *out = t;
     if constexpr (P) *out_img = static_cast<std::uint8_t>(code);
+    if constexpr (U) return static_cast<int>(SquaredNorm<K>(u) < uniform_reach2);
+    const double c = rs + radius[t] + extra;
     return static_cast<int>(SquaredNorm<K>(u) < c * c);
   }
 };
@@ -243,15 +250,17 @@ struct RowWriter {
 
 // The rows of the slots of blocks [first, last) into chunk q's buffers; returns the entries used.
 // The buffers only grow (their entries past the rows are scratch).
-template <int K, bool P>
+template <int K, bool P, bool U>
 std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, const CellList& cells,
                                       std::int64_t first, std::int64_t last, int q) {
   std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
   std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
-  const RowWriter<K, P> writer{x, radius, extra(), &box_, row_start_.data() + 1};
+  const double reach = (uniform_radius_ + uniform_radius_) + extra();
+  const RowWriter<K, P, U> writer{x, radius, extra(), &box_, row_start_.data() + 1, reach * reach};
   const std::int32_t* start = cells.cell_starts();
   CellRanges run;
   std::size_t used = 0;
+  std::int64_t active = 0;  // non-empty rows
   auto reserve = [&](std::size_t most) {
     if (buf.size() < used + most) [[unlikely]] {
       buf.resize(2 * (used + most));
@@ -277,22 +286,26 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
                     static_cast<std::size_t>(e - b));
             for (int s = b; s < e; ++s) {
               const int n0 = hi0 - s - 1;
-              used += static_cast<std::size_t>(writer.Row2(s, s + 1, n0, lo1 - n0, n0 + hi1 - lo1,
-                                                           buf.data() + used,
-                                                           P ? img.data() + used : nullptr));
+              const int found = writer.Row2(s, s + 1, n0, lo1 - n0, n0 + hi1 - lo1,
+                                            buf.data() + used, P ? img.data() + used : nullptr);
+              used += static_cast<std::size_t>(found);
+              active += found > 0 ? 1 : 0;
             }
             continue;
           }
           CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, inside, w, &run);
           reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b));
           for (int s = b; s < e; ++s) {
-            used += static_cast<std::size_t>(
-                writer.Row(s, run, buf.data() + used, P ? img.data() + used : nullptr));
+            const int found =
+                writer.Row(s, run, buf.data() + used, P ? img.data() + used : nullptr);
+            used += static_cast<std::size_t>(found);
+            active += found > 0 ? 1 : 0;
           }
         }
       }
     }
   }
+  chunk_active_[static_cast<std::size_t>(q)] = active;
   return used;
 }
 
@@ -321,26 +334,32 @@ void NeighbourList::BuildCellRows(const double* x, const double* radius, const C
   }
   chunk_slot_.resize(static_cast<std::size_t>(chunks) + 1);
   chunk_used_.resize(static_cast<std::size_t>(chunks));
+  chunk_active_.resize(static_cast<std::size_t>(chunks));
   for (int q = 0; q <= chunks; ++q) {
     chunk_slot_[static_cast<std::size_t>(q)] =
         cells.BlockSlotBegin(chunk_block[static_cast<std::size_t>(q)]);
   }
   ParallelFor<true>(threads, 0, chunks, [&](std::int64_t q) {
+    const std::int64_t first = chunk_block[static_cast<std::size_t>(q)];
+    const std::int64_t last = chunk_block[static_cast<std::size_t>(q) + 1];
     chunk_used_[static_cast<std::size_t>(q)] =
-        FillBlocks<K, P>(x, radius, cells, chunk_block[static_cast<std::size_t>(q)],
-                         chunk_block[static_cast<std::size_t>(q) + 1], static_cast<int>(q));
+        uniform_radius_ > 0.0
+            ? FillBlocks<K, P, true>(x, radius, cells, first, last, static_cast<int>(q))
+            : FillBlocks<K, P, false>(x, radius, cells, first, last, static_cast<int>(q));
   });
-  Concatenate(P, chunks, threads);
+  Concatenate(x, K, P, chunks, threads);
 }
 
-// Row offsets: the chunks' totals are summed in chunk order, then every chunk turns its row
-// counts into offsets from its first row on, in parallel; then the rows are copied.
-void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
+// Row offsets: the chunks' totals (pairs and non-empty rows) are summed in chunk order, then every
+// chunk turns its row counts into offsets from its first row on, indexes its non-empty rows, copies
+// its rows and its build positions, all in one parallel pass (the same list for any thread count).
+void NeighbourList::Concatenate(const double* x, int k, bool periodic, int chunks, int threads) {
   std::vector<std::int64_t> chunk_first(static_cast<std::size_t>(chunks) + 1, 0);
+  std::vector<std::int64_t> active_first(static_cast<std::size_t>(chunks) + 1, 0);
   for (int q = 0; q < chunks; ++q) {
-    chunk_first[static_cast<std::size_t>(q) + 1] =
-        chunk_first[static_cast<std::size_t>(q)] +
-        static_cast<std::int64_t>(chunk_used_[static_cast<std::size_t>(q)]);
+    const auto u = static_cast<std::size_t>(q);
+    chunk_first[u + 1] = chunk_first[u] + static_cast<std::int64_t>(chunk_used_[u]);
+    active_first[u + 1] = active_first[u] + chunk_active_[u];
   }
   const std::int64_t total = chunk_first[static_cast<std::size_t>(chunks)];
   if (total > std::numeric_limits<int>::max()) {
@@ -349,32 +368,42 @@ void NeighbourList::Concatenate(bool periodic, int chunks, int threads) {
   }
   nbr_.resize(static_cast<std::size_t>(total));
   if (periodic) image_.resize(static_cast<std::size_t>(total));
+  active_rows_.resize(static_cast<std::size_t>(active_first[static_cast<std::size_t>(chunks)]));
   row_start_[0] = 0;
   ParallelFor(threads, 0, chunks, [&](std::int64_t q) {
-    const int begin = chunk_slot_[static_cast<std::size_t>(q)];
-    const int end = chunk_slot_[static_cast<std::size_t>(q) + 1];
-    auto run = static_cast<int>(chunk_first[static_cast<std::size_t>(q)]);
+    const auto u = static_cast<std::size_t>(q);
+    const int begin = chunk_slot_[u];
+    const int end = chunk_slot_[u + 1];
+    auto run = static_cast<int>(chunk_first[u]);
+    // Every slot is written to the index and kept only when its row is non-empty (no branch on
+    // it); the loop stops writing once the chunk's count is reached (only empty rows are left).
+    int* active = active_rows_.data();
+    std::int64_t at = active_first[u];
+    const std::int64_t stop = active_first[u + 1];
     for (int s = begin; s < end; ++s) {
-      run += row_start_[static_cast<std::size_t>(s) + 1];
+      const int count = row_start_[static_cast<std::size_t>(s) + 1];
+      if (at < stop) active[at] = s;
+      at += count > 0 ? 1 : 0;
+      run += count;
       row_start_[static_cast<std::size_t>(s) + 1] = run;
     }
-    const auto at = static_cast<std::size_t>(chunk_first[static_cast<std::size_t>(q)]);
-    const auto used = static_cast<std::ptrdiff_t>(chunk_used_[static_cast<std::size_t>(q)]);
-    const std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
-    std::copy(buf.begin(), buf.begin() + used, nbr_.begin() + static_cast<std::ptrdiff_t>(at));
+    const auto from = static_cast<std::size_t>(chunk_first[u]);
+    const auto used = static_cast<std::ptrdiff_t>(chunk_used_[u]);
+    const std::vector<int>& buf = chunk_nbr_[u];
+    std::copy(buf.begin(), buf.begin() + used, nbr_.begin() + static_cast<std::ptrdiff_t>(from));
     if (periodic) {
-      const std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
-      std::copy(img.begin(), img.begin() + used, image_.begin() + static_cast<std::ptrdiff_t>(at));
+      const std::vector<std::uint8_t>& img = chunk_image_[u];
+      std::copy(img.begin(), img.begin() + used,
+                image_.begin() + static_cast<std::ptrdiff_t>(from));
     }
+    std::copy(x + static_cast<std::ptrdiff_t>(k) * begin, x + static_cast<std::ptrdiff_t>(k) * end,
+              reference_.data() + static_cast<std::ptrdiff_t>(k) * begin);
   });
 }
 
 void NeighbourList::Build(const double* x, const double* radius, const CellList& cells,
                           const int* members, bool sort_rows, bool brute_force, std::int64_t step,
                           int threads) {
-  double* ref = reference_.data();
-  const auto total = static_cast<std::int64_t>(reference_.size());
-  ParallelFor(threads, 0, total, [&](std::int64_t i) { ref[i] = x[i]; });
   if (box_.k == 1 && box_.any) {
     BuildRows<1, true>(x, radius, cells, members, sort_rows, brute_force, threads);
   } else if (box_.k == 1) {
@@ -384,7 +413,6 @@ void NeighbourList::Build(const double* x, const double* radius, const CellList&
       BuildRows<k, p>(x, radius, cells, members, sort_rows, brute_force, threads);
     });
   }
-  IndexActiveRows(threads);
   ++stats_.builds;
   stats_.candidate_pairs = pairs();
   if (last_build_step_ >= 0) {

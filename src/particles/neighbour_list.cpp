@@ -55,34 +55,6 @@ double NeighbourList::BoundAfterPrediction(double step_move, const double* y, in
   return std::sqrt(worst);
 }
 
-// Each thread counts the non-empty rows of its contiguous share of the slots, then writes them
-// from its offset: the same list for any thread count.
-void NeighbourList::IndexActiveRows(int threads) {
-  const int T = std::max(1, threads);
-  const std::int64_t n = n_;
-  const int* rs = row_start_.data();
-  chunk_active_.assign(static_cast<std::size_t>(T) + 1, 0);
-  std::int64_t* count = chunk_active_.data();
-  ParallelFor(T, 0, T, [&](std::int64_t t) {
-    std::int64_t c = 0;
-    for (std::int64_t s = t * n / T; s < (t + 1) * n / T; ++s) c += rs[s + 1] > rs[s] ? 1 : 0;
-    count[t + 1] = c;
-  });
-  for (int t = 0; t < T; ++t) count[t + 1] += count[t];
-  // Every slot is written and kept only when its row is non-empty (no branch on it); a thread
-  // stops once its count is written (only empty rows are left).
-  active_rows_.resize(static_cast<std::size_t>(count[T]));
-  int* out = active_rows_.data();
-  ParallelFor(T, 0, T, [&](std::int64_t t) {
-    std::int64_t at = count[t];
-    const std::int64_t stop = count[t + 1];
-    for (std::int64_t s = t * n / T; s < (t + 1) * n / T && at < stop; ++s) {
-      out[at] = static_cast<int>(s);
-      at += rs[s + 1] > rs[s] ? 1 : 0;
-    }
-  });
-}
-
 bool NeighbourList::Accept(double moved) {
   const double accept = 0.5 * skin_ * (1.0 - 1e-9);
   if (!(moved * (1.0 + 1e-12) < accept)) return false;

@@ -107,6 +107,8 @@ class NeighbourList {
   // the skin if the list was built at this step's predicted positions already.
   bool PrepareRedo();
   void MarkPredicted() { built_here_ = false; }
+  // r > 0: every radius of later builds is r (a build then loads no radius); 0: radii differ.
+  void AssumeUniformRadius(double r) { uniform_radius_ = r; }
 
   // For checkpoints: the state, the positions of the last build (storage order, wrapped), and
   // a restore (the skin before Build at reference(), everything after it).
@@ -168,11 +170,10 @@ class NeighbourList {
                  bool sort_rows, bool brute_force, int threads);
   template <int K, bool P>
   void BuildCellRows(const double* x, const double* radius, const CellList& cells, int threads);
-  template <int K, bool P>
+  template <int K, bool P, bool U>
   std::size_t FillBlocks(const double* x, const double* radius, const CellList& cells,
                          std::int64_t first, std::int64_t last, int q);
-  void Concatenate(bool periodic, int chunks, int threads);
-  void IndexActiveRows(int threads);
+  void Concatenate(const double* x, int k, bool periodic, int chunks, int threads);
   bool Listed(int s, int t) const;
   template <int K>
   bool LocalPairsApart(int f, const CellList& cells, const int* members,
@@ -184,9 +185,10 @@ class NeighbourList {
   double nominal_skin_ = 0.0;
   double skin_limit_ = std::numeric_limits<double>::infinity();
   double attraction_range_ = 0.0;
-  bool built_here_ = false;     // built at the current predicted positions
-  double drift_bound_ = 0.0;    // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
-  std::int64_t far_slots_ = 0;  // slots beyond skin/4 at the last exact bound (else INT64_MAX)
+  double uniform_radius_ = 0.0;  // > 0: every radius (AssumeUniformRadius)
+  bool built_here_ = false;      // built at the current predicted positions
+  double drift_bound_ = 0.0;     // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
+  std::int64_t far_slots_ = 0;   // slots beyond skin/4 at the last exact bound (else INT64_MAX)
   std::int64_t last_build_step_ = -1;
   std::vector<double> reference_;  // positions at the last build
   // Half-lists: pairs (s, nbr_[p]) for p in [row_start_[s], row_start_[s + 1]), nbr_ > s.
@@ -194,7 +196,7 @@ class NeighbourList {
   std::vector<int> nbr_;
   std::vector<std::uint8_t> image_;          // per pair, periodic only: the image code
   std::vector<int> active_rows_;             // the slots with a non-empty row, increasing
-  std::vector<std::int64_t> chunk_active_;   // IndexActiveRows' per-thread counts
+  std::vector<std::int64_t> chunk_active_;   // build: the non-empty rows of chunk q
   std::vector<double> bound_;                // per slot, AcceptEach's b_s
   std::vector<std::vector<int>> chunk_nbr_;  // build buffers, reused
   std::vector<std::vector<std::uint8_t>> chunk_image_;
