@@ -17,6 +17,7 @@
 #include <memory>
 
 #include "arm_documented_start.h"
+#include "moreau/common/openmp_wait.h"
 #include "moreau/control/continuation.h"
 #include "moreau/control/examples.h"
 #include "moreau/control/linear_solver.h"
@@ -177,12 +178,9 @@ BENCHMARK(BM_ArmSolve)
 
 }  // namespace
 
-// OMP_WAIT_POLICY=passive unless the caller chose a policy (see bench/particles_bench.cpp).
+// OpenMP waiting as moreau's command line chooses it (moreau/common/openmp_wait.h).
 int main(int argc, char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
-    setenv("OMP_WAIT_POLICY", "passive", 1);
-    execv("/proc/self/exe", argv);  // returns only on failure: carry on with the default
-  }
+  moreau::RestartWithBoundedOpenMpSpin(argv);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

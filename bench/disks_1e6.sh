@@ -5,13 +5,12 @@
 #
 #   bench/disks_1e6.sh [path/to/moreau] [extra --set options ...]
 #
-# OMP_WAIT_POLICY=passive unless set (spinning barriers on a shared 2-core machine cost a
-# scheduler slice each). The output folders are left in a temporary directory, removed at exit.
+# OpenMP waits as moreau chooses unless OMP_WAIT_POLICY or GOMP_SPINCOUNT is set
+# (moreau/common/openmp_wait.h). The output folders are left in a temporary directory, removed at exit.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 moreau=${1:-$here/build/release/moreau}
 shift || true
-export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 for threads in 1 2; do

@@ -29,6 +29,7 @@
 #include <unistd.h>
 
 #include "moreau/common/hash.h"
+#include "moreau/common/openmp_wait.h"
 #include "moreau/common/random.h"
 #include "moreau/particles/engine.h"
 #include "moreau/pbd/cases.h"
@@ -472,15 +473,9 @@ BENCHMARK(BM_ParallelControl)
 
 }  // namespace
 
-// OpenMP's default wait policy spins at barriers; on the shared, oversubscribed 2-core machines a
-// spinning thread takes the core its partner needs and each barrier then costs a scheduler time
-// slice (we measured 40 ms per step instead of 0.6 ms for N = 10^4). libgomp reads the policy
-// when it loads, so unless the caller chose one, re-run this binary with OMP_WAIT_POLICY=passive.
+// OpenMP waiting as moreau's command line chooses it (moreau/common/openmp_wait.h).
 int main(int argc, char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
-    setenv("OMP_WAIT_POLICY", "passive", 1);
-    execv("/proc/self/exe", argv);  // returns only on failure: carry on with the default
-  }
+  moreau::RestartWithBoundedOpenMpSpin(argv);
   // --hash_steps=S: no timing; runs the 10^6-disk workload (2 threads) for S steps and prints the
   // hash of the final positions (the regression check on bits recorded in docs/benchmarks.md).
   if (argc == 2 && std::strncmp(argv[1], "--hash_steps=", 13) == 0) {

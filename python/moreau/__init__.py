@@ -15,11 +15,12 @@ state). Long C++ work runs with the GIL released; Ctrl-C raises KeyboardInterrup
 import os as _os
 import sys as _sys
 
-# libgomp reads OMP_WAIT_POLICY when it loads, with the extension below unless something loaded
-# it before. Its default busy-waiting costs a scheduler slice per barrier on a shared machine
-# (a 20 ms control solve took 0.8 s under load), so unless the user chose, waiting is passive, as
-# the command line chooses (apps/moreau/main.cpp).
-_os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+# libgomp reads its settings when it loads, with the extension below unless something loaded it
+# before. Unless the user chose (OMP_WAIT_POLICY or GOMP_SPINCOUNT), idle threads spin about as
+# long as waking a sleeping one costs, then sleep: the command line's choice and its reasons are in
+# include/moreau/common/openmp_wait.h.
+if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
+    _os.environ["GOMP_SPINCOUNT"] = "10000"
 
 from moreau._moreau import NumericalError, control, hash_doubles, mocap, particles, pbd
 

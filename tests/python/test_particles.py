@@ -225,14 +225,16 @@ def test_engine_run_equals_moreau_run(tmp_path):
         assert getattr(summary, key) == cli[key], key
 
 
-def test_import_makes_openmp_wait_passively_unless_the_user_chose():
-    """libgomp prints the spin count it chose at load (OMP_DISPLAY_ENV=verbose): 0 (passive) by
-    default, where an unset policy would give 300000; the user's own choice is kept."""
+def test_import_bounds_the_openmp_spin_unless_the_user_chose():
+    """libgomp prints the spin count it chose at load (OMP_DISPLAY_ENV=verbose): 10000 pauses by
+    default (the command line's choice), where an unset policy would give 300000; the user's own
+    policy or spin count is kept."""
     import os
     import subprocess
 
     def spin_count(extra):
-        env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+        env = {k: v for k, v in os.environ.items()
+               if k not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")}
         env.update(extra, OMP_DISPLAY_ENV="verbose")
         r = subprocess.run([sys.executable, "-c", "import moreau"], env=env, capture_output=True,
                            text=True, timeout=60)
@@ -241,5 +243,7 @@ def test_import_makes_openmp_wait_passively_unless_the_user_chose():
         assert len(line) == 1, r.stderr
         return int(line[0].split("'")[1])
 
-    assert spin_count({}) == 0
-    assert spin_count({"OMP_WAIT_POLICY": "active"}) > 0
+    assert spin_count({}) == 10000
+    assert spin_count({"OMP_WAIT_POLICY": "passive"}) == 0
+    assert spin_count({"OMP_WAIT_POLICY": "active"}) > 10000
+    assert spin_count({"GOMP_SPINCOUNT": "123"}) == 123
