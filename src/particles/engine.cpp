@@ -104,7 +104,9 @@ void Engine::Impl::Rebuild(std::vector<double>* at, std::int64_t at_step) {
   cells.Sort(at->data(), store->id.data(), n, threads);
   const int* members = cells.permutation().data();
   if (!lexicographic) {
-    store->Reorder(cells.permutation(), threads);
+    MOREAU_ASSERT(!current_stale);
+    current_stale = at == &store->predicted;
+    store->Reorder(cells.permutation(), threads, !current_stale);
     prediction->Reorder(cells.permutation(), threads);
     members = nullptr;  // storage is in cell order
   }
@@ -123,6 +125,12 @@ void Engine::Impl::Predict(double* max_move, std::int64_t* bad_id, internal::Exa
                       store->active.empty() ? nullptr : store->active.data(),
                       store->mobility.data(), step, threads, max_move, bad_id, &max_coordinate,
                       bound);
+}
+
+void Engine::Impl::FreshCurrent() {
+  if (!current_stale) return;
+  store->GatherCurrent(cells.permutation(), threads);
+  current_stale = false;
 }
 
 void Engine::Impl::Fail(std::int64_t bad) {
@@ -172,6 +180,7 @@ void Engine::Impl::SweepUntilAccepted(double moved, int sweeps, bool relax) {
     const auto tp = Clock::now();
     double unused = 0.0;
     std::int64_t bad = -1;
+    FreshCurrent();
     if (relax) {
       store->predicted = store->current;
     } else {
@@ -197,6 +206,7 @@ bool Engine::Impl::AcceptEach() {
 bool Engine::Impl::Step() {
   if (termination != Termination::kCompleted) return false;
   const auto t0 = Clock::now();
+  const FreshCurrentOnExit fresh{this};
   if (prediction->attracts()) {
     prediction->Attraction(store->current.data(), store->radius.data(), list, colouring, cells,
                            lexicographic, threads);
@@ -227,6 +237,7 @@ bool Engine::Impl::Step() {
   }
   SweepUntilAccepted(moved, options.sweeps, false);
   store->current.swap(store->predicted);
+  current_stale = false;  // the old current positions are scratch now
   ++step;
   stats.steps = step;
   stats.time = static_cast<double>(step) * options.h;
@@ -287,6 +298,7 @@ void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const
 // Sweeps at fixed positions (no drift, no noise) until every pair overlap is ≤ tolerance.
 int Engine::Impl::Relax(double tolerance, int max_sweeps) {
   const auto t0 = Clock::now();
+  const FreshCurrentOnExit fresh{this};
   int done = 0;
   while (done < max_sweeps && MaxOverlap() > tolerance) {
     store->predicted = store->current;
@@ -299,6 +311,7 @@ int Engine::Impl::Relax(double tolerance, int max_sweeps) {
     }
     SweepUntilAccepted(moved, 1, true);
     store->current.swap(store->predicted);
+    current_stale = false;
     ++done;
   }
   stats.total_seconds += Seconds(t0, Clock::now());

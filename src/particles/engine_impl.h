@@ -39,6 +39,9 @@ struct Engine::Impl {
   internal::OverlapMonitor monitor;  // after each step (options.monitor_overlap)
   double max_coordinate = 0.0;       // the last prediction's largest |Y_i,a|
   double last_step_move = 0.0;       // its largest move (whether to fuse the exact skin bound)
+  // A build at the predicted positions left the current ones in the storage order before it:
+  // only a redo needs them in the new order (FreshCurrent); the step's end replaces them.
+  bool current_stale = false;
 
   std::int64_t step = 0;
   EngineStats stats;
@@ -57,6 +60,13 @@ struct Engine::Impl {
   void Repopulate(std::span<const double> positions, std::span<const double> active);
   int Relax(double tolerance, int max_sweeps);
   void Fail(std::int64_t bad);
+  void FreshCurrent();  // the current positions in the storage order (after current_stale)
+  // Calls FreshCurrent however its scope ends: a step or relaxation that throws keeps its last
+  // good state in the storage order.
+  struct FreshCurrentOnExit {
+    Impl* engine;
+    ~FreshCurrentOnExit() { engine->FreshCurrent(); }
+  };
   bool AcceptEach();
   std::vector<double> path_scratch;
   std::vector<double> sweep_start;  // the predicted positions before a single sweep

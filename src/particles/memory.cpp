@@ -9,10 +9,10 @@ namespace moreau::particles {
 
 std::int64_t EstimateEngineBytes(int dimension, std::int64_t count) {
   const std::int64_t k = dimension == 3 ? 3 : 2;
-  // Position buffers (current, predicted, list reference, forces, user copy), radius, mobility,
-  // ids, sort keys, path bounds, row starts, cells; neighbour half-lists at 16 (2D) or 32 (3D)
-  // candidates per particle of 5 bytes each.
-  const std::int64_t per_particle = 8 * (5 * k + 8) + (k == 2 ? 80 : 160) + 48;
+  // Position buffers (current, predicted, list reference, forces, user copy, reorder scratch),
+  // radius, mobility, ids, sort keys, path bounds, row starts, cells; neighbour half-lists at 16
+  // (2D) or 32 (3D) candidates per particle of 5 bytes each.
+  const std::int64_t per_particle = 8 * (6 * k + 8) + (k == 2 ? 80 : 160) + 48;
   if (count > (std::int64_t{1} << 62) / per_particle) return std::int64_t{1} << 62;
   return count * per_particle;
 }

@@ -20,36 +20,58 @@ ParticleStore::ParticleStore(const ParticleModel& model, std::span<const double>
   for (int i = 0; i < n; ++i) mobility[static_cast<std::size_t>(i)] = model.mobility_of(i);
   id.resize(static_cast<std::size_t>(n));
   std::iota(id.begin(), id.end(), 0);
-  uniform_radius_ = std::all_of(radius.begin(), radius.end(),
-                                [&](double r) { return r == radius.front(); });
+  uniform_radius_ =
+      std::all_of(radius.begin(), radius.end(), [&](double r) { return r == radius.front(); });
   uniform_mobility_ = std::all_of(mobility.begin(), mobility.end(),
                                   [&](double m) { return m == mobility.front(); });
 }
 
 // Radius and mobility are gathered only when they differ between particles (a uniform array is
 // the same in any order).
-void ParticleStore::Reorder(const std::vector<int>& perm, int threads) {
-  GatherRows(perm, k, threads, &current, &scratch_k_);
-  GatherRows(perm, k, threads, &predicted, &scratch_k_);
+void ParticleStore::Reorder(const std::vector<int>& perm, int threads, bool with_current) {
   if (!uniform_radius_) GatherRows(perm, 1, threads, &radius, &scratch1_);
   if (!uniform_mobility_) GatherRows(perm, 1, threads, &mobility, &scratch1_);
   GatherRows(perm, k, threads, &active, &scratch_k_);
-  if (!noise_key.empty()) {
-    scratch_key_.resize(noise_key.size());
+  // The positions, ids and keys every engine has, in one pass.
+  scratch_k_.resize(predicted.size());
+  if (with_current) scratch_current_.resize(current.size());
+  scratch_id_.resize(id.size());
+  const bool keyed = !noise_key.empty();
+  if (keyed) scratch_key_.resize(noise_key.size());
+  auto gather = [&](auto kk) {
+    constexpr int K = kk;
+    const double* cur = current.data();
+    const double* pred = predicted.data();
+    double* cur2 = scratch_current_.data();
+    double* pred2 = scratch_k_.data();
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (int s = 0; s < n; ++s) {
-      scratch_key_[static_cast<std::size_t>(s)] =
-          noise_key[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])];
+      const int o = perm[static_cast<std::size_t>(s)];
+      for (int a = 0; a < K; ++a) pred2[K * s + a] = pred[K * o + a];
+      if (with_current) {
+        for (int a = 0; a < K; ++a) cur2[K * s + a] = cur[K * o + a];
+      }
+      scratch_id_[static_cast<std::size_t>(s)] = id[static_cast<std::size_t>(o)];
+      if (keyed) {
+        scratch_key_[static_cast<std::size_t>(s)] = noise_key[static_cast<std::size_t>(o)];
+      }
     }
-    noise_key.swap(scratch_key_);
+  };
+  if (k == 1) {
+    gather(std::integral_constant<int, 1>());
+  } else if (k == 2) {
+    gather(std::integral_constant<int, 2>());
+  } else {
+    gather(std::integral_constant<int, 3>());
   }
-  scratch_id_.resize(id.size());
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int s = 0; s < n; ++s) {
-    scratch_id_[static_cast<std::size_t>(s)] =
-        id[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])];
-  }
+  predicted.swap(scratch_k_);
+  if (with_current) current.swap(scratch_current_);
   id.swap(scratch_id_);
+  if (keyed) noise_key.swap(scratch_key_);
+}
+
+void ParticleStore::GatherCurrent(const std::vector<int>& perm, int threads) {
+  GatherRows(perm, k, threads, &current, &scratch_current_);
 }
 
 std::vector<int> ParticleStore::SlotsOf() const {

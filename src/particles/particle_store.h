@@ -28,7 +28,10 @@ struct ParticleStore {
   ParticleStore(const ParticleModel& model, std::span<const double> positions,
                 std::span<const double> active = {});
   // New slot s holds old slot perm[s] (positions, radius, mobility, ids, keys, velocities).
-  void Reorder(const std::vector<int>& perm, int threads);
+  // with_current false: the current positions stay in the old order until GatherCurrent(perm)
+  // (a build at the predicted positions needs them only for a redo).
+  void Reorder(const std::vector<int>& perm, int threads, bool with_current = true);
+  void GatherCurrent(const std::vector<int>& perm, int threads);
   // The slot of each particle id (the inverse of id).
   std::vector<int> SlotsOf() const;
   // The current positions in id order, wrapped into the periodic domain; out: size k·N.
@@ -37,7 +40,7 @@ struct ParticleStore {
  private:
   bool uniform_radius_ = false;  // every radius equal (then Reorder leaves the array alone)
   bool uniform_mobility_ = false;
-  std::vector<double> scratch1_, scratch_k_;
+  std::vector<double> scratch1_, scratch_k_, scratch_current_;
   std::vector<int> scratch_id_;
   std::vector<std::int64_t> scratch_key_;
 };

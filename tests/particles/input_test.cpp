@@ -75,7 +75,7 @@ TEST(ParticleInput, CountThatDoesNotFitInMemoryIsRejectedBeforeAllocating) {
   EngineOptions o;
   o.memory_limit_bytes = 100;  // two particles need more than 100 bytes
   ExpectInputError([&] { Make(TwoDisks(), kApart, {}, o); },
-                   "2 particles need about 544 B, more than the 100 B available");
+                   "2 particles need about 576 B, more than the 100 B available");
 }
 
 TEST(ParticleInput, InfeasibleInitialStates) {
