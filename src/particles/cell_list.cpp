@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -272,6 +273,8 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
   if (foreign_.size() < static_cast<std::size_t>(T)) foreign_.resize(static_cast<std::size_t>(T));
   std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1, cells);
   std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
+  std::vector<double> range_lo(3 * static_cast<std::size_t>(T), 0.0);
+  std::vector<double> range_hi(3 * static_cast<std::size_t>(T), 0.0);
   bound[0] = 0;
   for (int t = 1; t < T; ++t) {
     const std::int64_t sb = static_cast<std::int64_t>(t) * n / T;
@@ -288,8 +291,10 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
     std::fill(cnt + cb, cnt + ce, 0);
     std::vector<int>& mine = foreign_[static_cast<std::size_t>(t)];
     mine.clear();
-    std::int64_t total =
-        DispatchDimension(k, [&](auto kk) { return CountKeys<kk>(x, sb, se, cb, ce, &mine); });
+    std::int64_t total = DispatchDimension(k, [&](auto kk) {
+      return CountKeys<kk>(x, sb, se, cb, ce, &mine, &range_lo[3 * static_cast<std::size_t>(t)],
+                           &range_hi[3 * static_cast<std::size_t>(t)]);
+    });
 #pragma omp barrier
     auto for_foreign = [&](auto&& f) {  // the other chunks' slots in this thread's cells
       for (int u = 0; u < T; ++u) {
@@ -325,21 +330,67 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
 #pragma omp barrier
     SortCellsById(id, cb, ce);
   });
+  for (int a = 0; a < k; ++a) {  // the axis ranges, as AxisRanges finds them
+    sorted_lo_[a] = std::numeric_limits<double>::infinity();
+    sorted_hi_[a] = -std::numeric_limits<double>::infinity();
+    for (int t = 0; t < T; ++t) {
+      sorted_lo_[a] = std::min(sorted_lo_[a], range_lo[3 * static_cast<std::size_t>(t) + a]);
+      sorted_hi_[a] = std::max(sorted_hi_[a], range_hi[3 * static_cast<std::size_t>(t) + a]);
+    }
+  }
+}
+
+bool CellList::FitAndSort(const double* x, const int* id, int n, const PeriodicBox& box,
+                          double reach, int block_cells, int threads) {
+  const int k = box.k;
+  const bool all_periodic = std::all_of(box.periodic, box.periodic + k, [](bool p) { return p; });
+  if (!have_geometry_ || reach_ != reach || all_periodic) {
+    const bool changed = Fit(x, n, box, reach, block_cells, threads);
+    Sort(x, id, n, threads);
+    return changed;
+  }
+  // A sort with the old geometry is valid for any positions (those outside the grid are clamped
+  // into its edge cells) and finds the bounding box Fit would; only when that box calls for a new
+  // geometry is the grid refitted and sorted again.
+  Sort(x, id, n, threads);
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  for (int a = 0; a < k; ++a) {
+    lo[a] = box.periodic[a] ? box.lo[a] : sorted_lo_[a];
+    hi[a] = box.periodic[a] ? box.lo[a] + box.len[a] : sorted_hi_[a];
+  }
+  if (KeepsGeometry(lo, hi, reach)) return false;
+  FitRecord fit;
+  std::copy(lo, lo + 3, fit.lo);
+  std::copy(hi, hi + 3, fit.hi);
+  fit.reach = reach;
+  Refit(fit, n, box, block_cells);
+  Sort(x, id, n, threads);
+  return true;
 }
 
 // Slots [sb, se): their keys (cell ranks) into key_, counted in count_scratch_ when in the cells
 // [cb, ce), else listed in *foreign. Returns the number counted.
 template <int K>
 std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t cb, std::int64_t ce,
-                                 std::vector<int>* foreign) {
+                                 std::vector<int>* foreign, double* lo, double* hi) {
   const CellGrid grid = grid_;
   const std::int32_t* rank = cell_rank_.data();
   std::int32_t* cnt = count_scratch_.data();
   int* key = key_.data();
   std::int64_t counted = 0;
+  double low[K], high[K];
+  for (int a = 0; a < K; ++a) {
+    low[a] = std::numeric_limits<double>::infinity();
+    high[a] = -std::numeric_limits<double>::infinity();
+  }
   for (int s = sb; s < se; ++s) {
     int c[3] = {0, 0, 0};
-    for (int a = 0; a < K; ++a) c[a] = grid.Coord(a, x[static_cast<std::ptrdiff_t>(K) * s + a]);
+    for (int a = 0; a < K; ++a) {
+      const double v = x[static_cast<std::ptrdiff_t>(K) * s + a];
+      low[a] = std::min(low[a], v);
+      high[a] = std::max(high[a], v);
+      c[a] = grid.Coord(a, v);
+    }
     const int r = rank[grid.Index(c[0], c[1], c[2])];
     key[s] = r;
     if (r >= cb && r < ce) [[likely]] {
@@ -349,6 +400,8 @@ std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t c
       foreign->push_back(s);
     }
   }
+  std::copy(low, low + K, lo);
+  std::copy(high, high + K, hi);
   return counted;
 }
 

@@ -105,6 +105,11 @@ class CellList {
   // the slots of the cell of rank c, by increasing id[slot]. Stable and the same for any thread
   // count.
   void Sort(const double* x, const int* id, int n, int threads);
+  // Fit, then Sort, with one pass over x fewer when a geometry for this reach exists: the sort
+  // also finds the bounding box, and sorts again only when the geometry changed. Returns Fit's
+  // answer; the geometry and order are Fit's and Sort's.
+  bool FitAndSort(const double* x, const int* id, int n, const PeriodicBox& box, double reach,
+                  int block_cells, int threads);
 
   const CellGrid& grid() const { return grid_; }
   std::int64_t cells() const { return static_cast<std::int64_t>(cell_rank_.size()); }
@@ -139,13 +144,15 @@ class CellList {
   void RankCells();
   template <int K>
   std::int64_t CountKeys(const double* x, int sb, int se, std::int64_t cb, std::int64_t ce,
-                         std::vector<int>* foreign);
+                         std::vector<int>* foreign, double* lo, double* hi);
   void SortCellsById(const int* id, std::int64_t begin, std::int64_t end);
 
   CellGrid grid_;
   bool have_geometry_ = false;
   double reach_ = 0.0;  // the reach the geometry was made for
   FitRecord fit_;
+  double sorted_lo_[3] = {0, 0, 0};  // the last Sort's smallest and largest coordinates per axis
+  double sorted_hi_[3] = {0, 0, 0};
   int nb_[3] = {1, 1, 1};
   int block_edge_ = 8;
   std::vector<std::int64_t> block_of_rank_;

@@ -98,10 +98,9 @@ void Engine::Impl::Rebuild(std::vector<double>* at, std::int64_t at_step) {
   const auto t0 = Clock::now();
   box.WrapAll(at->data(), n);
   const double reach = 2.0 * rmax + attraction_range + list.skin();
-  if (cells.Fit(at->data(), n, box, reach, options.block_cells, threads)) {
+  if (cells.FitAndSort(at->data(), store->id.data(), n, box, reach, options.block_cells, threads)) {
     colouring.Assign(cells);
   }
-  cells.Sort(at->data(), store->id.data(), n, threads);
   const int* members = cells.permutation().data();
   if (!lexicographic) {
     MOREAU_ASSERT(!current_stale);

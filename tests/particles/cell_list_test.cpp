@@ -56,6 +56,45 @@ TEST(ParticleCellList, SortIsAPermutationByCellRankThenId) {
   CheckSorted(RandomConfiguration(3, {true, true, true}, 600, 12.0, 4), 2);
 }
 
+// FitAndSort against Fit then Sort on a sequence of positions: the same slight drift (geometry
+// kept), a contraction to a third (the grid too large: refitted), an expansion past the grid
+// (refitted), and a new reach; the same geometry answer, grid, block ranks and permutation on 1
+// and 2 threads.
+TEST(ParticleCellList, FitAndSortEqualsFitThenSort) {
+  for (const int threads : {1, 2}) {
+    RandomConfiguration c(2, {false, true, false}, 700, 40.0, 8);
+    const int n = c.model.count();
+    const PeriodicBox box = PeriodicBox::Of(c.model);
+    std::vector<int> id(static_cast<std::size_t>(n));
+    std::iota(id.begin(), id.end(), 0);
+    CellList fused, plain;
+    const struct {
+      double scale;
+      double reach;
+      bool changes;
+    } moves[] = {{1.0, 1.5, true}, {1.01, 1.5, false}, {0.33, 1.5, true},
+                 {1.6, 1.5, true}, {1.0, 1.5, false},  {1.0, 2.0, true}};
+    for (const auto& m : moves) {
+      for (int s = 0; s < n; ++s) {  // scale the non-periodic axis about 20
+        double& v = c.x[static_cast<std::size_t>(2 * s)];
+        v = 20.0 + m.scale * (v - 20.0);
+      }
+      const bool a = fused.FitAndSort(c.x.data(), id.data(), n, box, m.reach, 0, threads);
+      const bool b = plain.Fit(c.x.data(), n, box, m.reach, 0, threads);
+      plain.Sort(c.x.data(), id.data(), n, threads);
+      EXPECT_EQ(a, m.changes);
+      EXPECT_EQ(a, b);
+      for (int ax = 0; ax < 3; ++ax) {
+        EXPECT_EQ(fused.grid().nc[ax], plain.grid().nc[ax]);
+        EXPECT_EQ(fused.grid().lo[ax], plain.grid().lo[ax]);
+        EXPECT_EQ(fused.grid().edge[ax], plain.grid().edge[ax]);
+      }
+      EXPECT_EQ(fused.block_of_rank(), plain.block_of_rank());
+      EXPECT_EQ(fused.permutation(), plain.permutation());
+    }
+  }
+}
+
 // Storage in the previous sort's cell order with some particles moved a few cells and a few moved
 // across the domain: each thread's chunk lies mostly in its own cells, the rest are counted by
 // the threads whose cells they reach. The same order by cell rank, then id, for any thread count.
