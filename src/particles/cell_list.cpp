@@ -269,6 +269,7 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
   const int T = threads;
   key_.resize(static_cast<std::size_t>(n));
   perm_.resize(static_cast<std::size_t>(n));
+  sorted_rank_.resize(static_cast<std::size_t>(n));
   count_scratch_.resize(static_cast<std::size_t>(cells));
   if (foreign_.size() < static_cast<std::size_t>(T)) foreign_.resize(static_cast<std::size_t>(T));
   std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1, cells);
@@ -324,9 +325,17 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
     if (t == T - 1) cell_start_[static_cast<std::size_t>(cells)] = n;
     for (int s = sb; s < se; ++s) {
       const int key = key_[static_cast<std::size_t>(s)];
-      if (key >= cb && key < ce) perm_[static_cast<std::size_t>(cnt[key]++)] = s;
+      if (key >= cb && key < ce) {
+        const auto at = static_cast<std::size_t>(cnt[key]++);
+        perm_[at] = s;
+        sorted_rank_[at] = key;
+      }
     }
-    for_foreign([&](int s, int key) { perm_[static_cast<std::size_t>(cnt[key]++)] = s; });
+    for_foreign([&](int s, int key) {
+      const auto at = static_cast<std::size_t>(cnt[key]++);
+      perm_[at] = s;
+      sorted_rank_[at] = key;
+    });
 #pragma omp barrier
     SortCellsById(id, cb, ce);
   });

@@ -121,6 +121,8 @@ class CellList {
   // cell_starts()[c] = cell_start(c), for c in [0, cells()].
   const std::int32_t* cell_starts() const { return cell_start_.data(); }
   const std::vector<int>& permutation() const { return perm_; }
+  // The cell rank of each entry of permutation() (of each slot, once storage is in cell order).
+  const std::int32_t* sorted_ranks() const { return sorted_rank_.data(); }
   // Blocks: nb per axis; the block of rank r has row-major index block_of_rank()[r] and covers
   // the cells of ranks [block_cell_begin(r), block_cell_begin(r + 1)).
   const int* blocks_per_axis() const { return nb_; }
@@ -163,6 +165,7 @@ class CellList {
   std::vector<std::int32_t> cell_start_;  // rank → first entry of perm_; size cells + 1
   std::vector<int> key_;                  // per slot: the rank of its cell
   std::vector<int> perm_;
+  std::vector<std::int32_t> sorted_rank_;  // per entry of perm_: its cell's rank
   std::vector<std::int32_t> count_scratch_;  // per cell: count, then next offset (Sort)
   std::vector<std::vector<int>> foreign_;    // per thread: slots outside its cells (Sort)
 };

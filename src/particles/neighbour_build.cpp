@@ -133,7 +133,8 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
   Concatenate(x, K, P, chunks, threads);
 }
 
-namespace {
+// Named (not anonymous): FillBlocks, a member template, captures them in a lambda.
+namespace list_fill {
 
 // The candidate slot ranges [lo[i], hi[i]) of a cell's slots (at most one per adjacent cell) and
 // the number of candidates they hold.
@@ -246,7 +247,11 @@ struct RowWriter {
   }
 };
 
-}  // namespace
+}  // namespace list_fill
+
+using list_fill::CellCandidates;
+using list_fill::CellRanges;
+using list_fill::RowWriter;
 
 // The rows of the slots of blocks [first, last) into chunk q's buffers; returns the entries used.
 // The buffers only grow (their entries past the rows are scratch).
@@ -267,6 +272,19 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
       if constexpr (P) img.resize(buf.size());
     }
   };
+  const std::int32_t* rank_of_slot = cells.sorted_ranks();
+  // The rows of the slots of the cell of rank r (with all its neighbours in its block: inside).
+  auto cell = [&](std::int64_t r, bool inside, const int* w) {
+    const int b = start[r], e = start[r + 1];
+    if (b == e) return;
+    CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, inside, w, &run);
+    reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b));
+    for (int s = b; s < e; ++s) {
+      const int found = writer.Row(s, run, buf.data() + used, P ? img.data() + used : nullptr);
+      used += static_cast<std::size_t>(found);
+      active += found > 0 ? 1 : 0;
+    }
+  };
   for (std::int64_t blk = first; blk < last; ++blk) {
     int origin[3], w[3];
     cells.BlockShape(blk, origin, w);
@@ -276,31 +294,28 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
       const bool plane_inside = K < 3 || (lz >= 1 && lz + 2 <= w[2]);
       for (int ly = 0; ly < w[1]; ++ly) {
         const bool row_inside = plane_inside && (K < 2 || (ly >= 1 && ly + 2 <= w[1]));
-        for (int lx = 0; lx < w[0]; ++lx, ++r) {
-          const int b = start[r], e = start[r + 1];
-          if (b == e) continue;
-          const bool inside = row_inside && lx >= 1 && lx + 2 <= w[0];
-          if (K == 2 && inside) {  // [s + 1, start[r + 2]), then the row above
-            const int hi0 = start[r + 2], lo1 = start[r + wx - 1], hi1 = start[r + wx + 2];
-            reserve(static_cast<std::size_t>(hi0 - b + hi1 - lo1) *
-                    static_cast<std::size_t>(e - b));
-            for (int s = b; s < e; ++s) {
-              const int n0 = hi0 - s - 1;
-              const int found = writer.Row2(s, s + 1, n0, lo1 - n0, n0 + hi1 - lo1,
-                                            buf.data() + used, P ? img.data() + used : nullptr);
-              used += static_cast<std::size_t>(found);
-              active += found > 0 ? 1 : 0;
-            }
-            continue;
-          }
-          CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, inside, w, &run);
-          reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b));
-          for (int s = b; s < e; ++s) {
-            const int found =
-                writer.Row(s, run, buf.data() + used, P ? img.data() + used : nullptr);
+        if (K == 2 && row_inside && wx >= 3) {
+          // The cells lx = 1 … wx − 2 of a row inside the block hold consecutive slots; each
+          // slot's candidates are [s + 1, start[r + 2]) and the three cells above, r being its
+          // cell's rank (from the sort): no branch per cell, empty or not.
+          cell(r, false, w);
+          const int sb = start[r + 1], se = start[r + wx - 1];
+          for (int s = sb; s < se; ++s) {
+            const std::int64_t c = rank_of_slot[s];
+            const int hi0 = start[c + 2], lo1 = start[c + wx - 1], hi1 = start[c + wx + 2];
+            const int n0 = hi0 - s - 1;
+            reserve(static_cast<std::size_t>(n0 + hi1 - lo1));
+            const int found = writer.Row2(s, s + 1, n0, lo1 - n0, n0 + hi1 - lo1, buf.data() + used,
+                                          P ? img.data() + used : nullptr);
             used += static_cast<std::size_t>(found);
             active += found > 0 ? 1 : 0;
           }
+          cell(r + wx - 1, false, w);
+          r += wx;
+          continue;
+        }
+        for (int lx = 0; lx < w[0]; ++lx, ++r) {
+          cell(r, row_inside && lx >= 1 && lx + 2 <= w[0], w);
         }
       }
     }

@@ -159,23 +159,32 @@ TEST(ParticleNeighbourList, SkinBoundAndStatistics) {
   EXPECT_EQ(list.stats().shortest_rebuild_interval, 2);
 }
 
-// The engine's build (storage in cell order, cell ranges found once per cell, chunks of slots
-// on the threads) gives the same rows in the same order for 1, 2 and 3 threads, and the same as
-// visiting every slot's adjacent cells one by one (the members path with members[q] = q).
+// The engine's build (storage in cell order, cell ranges found once per cell or per slot from
+// the sort's ranks, chunks of slots on the threads, with and without the uniform-radius reach)
+// gives the same rows in the same order for 1, 2 and 3 threads, and the same as visiting every
+// slot's adjacent cells one by one (the members path with members[q] = q).
 TEST(ParticleNeighbourList, ParallelBuildEqualsSerialBuildEntryByEntry) {
-  const RandomConfiguration configs[] = {
+  std::vector<RandomConfiguration> configs = {
       RandomConfiguration(2, {false, false, false}, 3000, 70.0, 21),
       RandomConfiguration(2, {true, true, false}, 3000, 70.0, 22),
       RandomConfiguration(3, {true, false, true}, 2000, 18.0, 23)};
+  for (std::size_t i = 0; i < 3; ++i) {  // the same with every radius the largest
+    configs.push_back(configs[i]);
+    std::vector<double>& r = configs.back().model.radius;
+    r.assign(r.size(), configs[i].model.max_radius());
+  }
   for (const RandomConfiguration& c : configs) {
     const int n = c.model.count();
     const double skin = 0.35;
     const CellOrdered o(c, skin, 1);
+    const bool uniform = std::all_of(o.radius.begin(), o.radius.end(),
+                                     [&](double r) { return r == o.radius.front(); });
     std::vector<int> identity(static_cast<std::size_t>(n));
     std::iota(identity.begin(), identity.end(), 0);
     auto build = [&](const int* members, int threads) {
       NeighbourList list;
       list.Configure(o.box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
+      if (members == nullptr && uniform) list.AssumeUniformRadius(o.radius.front());
       list.Build(o.x.data(), o.radius.data(), o.cells, members, false, false, 0, threads);
       return list;
     };
