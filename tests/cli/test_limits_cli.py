@@ -87,7 +87,7 @@ def test_control_estimates_its_memory_before_allocating(tmp_path):
 def test_memory_messages_use_sensible_units(tmp_path):
     line = rejected(run_cli("run", CROWD, "--out", tmp_path / "out", "--set",
                             "solver.memory_limit=1000"),
-                    "problem.count", "200 particles need about 53.1 KiB",
+                    "problem.count", "200 particles need about 56.2 KiB",
                     "more than the 1000 B available")
     assert "0.0 GiB" not in line
     assert line.count("count") == 1  # the key once, as the user writes it
