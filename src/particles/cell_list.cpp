@@ -112,7 +112,14 @@ bool CellList::Fit(const double* x, int n, const PeriodicBox& box, double reach,
   if (!std::all_of(box.periodic, box.periodic + k, [](bool p) { return p; })) {
     DispatchDimension(k, [&](auto kk) { AxisRanges<kk>(x, n, threads, lo, hi); });
   }
-  for (int a = 0; a < k; ++a) {
+  return RefitUnlessKept(lo, hi, n, box, reach, block_cells);
+}
+
+// The bounding box lo, hi of the non-periodic axes (periodic ones are the box's): refits unless
+// the geometry is kept; true when refitted.
+bool CellList::RefitUnlessKept(double* lo, double* hi, int n, const PeriodicBox& box, double reach,
+                               int block_cells) {
+  for (int a = 0; a < box.k; ++a) {
     if (box.periodic[a]) {
       lo[a] = box.lo[a];
       hi[a] = box.lo[a] + box.len[a];
@@ -363,16 +370,9 @@ bool CellList::FitAndSort(const double* x, const int* id, int n, const PeriodicB
   // geometry is the grid refitted and sorted again.
   Sort(x, id, n, threads);
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  for (int a = 0; a < k; ++a) {
-    lo[a] = box.periodic[a] ? box.lo[a] : sorted_lo_[a];
-    hi[a] = box.periodic[a] ? box.lo[a] + box.len[a] : sorted_hi_[a];
-  }
-  if (KeepsGeometry(lo, hi, reach)) return false;
-  FitRecord fit;
-  std::copy(lo, lo + 3, fit.lo);
-  std::copy(hi, hi + 3, fit.hi);
-  fit.reach = reach;
-  Refit(fit, n, box, block_cells);
+  std::copy(sorted_lo_, sorted_lo_ + k, lo);
+  std::copy(sorted_hi_, sorted_hi_ + k, hi);
+  if (!RefitUnlessKept(lo, hi, n, box, reach, block_cells)) return false;
   Sort(x, id, n, threads);
   return true;
 }

@@ -141,6 +141,8 @@ class CellList {
 
  private:
   bool KeepsGeometry(const double* lo, const double* hi, double reach) const;
+  bool RefitUnlessKept(double* lo, double* hi, int n, const PeriodicBox& box, double reach,
+                       int block_cells);
   void ChooseBlocks(int block_cells);
   void RankBlocks();
   void RankCells();
@@ -165,7 +167,7 @@ class CellList {
   std::vector<std::int32_t> cell_start_;  // rank → first entry of perm_; size cells + 1
   std::vector<int> key_;                  // per slot: the rank of its cell
   std::vector<int> perm_;
-  std::vector<std::int32_t> sorted_rank_;  // per entry of perm_: its cell's rank
+  std::vector<std::int32_t> sorted_rank_;    // per entry of perm_: its cell's rank
   std::vector<std::int32_t> count_scratch_;  // per cell: count, then next offset (Sort)
   std::vector<std::vector<int>> foreign_;    // per thread: slots outside its cells (Sort)
 };
