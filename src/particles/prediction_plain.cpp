@@ -5,6 +5,10 @@
 #include <limits>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "particles/noise.h"
 #include "particles/prediction.h"
 
@@ -80,6 +84,56 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
       }
     };
     int first = begin;
+#if defined(__SSE2__)
+    // In 2D a particle is one SSE2 vector: the same operations lane by lane (no fused multiply-add
+    // in either), so the same bits; two particles a time give their ‖·‖² as one vector (each the
+    // scalar sum dd₀² + dd₁²). Maxima are taken as max(new, kept), which keeps `kept` when new is
+    // NaN, as std::max(kept, new) does.
+    [[maybe_unused]] __m128d vec_worst = _mm_setzero_pd(), vec_extent = _mm_setzero_pd(),
+                             vec_worst2 = _mm_setzero_pd();
+    if constexpr (K == 2) {
+      const __m128d neg_g = _mm_set1_pd(-g), hv = _mm_set1_pd(step_h),
+                    sv = _mm_set1_pd(noise_scale);
+      const __m128d cv = _mm_set_pd(c[1], c[0]),
+                    big = _mm_set1_pd(std::numeric_limits<double>::max());
+      const __m128d sign = _mm_set1_pd(-0.0), r2v = _mm_set1_pd(reach2);
+      int flags = 0;
+      // Y of slot s stored; returns (Y − X)² and sets *e2 to (Y − R)² (Bound), *abs to |Y|.
+      auto one = [&](int s, __m128d* e2, __m128d* abs) {
+        const __m128d xv = _mm_loadu_pd(xs + 2 * s);
+        const __m128d v = Trap ? _mm_mul_pd(neg_g, _mm_sub_pd(xv, cv)) : _mm_setzero_pd();
+        __m128d yv = _mm_add_pd(xv, _mm_mul_pd(hv, v));
+        if constexpr (Noise) {
+          const int i = s - begin;
+          yv = _mm_add_pd(yv, _mm_mul_pd(sv, _mm_set_pd(xi[kNoiseBatch + i], xi[i])));
+        }
+        _mm_storeu_pd(ys + 2 * s, yv);
+        *abs = _mm_andnot_pd(sign, yv);
+        flags |= _mm_movemask_pd(_mm_cmpnle_pd(*abs, big));
+        if constexpr (Bound) {
+          const __m128d e = _mm_sub_pd(yv, _mm_loadu_pd(rs + 2 * s));
+          *e2 = _mm_mul_pd(e, e);
+        }
+        const __m128d d = _mm_sub_pd(yv, xv);
+        return _mm_mul_pd(d, d);
+      };
+      for (; first + 2 <= end; first += 2) {
+        __m128d e2a = _mm_setzero_pd(), e2b = _mm_setzero_pd(), abs_a, abs_b;
+        const __m128d d2a = one(first, &e2a, &abs_a);
+        const __m128d d2b = one(first + 1, &e2b, &abs_b);
+        const __m128d d2 = _mm_add_pd(_mm_unpacklo_pd(d2a, d2b), _mm_unpackhi_pd(d2a, d2b));
+        vec_worst = _mm_max_pd(d2, vec_worst);
+        vec_extent = _mm_max_pd(_mm_max_pd(abs_a, abs_b), vec_extent);
+        if constexpr (Bound) {
+          const __m128d e2 = _mm_add_pd(_mm_unpacklo_pd(e2a, e2b), _mm_unpackhi_pd(e2a, e2b));
+          vec_worst2 = _mm_max_pd(e2, vec_worst2);
+          const int over = _mm_movemask_pd(_mm_cmpgt_pd(e2, r2v));
+          batch_far += (over & 1) + (over >> 1);
+        }
+      }
+      nonfinite = flags != 0;
+    }
+#endif
     for (; first + kLanes <= end; first += kLanes) {
       for (int l = 0; l < kLanes; ++l) row(first + l, l);
     }
@@ -90,6 +144,17 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
       batch_extent = std::max(batch_extent, lane_extent[l]);
       batch_worst2 = std::max(batch_worst2, lane_worst2[l]);
     }
+#if defined(__SSE2__)
+    if constexpr (K == 2) {
+      double lanes[2];
+      _mm_storeu_pd(lanes, vec_worst);
+      batch_worst = std::max({batch_worst, lanes[0], lanes[1]});
+      _mm_storeu_pd(lanes, vec_extent);
+      batch_extent = std::max({batch_extent, lanes[0], lanes[1]});
+      _mm_storeu_pd(lanes, vec_worst2);
+      batch_worst2 = std::max({batch_worst2, lanes[0], lanes[1]});
+    }
+#endif
     const bool finite = !nonfinite;
     if (!finite) {  // the batch's finite rows only, as PredictImpl
       batch_worst = batch_extent = 0.0;
