@@ -253,20 +253,13 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
   const bool attract = !force_.empty();
   const double* factor = speed_factor_.empty() ? nullptr : speed_factor_.data();
   const bool crowd_speeds = d.speed_sd > 0.0 || factor != nullptr;
-  double worst = 0.0, extent = 0.0, worst2 = 0.0;
-  std::int64_t bad = std::numeric_limits<std::int64_t>::max(), far_count = 0;
   const double* ref = bound != nullptr ? bound->reference : nullptr;
   const double quarter2 = bound != nullptr ? bound->quarter2 : 0.0;
-  // Batches of kNoiseBatch slots: the noise of a batch is drawn first, in one vectorised loop
-  // (noise.h), then the drift loop adds it. The batches are fixed by the slots, not the threads.
-  const int batches = (n + kNoiseBatch - 1) / kNoiseBatch;
-#pragma omp parallel for num_threads(threads) schedule(static) \
-    reduction(max : worst, extent, worst2) reduction(min : bad) reduction(+ : far_count)
-  for (int batch = 0; batch < batches; ++batch) {
-    const int begin = batch * kNoiseBatch;
-    const int end = std::min(n, begin + kNoiseBatch);
-    [[maybe_unused]] double xi[3 * kNoiseBatch];
-    if constexpr (Noise) BatchNoise<K>(seed, key, id, step, begin, end, xi);
+  // The noise of a batch is drawn first, in one vectorised loop (noise.h), then the drift loop
+  // adds it. The batch's totals are plain local scalars until its end.
+  auto rows = [&](int begin, int end, [[maybe_unused]] const double* xi, PredictionTotals* t) {
+    double worst = 0.0, extent = 0.0, worst2 = 0.0;
+    std::int64_t bad = std::numeric_limits<std::int64_t>::max(), far_count = 0;
     for (int s = begin; s < end; ++s) {
       double xw[K];
       for (int a = 0; a < K; ++a) {
@@ -327,13 +320,20 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
         far_count += e2 > quarter2 ? 1 : 0;
       }
     }
-  }
-  *max_move = std::sqrt(worst);
-  if (max_coordinate != nullptr) *max_coordinate = extent;
-  *bad_id = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
+    *t = {worst, extent, worst2, bad, far_count};
+  };
+  ReportPrediction(OverNoiseBatches<K, Noise>(n, threads, seed, key, id, step, rows), max_move,
+                   bad_id, max_coordinate, bound);
+}
+
+void ReportPrediction(const PredictionTotals& totals, double* max_move, std::int64_t* bad_id,
+                      double* max_coordinate, ExactBound* bound) {
+  *max_move = std::sqrt(totals.worst);
+  if (max_coordinate != nullptr) *max_coordinate = totals.extent;
+  *bad_id = totals.bad == std::numeric_limits<std::int64_t>::max() ? -1 : totals.bad;
   if (bound != nullptr) {
-    bound->worst2 = worst2;
-    bound->far = far_count;
+    bound->worst2 = totals.worst2;
+    bound->far = totals.far;
   }
 }
 

@@ -10,6 +10,7 @@
 #include "moreau/particles/forces.h"
 #include "particles/colouring.h"
 #include "particles/neighbour_list.h"
+#include "particles/noise.h"
 
 namespace moreau::particles::internal {
 
@@ -109,6 +110,11 @@ class Prediction {
 
 // Reorders rows of `width` (1, 2 or 3) values: new row s is old row perm[s]; *scratch keeps its
 // capacity.
+// A prediction's totals into Predict's outputs: the largest move, the largest coordinate (if
+// asked), the non-finite row's id (−1: none) and the exact skin bound (if asked).
+void ReportPrediction(const PredictionTotals& totals, double* max_move, std::int64_t* bad_id,
+                      double* max_coordinate, ExactBound* bound);
+
 void GatherRows(const std::vector<int>& perm, int width, int threads, std::vector<double>* v,
                 std::vector<double>* scratch);
 

@@ -34,16 +34,7 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
   const int n = n_;
   const double* ref = Bound ? bound->reference : nullptr;
   const double quarter2 = Bound ? bound->quarter2 : 0.0;
-  double worst = 0.0, extent = 0.0, worst2 = 0.0;
-  std::int64_t bad = std::numeric_limits<std::int64_t>::max(), far_count = 0;
-  const int batches = (n + kNoiseBatch - 1) / kNoiseBatch;
-#pragma omp parallel for num_threads(threads) schedule(static) \
-    reduction(max : worst, extent, worst2) reduction(min : bad) reduction(+ : far_count)
-  for (int batch = 0; batch < batches; ++batch) {
-    const int begin = batch * kNoiseBatch;
-    const int end = std::min(n, begin + kNoiseBatch);
-    [[maybe_unused]] double xi[3 * kNoiseBatch];
-    if constexpr (Noise) BatchNoise<K>(seed, key, id, step, begin, end, xi);
+  auto rows = [&](int begin, int end, [[maybe_unused]] const double* xi, PredictionTotals* t) {
     // PredictImpl's expressions: F = −γ (x − c) (or 0), v = F, y = x + h v (+ σ ξ). Four
     // independent running maxima (lanes), so that no chain of dependent max operations paces the
     // loop; a maximum is exact, so the lanes do not change the result.
@@ -155,6 +146,7 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
       batch_worst2 = std::max({batch_worst2, lanes[0], lanes[1]});
     }
 #endif
+    std::int64_t batch_bad = std::numeric_limits<std::int64_t>::max();
     const bool finite = !nonfinite;
     if (!finite) {  // the batch's finite rows only, as PredictImpl
       batch_worst = batch_extent = 0.0;
@@ -168,25 +160,17 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
           far = std::max(far, std::abs(ya));
         }
         if (!row_finite) {
-          bad = std::min<std::int64_t>(bad, id[s]);
+          batch_bad = std::min<std::int64_t>(batch_bad, id[s]);
         } else {
           batch_worst = std::max(batch_worst, d2);
           batch_extent = std::max(batch_extent, far);
         }
       }
     }
-    worst = std::max(worst, batch_worst);
-    extent = std::max(extent, batch_extent);
-    worst2 = std::max(worst2, batch_worst2);
-    far_count += batch_far;
-  }
-  *max_move = std::sqrt(worst);
-  if (max_coordinate != nullptr) *max_coordinate = extent;
-  *bad_id = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
-  if constexpr (Bound) {
-    bound->worst2 = worst2;
-    bound->far = far_count;
-  }
+    *t = {batch_worst, batch_extent, batch_worst2, batch_bad, batch_far};
+  };
+  ReportPrediction(OverNoiseBatches<K, Noise>(n, threads, seed, key, id, step, rows), max_move,
+                   bad_id, max_coordinate, bound);
 }
 
 void Prediction::PredictPlainDispatch(const double* x, double* y, const int* id,
