@@ -8,6 +8,10 @@
 
 #include <fmt/format.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "moreau/common/error.h"
 #include "particles/parallel.h"
 
@@ -220,9 +224,72 @@ struct RowWriter {
     count[s] = found;
     return found;
   }
-  // The row of s over the candidates t > s of the ranges.
-  [[gnu::always_inline]] int Row(int s, const CellRanges& run, int* out,
+  // The row of s over the candidates [lo0, lo0 + len0), then [lo1, lo1 + len1). Writes up to
+  // one entry past the row (the caller reserves len0 + len1 + 1).
+  [[gnu::always_inline]] int Row2(int s, int lo0, int len0, int lo1, int len1, int last, int* out,
+                                  std::uint8_t* out_img) const {
+#if defined(__SSE2__)
+    if constexpr (K == 2 && !P && U) {
+      const __m128d xs = _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(s));
+      const __m128d reach2 = _mm_set1_pd(uniform_reach2);
+      int found = Run<2>(xs, reach2, lo0, len0, last, out);
+      found += Run<4>(xs, reach2, lo1, len1, last, out + found);
+      count[s] = found;
+      return found;
+    }
+#endif
+    return Row2(s, lo0, len0, lo1 - len0, len0 + len1, out, out_img);
+  }
+#if defined(__SSE2__)
+  // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) two at a time, each pair
+  // as one SSE2 vector of ‖u‖² (Test's u0² + u1², so the same rows). The first W candidates go
+  // without a branch on len (the lanes past it masked, their loads clamped to slot last); the
+  // loop runs again only for longer runs. Every candidate is written at out[found] and kept when
+  // within reach.
+  template <int W>
+  [[gnu::always_inline]] int Run(__m128d xs, __m128d reach2, int lo, int len, int last,
+                                 int* out) const {
+    int found = 0;
+    int c = 0;
+    do {
+      for (int j = 0; j < W; j += 2, c += 2) {
+        const int t0 = lo + c;
+        const __m128d p0 = _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(std::min(t0, last)));
+        const __m128d p1 =
+            _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(std::min(t0 + 1, last)));
+        const __m128d u0 = _mm_sub_pd(xs, p0);
+        const __m128d u1 = _mm_sub_pd(xs, p1);
+        const __m128d q0 = _mm_mul_pd(u0, u0);
+        const __m128d q1 = _mm_mul_pd(u1, u1);
+        const __m128d r2 = _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
+        const int valid = (1 << std::clamp(len - c, 0, 2)) - 1;
+        const int hit = _mm_movemask_pd(_mm_cmplt_pd(r2, reach2)) & valid;
+        out[found] = t0;
+        found += hit & 1;
+        out[found] = t0 + 1;
+        found += hit >> 1;
+      }
+    } while (c < len);
+    return found;
+  }
+#endif
+  // The row of s over the candidates t > s of the ranges (writing up to one entry past it, as Row2
+  // does).
+  [[gnu::always_inline]] int Row(int s, const CellRanges& run, int last, int* out,
                                  std::uint8_t* out_img) const {
+#if defined(__SSE2__)
+    if constexpr (K == 2 && !P && U) {
+      const __m128d xs = _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(s));
+      const __m128d reach2 = _mm_set1_pd(uniform_reach2);
+      int found = 0;
+      for (int i = 0; i < run.count; ++i) {
+        const int lo = std::max(run.lo[i], s + 1);
+        found += Run<2>(xs, reach2, lo, run.hi[i] - lo, last, out + found);
+      }
+      count[s] = found;
+      return found;
+    }
+#endif
     const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
     const double rs = U ? 0.0 : radius[s];
     int found = 0;
@@ -278,9 +345,10 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
     const int b = start[r], e = start[r + 1];
     if (b == e) return;
     CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, inside, w, &run);
-    reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b));
+    reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b) + 1);
     for (int s = b; s < e; ++s) {
-      const int found = writer.Row(s, run, buf.data() + used, P ? img.data() + used : nullptr);
+      const int found =
+          writer.Row(s, run, n_ - 1, buf.data() + used, P ? img.data() + used : nullptr);
       used += static_cast<std::size_t>(found);
       active += found > 0 ? 1 : 0;
     }
@@ -304,8 +372,8 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
             const std::int64_t c = rank_of_slot[s];
             const int hi0 = start[c + 2], lo1 = start[c + wx - 1], hi1 = start[c + wx + 2];
             const int n0 = hi0 - s - 1;
-            reserve(static_cast<std::size_t>(n0 + hi1 - lo1));
-            const int found = writer.Row2(s, s + 1, n0, lo1 - n0, n0 + hi1 - lo1, buf.data() + used,
+            reserve(static_cast<std::size_t>(n0 + hi1 - lo1) + 1);
+            const int found = writer.Row2(s, s + 1, n0, lo1, hi1 - lo1, n_ - 1, buf.data() + used,
                                           P ? img.data() + used : nullptr);
             used += static_cast<std::size_t>(found);
             active += found > 0 ? 1 : 0;
