@@ -7,6 +7,10 @@
 #include <limits>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "moreau/common/error.h"
 #include "particles/parallel.h"
 
@@ -392,15 +396,7 @@ std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t c
     low[a] = std::numeric_limits<double>::infinity();
     high[a] = -std::numeric_limits<double>::infinity();
   }
-  for (int s = sb; s < se; ++s) {
-    int c[3] = {0, 0, 0};
-    for (int a = 0; a < K; ++a) {
-      const double v = x[static_cast<std::ptrdiff_t>(K) * s + a];
-      low[a] = std::min(low[a], v);
-      high[a] = std::max(high[a], v);
-      c[a] = grid.Coord(a, v);
-    }
-    const int r = rank[grid.Index(c[0], c[1], c[2])];
+  auto count = [&](int s, int r) {
     key[s] = r;
     if (r >= cb && r < ce) [[likely]] {
       ++cnt[r];
@@ -408,6 +404,44 @@ std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t c
     } else {
       foreign->push_back(s);
     }
+  };
+  int first = sb;
+#if defined(__SSE2__)
+  if constexpr (K == 2) {
+    // A 2D position is one SSE2 vector: the same operations as the loop below, lane by lane
+    // (std::min(m, v) is minpd(v, m), NaN included; Coord's clamps are a max with 0, NaN giving
+    // 0, and a min with nc − 1, whose truncation is Coord's nc − 1 from t ≥ nc − 1 on).
+    const __m128d origin = _mm_loadu_pd(grid.lo);
+    const __m128d inv = _mm_loadu_pd(grid.inv);
+    const __m128d top = _mm_set_pd(grid.nc[1] - 1, grid.nc[0] - 1);
+    const __m128d zero = _mm_setzero_pd();
+    __m128d low2 = _mm_set1_pd(std::numeric_limits<double>::infinity());
+    __m128d high2 = _mm_set1_pd(-std::numeric_limits<double>::infinity());
+    const std::int64_t row = grid.nc[0];
+    for (int s = sb; s < se; ++s) {
+      const __m128d v = _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(s));
+      low2 = _mm_min_pd(v, low2);
+      high2 = _mm_max_pd(v, high2);
+      const __m128d t = _mm_min_pd(_mm_max_pd(_mm_mul_pd(_mm_sub_pd(v, origin), inv), zero), top);
+      const __m128i c = _mm_cvttpd_epi32(t);
+      const int cx = _mm_cvtsi128_si32(c);
+      const int cy = _mm_cvtsi128_si32(_mm_shuffle_epi32(c, 1));
+      count(s, rank[cy * row + cx]);
+    }
+    _mm_storeu_pd(low, low2);
+    _mm_storeu_pd(high, high2);
+    first = se;
+  }
+#endif
+  for (int s = first; s < se; ++s) {
+    int c[3] = {0, 0, 0};
+    for (int a = 0; a < K; ++a) {
+      const double v = x[static_cast<std::ptrdiff_t>(K) * s + a];
+      low[a] = std::min(low[a], v);
+      high[a] = std::max(high[a], v);
+      c[a] = grid.Coord(a, v);
+    }
+    count(s, rank[grid.Index(c[0], c[1], c[2])]);
   }
   std::copy(low, low + K, lo);
   std::copy(high, high + K, hi);

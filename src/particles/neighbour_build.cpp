@@ -198,6 +198,30 @@ template <int K>
   flush();
 }
 
+// The entries a row writer may write past a row (RowWriter::Run's 4-entry stores).
+constexpr std::size_t kSlack = 4;
+
+#if defined(__SSE2__)
+// For each 4-bit mask of kept candidates (bit i: candidate i of a window): their offsets in
+// order, as one vector (the lanes past the count are scratch), and their count.
+struct CompressTable {
+  alignas(16) std::int32_t offset[16][4];
+  int count[16];
+};
+constexpr CompressTable MakeCompressTable() {
+  CompressTable t{};
+  for (int m = 0; m < 16; ++m) {
+    int c = 0;
+    for (int b = 0; b < 4; ++b) {
+      if ((m >> b) & 1) t.offset[m][c++] = b;
+    }
+    t.count[m] = c;
+  }
+  return t;
+}
+constexpr CompressTable kCompress = MakeCompressTable();
+#endif
+
 // Writes rows: slot s's candidates t, each written and kept only when within reach (no branch on
 // it), the row's length into count[s]. U: every radius is `uniform` (the reach (r + r) + extra
 // is then computed once, as each pair would compute it, and no radius is loaded).
@@ -225,15 +249,14 @@ struct RowWriter {
     return found;
   }
   // The row of s over the candidates [lo0, lo0 + len0), then [lo1, lo1 + len1). Writes up to
-  // one entry past the row (the caller reserves len0 + len1 + 1).
-  [[gnu::always_inline]] int Row2(int s, int lo0, int len0, int lo1, int len1, int last, int* out,
+  // kSlack entries past the row (the caller reserves len0 + len1 + kSlack).
+  [[gnu::always_inline]] int Row2(int s, int lo0, int len0, int lo1, int len1, int n, int* out,
                                   std::uint8_t* out_img) const {
 #if defined(__SSE2__)
     if constexpr (K == 2 && !P && U) {
-      const __m128d xs = _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(s));
-      const __m128d reach2 = _mm_set1_pd(uniform_reach2);
-      int found = Run<2>(xs, reach2, lo0, len0, last, out);
-      found += Run<4>(xs, reach2, lo1, len1, last, out + found);
+      const double* xs = x + 2 * static_cast<std::ptrdiff_t>(s);
+      int found = Run<2>(xs, lo0, len0, n, out);
+      found += Run<4>(xs, lo1, len1, n, out + found);
       count[s] = found;
       return found;
     }
@@ -241,50 +264,55 @@ struct RowWriter {
     return Row2(s, lo0, len0, lo1 - len0, len0 + len1, out, out_img);
   }
 #if defined(__SSE2__)
-  // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) two at a time, each pair
-  // as one SSE2 vector of ‖u‖² (Test's u0² + u1², so the same rows). The first W candidates go
-  // without a branch on len (the lanes past it masked, their loads clamped to slot last); the
-  // loop runs again only for longer runs. Every candidate is written at out[found] and kept when
-  // within reach.
+  // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) in windows of W (2 or
+  // 4), two candidates a SSE2 vector of ‖u‖² (Test's u0² + u1², so the same rows); the window's
+  // kept candidates are written by one 4-entry store from kCompress. The first window goes
+  // without a branch on len; the loop runs again only for longer runs. A window reaching past
+  // slot n − 1 is finished by Test.
   template <int W>
-  [[gnu::always_inline]] int Run(__m128d xs, __m128d reach2, int lo, int len, int last,
-                                 int* out) const {
+  [[gnu::always_inline]] int Run(const double* xs_at, int lo, int len, int n, int* out) const {
+    const __m128d xs = _mm_loadu_pd(xs_at);
+    const __m128d reach2 = _mm_set1_pd(uniform_reach2);
     int found = 0;
     int c = 0;
     do {
-      for (int j = 0; j < W; j += 2, c += 2) {
-        const int t0 = lo + c;
-        const __m128d p0 = _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(std::min(t0, last)));
-        const __m128d p1 =
-            _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(std::min(t0 + 1, last)));
-        const __m128d u0 = _mm_sub_pd(xs, p0);
-        const __m128d u1 = _mm_sub_pd(xs, p1);
+      const int t = lo + c;
+      if (t + W > n) [[unlikely]] {
+        for (; c < len; ++c) found += Test(xs_at, 0.0, lo + c, out + found, nullptr);
+        return found;
+      }
+      int hit = 0;
+      for (int j = 0; j < W; j += 2) {
+        const double* p = x + 2 * static_cast<std::ptrdiff_t>(t + j);
+        const __m128d u0 = _mm_sub_pd(xs, _mm_loadu_pd(p));
+        const __m128d u1 = _mm_sub_pd(xs, _mm_loadu_pd(p + 2));
         const __m128d q0 = _mm_mul_pd(u0, u0);
         const __m128d q1 = _mm_mul_pd(u1, u1);
         const __m128d r2 = _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
-        const int valid = (1 << std::clamp(len - c, 0, 2)) - 1;
-        const int hit = _mm_movemask_pd(_mm_cmplt_pd(r2, reach2)) & valid;
-        out[found] = t0;
-        found += hit & 1;
-        out[found] = t0 + 1;
-        found += hit >> 1;
+        hit |= _mm_movemask_pd(_mm_cmplt_pd(r2, reach2)) << j;
       }
+      hit &= (1 << std::clamp(len - c, 0, W)) - 1;
+      const __m128i offsets =
+          _mm_load_si128(reinterpret_cast<const __m128i*>(kCompress.offset[hit]));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out + found),
+                       _mm_add_epi32(_mm_set1_epi32(t), offsets));
+      found += kCompress.count[hit];
+      c += W;
     } while (c < len);
     return found;
   }
 #endif
-  // The row of s over the candidates t > s of the ranges (writing up to one entry past it, as Row2
-  // does).
-  [[gnu::always_inline]] int Row(int s, const CellRanges& run, int last, int* out,
+  // The row of s over the candidates t > s of the ranges (writing up to kSlack entries past it, as
+  // Row2 does).
+  [[gnu::always_inline]] int Row(int s, const CellRanges& run, int n, int* out,
                                  std::uint8_t* out_img) const {
 #if defined(__SSE2__)
     if constexpr (K == 2 && !P && U) {
-      const __m128d xs = _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(s));
-      const __m128d reach2 = _mm_set1_pd(uniform_reach2);
+      const double* xs = x + 2 * static_cast<std::ptrdiff_t>(s);
       int found = 0;
       for (int i = 0; i < run.count; ++i) {
         const int lo = std::max(run.lo[i], s + 1);
-        found += Run<2>(xs, reach2, lo, run.hi[i] - lo, last, out + found);
+        found += Run<2>(xs, lo, run.hi[i] - lo, n, out + found);
       }
       count[s] = found;
       return found;
@@ -318,6 +346,7 @@ struct RowWriter {
 
 using list_fill::CellCandidates;
 using list_fill::CellRanges;
+using list_fill::kSlack;
 using list_fill::RowWriter;
 
 // The rows of the slots of blocks [first, last) into chunk q's buffers; returns the entries used.
@@ -345,10 +374,9 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
     const int b = start[r], e = start[r + 1];
     if (b == e) return;
     CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, inside, w, &run);
-    reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b) + 1);
+    reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b) + kSlack);
     for (int s = b; s < e; ++s) {
-      const int found =
-          writer.Row(s, run, n_ - 1, buf.data() + used, P ? img.data() + used : nullptr);
+      const int found = writer.Row(s, run, n_, buf.data() + used, P ? img.data() + used : nullptr);
       used += static_cast<std::size_t>(found);
       active += found > 0 ? 1 : 0;
     }
@@ -372,8 +400,8 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
             const std::int64_t c = rank_of_slot[s];
             const int hi0 = start[c + 2], lo1 = start[c + wx - 1], hi1 = start[c + wx + 2];
             const int n0 = hi0 - s - 1;
-            reserve(static_cast<std::size_t>(n0 + hi1 - lo1) + 1);
-            const int found = writer.Row2(s, s + 1, n0, lo1, hi1 - lo1, n_ - 1, buf.data() + used,
+            reserve(static_cast<std::size_t>(n0 + hi1 - lo1) + kSlack);
+            const int found = writer.Row2(s, s + 1, n0, lo1, hi1 - lo1, n_, buf.data() + used,
                                           P ? img.data() + used : nullptr);
             used += static_cast<std::size_t>(found);
             active += found > 0 ? 1 : 0;

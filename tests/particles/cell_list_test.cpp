@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <set>
 
@@ -119,6 +120,33 @@ TEST(ParticleCellList, SortOfStorageInCellOrderWithMovedParticles) {
   // At most 4 threads: clang 14's libomp (the sanitizer build) leaks its thread records at exit
   // with a team of 5 on 2 cores, which LeakSanitizer reports.
   for (const int threads : {2, 3, 4}) CheckSorted(c, threads);
+}
+
+// A sort with a kept geometry puts a position outside the grid into the edge cell CellOf clamps
+// it to, and a NaN coordinate into cell 0 of that axis (in 2D the sort computes the cells two
+// coordinates at a time; in 3D one by one). The ranks the sort records are CellOf's.
+TEST(ParticleCellList, SortClampsPositionsOutsideTheGridAsCellOfDoes) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const int k : {2, 3}) {
+    RandomConfiguration c(k, {false, false, false}, k == 2 ? 500 : 600, k == 2 ? 30.0 : 12.0, 8);
+    const int n = c.model.count();
+    std::vector<int> id(static_cast<std::size_t>(n));
+    std::iota(id.begin(), id.end(), 0);
+    CellList cells;
+    cells.Fit(c.x.data(), n, PeriodicBox::Of(c.model), 1.5, 0, 1);
+    const std::vector<double> odd = {-40.0, 75.0, nan, inf, -inf, -0.0, 1e300, -1e300};
+    for (std::size_t i = 0; i < c.x.size(); i += 5) c.x[i] = odd[(i / 5) % odd.size()];
+    for (const int threads : {1, 2}) {
+      cells.Sort(c.x.data(), id.data(), n, threads);
+      for (int q = 0; q < n; ++q) {
+        const int s = cells.permutation()[static_cast<std::size_t>(q)];
+        EXPECT_EQ(cells.sorted_ranks()[q],
+                  cells.rank(cells.grid().CellOf(&c.x[static_cast<std::size_t>(k * s)])))
+            << "k " << k << " slot " << s;
+      }
+    }
+  }
 }
 
 TEST(ParticleCellList, BlocksFollowTheMortonCurveAndCellRanksArePermutation) {
