@@ -66,7 +66,9 @@ void BM_ListBuildPhases(benchmark::State& state) {
     cells.FitAndSort(store.predicted.data(), store.id.data(), kN, box, reach, 0, threads);
     const auto t1 = Clock::now();
     const double c1 = CpuSeconds();
-    store.Reorder(cells.permutation(), threads, false);
+    // As the engine: the reorder also writes the list's build positions.
+    store.Reorder(cells.permutation(), threads, false, &store.predicted,
+                  list.BuildPositionsTarget());
     const auto t2 = Clock::now();
     const double c2 = CpuSeconds();
     list.Build(store.predicted.data(), store.radius.data(), cells, nullptr, false, false, builds,

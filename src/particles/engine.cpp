@@ -105,7 +105,8 @@ void Engine::Impl::Rebuild(std::vector<double>* at, std::int64_t at_step) {
   if (!lexicographic) {
     MOREAU_ASSERT(!current_stale);
     current_stale = at == &store->predicted;
-    store->Reorder(cells.permutation(), threads, !current_stale);
+    // The gather also writes the list's build positions (no copy of them in list.Build).
+    store->Reorder(cells.permutation(), threads, !current_stale, at, list.BuildPositionsTarget());
     prediction->Reorder(cells.permutation(), threads);
     members = nullptr;  // storage is in cell order
   }

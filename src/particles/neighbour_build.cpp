@@ -463,7 +463,8 @@ void NeighbourList::BuildCellRows(const double* x, const double* radius, const C
 
 // Row offsets: the chunks' totals (pairs and non-empty rows) are summed in chunk order, then every
 // chunk turns its row counts into offsets from its first row on, indexes its non-empty rows, copies
-// its rows and its build positions, all in one parallel pass (the same list for any thread count).
+// its rows and its build positions (unless the reorder wrote them: BuildPositionsTarget), all in
+// one parallel pass (the same list for any thread count).
 void NeighbourList::Concatenate(const double* x, int k, bool periodic, int chunks, int threads) {
   std::vector<std::int64_t> chunk_first(static_cast<std::size_t>(chunks) + 1, 0);
   std::vector<std::int64_t> active_first(static_cast<std::size_t>(chunks) + 1, 0);
@@ -507,9 +508,13 @@ void NeighbourList::Concatenate(const double* x, int k, bool periodic, int chunk
       std::copy(img.begin(), img.begin() + used,
                 image_.begin() + static_cast<std::ptrdiff_t>(from));
     }
-    std::copy(x + static_cast<std::ptrdiff_t>(k) * begin, x + static_cast<std::ptrdiff_t>(k) * end,
-              reference_.data() + static_cast<std::ptrdiff_t>(k) * begin);
+    if (!build_positions_written_) {
+      std::copy(x + static_cast<std::ptrdiff_t>(k) * begin,
+                x + static_cast<std::ptrdiff_t>(k) * end,
+                reference_.data() + static_cast<std::ptrdiff_t>(k) * begin);
+    }
   });
+  build_positions_written_ = false;
 }
 
 void NeighbourList::Build(const double* x, const double* radius, const CellList& cells,

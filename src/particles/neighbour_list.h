@@ -107,6 +107,12 @@ class NeighbourList {
   // the skin if the list was built at this step's predicted positions already.
   bool PrepareRedo();
   void MarkPredicted() { built_here_ = false; }
+  // Where the storage reorder before the next Build writes that Build's positions (k per slot,
+  // in the new order): that Build then copies none into its build positions.
+  double* BuildPositionsTarget() {
+    build_positions_written_ = true;
+    return reference_.data();
+  }
   // r > 0: every radius of later builds is r (a build then loads no radius); 0: radii differ.
   void AssumeUniformRadius(double r) { uniform_radius_ = r; }
 
@@ -185,10 +191,11 @@ class NeighbourList {
   double nominal_skin_ = 0.0;
   double skin_limit_ = std::numeric_limits<double>::infinity();
   double attraction_range_ = 0.0;
-  double uniform_radius_ = 0.0;  // > 0: every radius (AssumeUniformRadius)
-  bool built_here_ = false;      // built at the current predicted positions
-  double drift_bound_ = 0.0;     // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
-  std::int64_t far_slots_ = 0;   // slots beyond skin/4 at the last exact bound (else INT64_MAX)
+  double uniform_radius_ = 0.0;           // > 0: every radius (AssumeUniformRadius)
+  bool built_here_ = false;               // built at the current predicted positions
+  bool build_positions_written_ = false;  // BuildPositionsTarget was filled for the next Build
+  double drift_bound_ = 0.0;    // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
+  std::int64_t far_slots_ = 0;  // slots beyond skin/4 at the last exact bound (else INT64_MAX)
   std::int64_t last_build_step_ = -1;
   std::vector<double> reference_;  // positions at the last build
   // Half-lists: pairs (s, nbr_[p]) for p in [row_start_[s], row_start_[s + 1]), nbr_ > s.

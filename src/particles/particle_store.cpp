@@ -28,7 +28,11 @@ ParticleStore::ParticleStore(const ParticleModel& model, std::span<const double>
 
 // Radius and mobility are gathered only when they differ between particles (a uniform array is
 // the same in any order).
-void ParticleStore::Reorder(const std::vector<int>& perm, int threads, bool with_current) {
+void ParticleStore::Reorder(const std::vector<int>& perm, int threads, bool with_current,
+                            const std::vector<double>* copied, double* copy) {
+  MOREAU_ASSERT(copied == nullptr || copied == &predicted || (copied == &current && with_current));
+  const bool copy_predicted = copied == &predicted;
+  const bool copy_current = copied == &current;
   if (!uniform_radius_) GatherRows(perm, 1, threads, &radius, &scratch1_);
   if (!uniform_mobility_) GatherRows(perm, 1, threads, &mobility, &scratch1_);
   GatherRows(perm, k, threads, &active, &scratch_k_);
@@ -48,8 +52,14 @@ void ParticleStore::Reorder(const std::vector<int>& perm, int threads, bool with
     for (int s = 0; s < n; ++s) {
       const int o = perm[static_cast<std::size_t>(s)];
       for (int a = 0; a < K; ++a) pred2[K * s + a] = pred[K * o + a];
+      if (copy_predicted) {
+        for (int a = 0; a < K; ++a) copy[K * s + a] = pred[K * o + a];
+      }
       if (with_current) {
         for (int a = 0; a < K; ++a) cur2[K * s + a] = cur[K * o + a];
+      }
+      if (copy_current) {
+        for (int a = 0; a < K; ++a) copy[K * s + a] = cur[K * o + a];
       }
       scratch_id_[static_cast<std::size_t>(s)] = id[static_cast<std::size_t>(o)];
       if (keyed) {

@@ -30,7 +30,10 @@ struct ParticleStore {
   // New slot s holds old slot perm[s] (positions, radius, mobility, ids, keys, velocities).
   // with_current false: the current positions stay in the old order until GatherCurrent(perm)
   // (a build at the predicted positions needs them only for a redo).
-  void Reorder(const std::vector<int>& perm, int threads, bool with_current = true);
+  // copied, copy (optional): &current or &predicted, whose rows in the new order are also written
+  // to copy (k per slot).
+  void Reorder(const std::vector<int>& perm, int threads, bool with_current = true,
+               const std::vector<double>* copied = nullptr, double* copy = nullptr);
   void GatherCurrent(const std::vector<int>& perm, int threads);
   // The slot of each particle id (the inverse of id).
   std::vector<int> SlotsOf() const;
