@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -250,13 +251,15 @@ struct RowWriter {
   }
   // The row of s over the candidates [lo0, lo0 + len0), then [lo1, lo1 + len1). Writes up to
   // kSlack entries past the row (the caller reserves len0 + len1 + kSlack).
+  // Checked false: the caller knows that no window reaches past slot n − 1.
+  template <bool Checked = true>
   [[gnu::always_inline]] int Row2(int s, int lo0, int len0, int lo1, int len1, int n, int* out,
                                   std::uint8_t* out_img) const {
 #if defined(__SSE2__)
     if constexpr (K == 2 && !P && U) {
       const double* xs = x + 2 * static_cast<std::ptrdiff_t>(s);
-      int found = Run<2>(xs, lo0, len0, n, out);
-      found += Run<4>(xs, lo1, len1, n, out + found);
+      int found = Run<2, Checked>(xs, lo0, len0, n, out);
+      found += Run<4, Checked>(xs, lo1, len1, n, out + found);
       count[s] = found;
       return found;
     }
@@ -269,7 +272,7 @@ struct RowWriter {
   // kept candidates are written by one 4-entry store from kCompress. The first window goes
   // without a branch on len; the loop runs again only for longer runs. A window reaching past
   // slot n − 1 is finished by Test.
-  template <int W>
+  template <int W, bool Checked = true>
   [[gnu::always_inline]] int Run(const double* xs_at, int lo, int len, int n, int* out) const {
     const __m128d xs = _mm_loadu_pd(xs_at);
     const __m128d reach2 = _mm_set1_pd(uniform_reach2);
@@ -277,7 +280,7 @@ struct RowWriter {
     int c = 0;
     do {
       const int t = lo + c;
-      if (t + W > n) [[unlikely]] {
+      if (Checked && t + W > n) [[unlikely]] {
         for (; c < len; ++c) found += Test(xs_at, 0.0, lo + c, out + found, nullptr);
         return found;
       }
@@ -394,17 +397,30 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
           // The cells lx = 1 … wx − 2 of a row inside the block hold consecutive slots; each
           // slot's candidates are [s + 1, start[r + 2]) and the three cells above, r being its
           // cell's rank (from the sort): no branch per cell, empty or not.
+          // Every candidate of these slots lies in [s + 1, start[r + 2 wx]) (the next row and
+          // the one above it end there): one reservation for the row, and no window reaches
+          // past slot n − 1 when start[r + 2 wx] + 4 ≤ n (the windows are at most 4 wide).
           cell(r, false, w);
           const int sb = start[r + 1], se = start[r + wx - 1];
-          for (int s = sb; s < se; ++s) {
-            const std::int64_t c = rank_of_slot[s];
-            const int hi0 = start[c + 2], lo1 = start[c + wx - 1], hi1 = start[c + wx + 2];
-            const int n0 = hi0 - s - 1;
-            reserve(static_cast<std::size_t>(n0 + hi1 - lo1) + kSlack);
-            const int found = writer.Row2(s, s + 1, n0, lo1, hi1 - lo1, n_, buf.data() + used,
-                                          P ? img.data() + used : nullptr);
-            used += static_cast<std::size_t>(found);
-            active += found > 0 ? 1 : 0;
+          const int reach_end = start[r + 2 * wx];
+          reserve(static_cast<std::size_t>(se - sb) * static_cast<std::size_t>(reach_end - sb) +
+                  kSlack);
+          auto slots = [&](auto checked) {
+            int* out = buf.data();
+            for (int s = sb; s < se; ++s) {
+              const std::int64_t c = rank_of_slot[s];
+              const int hi0 = start[c + 2], lo1 = start[c + wx - 1], hi1 = start[c + wx + 2];
+              const int found =
+                  writer.template Row2<checked()>(s, s + 1, hi0 - s - 1, lo1, hi1 - lo1, n_,
+                                                  out + used, P ? img.data() + used : nullptr);
+              used += static_cast<std::size_t>(found);
+              active += found > 0 ? 1 : 0;
+            }
+          };
+          if (reach_end + 4 <= n_) {
+            slots(std::false_type());
+          } else {
+            slots(std::true_type());
           }
           cell(r + wx - 1, false, w);
           r += wx;
