@@ -17,6 +17,7 @@
 #include <memory>
 
 #include "arm_documented_start.h"
+#include "bench_main.h"
 #include "moreau/common/openmp_wait.h"
 #include "moreau/control/continuation.h"
 #include "moreau/control/examples.h"
@@ -181,9 +182,5 @@ BENCHMARK(BM_ArmSolve)
 // OpenMP waiting as moreau's command line chooses it (moreau/common/openmp_wait.h).
 int main(int argc, char** argv) {
   moreau::RestartWithBoundedOpenMpSpin(argv);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return moreau::bench::RunBenchmarks(argc, argv);
 }

@@ -19,6 +19,7 @@
 
 #include <time.h>
 
+#include "bench_main.h"
 #include "moreau/common/openmp_wait.h"
 #include "moreau/common/random.h"
 #include "moreau/particles/engine.h"
@@ -118,9 +119,5 @@ BENCHMARK(BM_ListBuildPhases)
 
 int main(int argc, char** argv) {
   moreau::RestartWithBoundedOpenMpSpin(argv);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return moreau::bench::RunBenchmarks(argc, argv);
 }

@@ -29,6 +29,7 @@
 #include <unistd.h>
 
 #include "moreau/common/hash.h"
+#include "bench_main.h"
 #include "moreau/common/openmp_wait.h"
 #include "moreau/common/random.h"
 #include "moreau/particles/engine.h"
@@ -487,9 +488,5 @@ int main(int argc, char** argv) {
                 moreau::HashDoublesHex(engine.Positions()).c_str());
     return 0;
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return moreau::bench::RunBenchmarks(argc, argv);
 }
