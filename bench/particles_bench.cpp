@@ -28,8 +28,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "moreau/common/hash.h"
 #include "bench_main.h"
+#include "moreau/common/hash.h"
 #include "moreau/common/openmp_wait.h"
 #include "moreau/common/random.h"
 #include "moreau/particles/engine.h"
