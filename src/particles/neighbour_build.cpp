@@ -9,39 +9,13 @@
 
 #include <fmt/format.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "moreau/common/error.h"
+#include "particles/list_fill.h"
 #include "particles/parallel.h"
 
 namespace moreau::particles::internal {
 
 namespace {
-
-// u = xs − xt, the minimum image on periodic axes (P); returns the image code (13: none).
-template <int K, bool P>
-inline int MinimumImage(const double* xs, const double* xt, const PeriodicBox& box, double* u) {
-  int code = 13;
-  int weight = 1;
-  for (int a = 0; a < K; ++a) {
-    u[a] = xs[a] - xt[a];
-    if constexpr (P) {
-      if (box.periodic[a]) {
-        if (u[a] > 0.5 * box.len[a]) {
-          u[a] -= box.len[a];
-          code += weight;
-        } else if (u[a] < -0.5 * box.len[a]) {
-          u[a] += box.len[a];
-          code -= weight;
-        }
-      }
-    }
-    weight *= 3;
-  }
-  return code;
-}
 
 // Calls f(t, image code) for the slots t > s within reach of slot s, in the list's order: the
 // slots of the adjacent cells through `members`, or all slots (brute_force).
@@ -54,7 +28,7 @@ void VisitPartners(int s, const double* x, const double* radius, double extra,
   auto consider = [&](int t) {
     if (t <= s) return;
     double u[K];
-    const int code = MinimumImage<K, P>(xs, x + K * t, box, u);
+    const int code = list_fill::MinimumImage<K, P>(xs, x + K * t, box, u);
     const double r2 = SquaredNorm<K>(u);
     const double c = rs + radius[t] + extra;
     if (r2 < c * c) f(t, code);
@@ -138,218 +112,10 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
   Concatenate(x, K, P, chunks, threads);
 }
 
-// Named (not anonymous): FillBlocks, a member template, captures them in a lambda.
-namespace list_fill {
-
-// The candidate slot ranges [lo[i], hi[i]) of a cell's slots (at most one per adjacent cell) and
-// the number of candidates they hold.
-struct CellRanges {
-  int lo[27];
-  int hi[27];
-  int count = 0;
-  int most = 0;
-  void Add(int from, int to) {
-    lo[count] = from;
-    hi[count] = to;
-    ++count;
-    most += to - from;
-  }
-};
-
-// Storage in cell order, cells row-major inside a block of w cells per axis. The candidates
-// t > s of the slots of a cell of rank r whose neighbours all lie in its block are at fixed rank
-// offsets, and the cells before it in that order hold slots before its own: the rest of its own
-// cell and the next (from b), then the three-cell rows above (2D: one row; 3D: one in its plane,
-// three in the next). Any other cell looks its neighbours up, consecutive ranks merged, each range
-// from after b. Each slot then skips the t ≤ s.
-template <int K>
-[[gnu::always_inline]] inline void CellCandidates(const CellList& cells, const double* xb,
-                                                  std::int64_t r, int b, bool inside, const int* w,
-                                                  CellRanges* run) {
-  const std::int32_t* start = cells.cell_starts();
-  run->count = 0;
-  run->most = 0;
-  if (inside) {
-    const std::int64_t wx = w[0], plane = static_cast<std::int64_t>(w[0]) * w[1];
-    run->Add(b, start[r + 2]);
-    auto row = [&](std::int64_t o) { run->Add(start[r + o - 1], start[r + o + 2]); };
-    if constexpr (K >= 2) row(wx);
-    if constexpr (K == 3) {
-      row(plane - wx);
-      row(plane);
-      row(plane + wx);
-    }
-    return;
-  }
-  std::int64_t run_b = -1, run_e = -1;
-  auto flush = [&] {
-    const int from = std::max(start[run_b], b + 1);
-    if (from < start[run_e]) run->Add(from, start[run_e]);
-  };
-  cells.grid().ForEachAdjacentCell<K>(xb, [&](std::int64_t cell) {
-    const std::int64_t rank = cells.rank(cell);
-    if (rank == run_e) {
-      run_e = rank + 1;
-      return;
-    }
-    if (run_b >= 0) flush();
-    run_b = rank;
-    run_e = rank + 1;
-  });
-  flush();
-}
-
-// The entries a row writer may write past a row (RowWriter::Run's 4-entry stores).
-constexpr std::size_t kSlack = 4;
-
-#if defined(__SSE2__)
-// For each 4-bit mask of kept candidates (bit i: candidate i of a window): their offsets in
-// order, as one vector (the lanes past the count are scratch), and their count.
-struct CompressTable {
-  alignas(16) std::int32_t offset[16][4];
-  int count[16];
-};
-constexpr CompressTable MakeCompressTable() {
-  CompressTable t{};
-  for (int m = 0; m < 16; ++m) {
-    int c = 0;
-    for (int b = 0; b < 4; ++b) {
-      if ((m >> b) & 1) t.offset[m][c++] = b;
-    }
-    t.count[m] = c;
-  }
-  return t;
-}
-constexpr CompressTable kCompress = MakeCompressTable();
-#endif
-
-// Writes rows: slot s's candidates t, each written and kept only when within reach (no branch on
-// it), the row's length into count[s]. U: every radius is `uniform` (the reach (r + r) + extra
-// is then computed once, as each pair would compute it, and no radius is loaded).
-template <int K, bool P, bool U>
-struct RowWriter {
-  const double* x;
-  const double* radius;
-  double extra;
-  const PeriodicBox* box;
-  int* count;                   // row lengths, by slot
-  double uniform_reach2 = 0.0;  // U: ((r + r) + extra)²
-
-  // The row of s over the candidates t = first + c (c < n0), then t = jump + c (n0 ≤ c < m): two
-  // ranges walked as one loop. Returns its length.
-  [[gnu::always_inline]] int Row2(int s, int first, int n0, int jump, int m, int* out,
-                                  std::uint8_t* out_img) const {
-    const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
-    const double rs = U ? 0.0 : radius[s];
-    int found = 0;
-    for (int c = 0; c < m; ++c) {
-      const int t = (c < n0 ? first : jump) + c;
-      found += Test(xs, rs, t, out + found, P ? out_img + found : nullptr);
-    }
-    count[s] = found;
-    return found;
-  }
-  // The row of s over the candidates [lo0, lo0 + len0), then [lo1, lo1 + len1). Writes up to
-  // kSlack entries past the row (the caller reserves len0 + len1 + kSlack).
-  // Checked false: the caller knows that no window reaches past slot n − 1.
-  template <bool Checked = true>
-  [[gnu::always_inline]] int Row2(int s, int lo0, int len0, int lo1, int len1, int n, int* out,
-                                  std::uint8_t* out_img) const {
-#if defined(__SSE2__)
-    if constexpr (K == 2 && !P && U) {
-      const double* xs = x + 2 * static_cast<std::ptrdiff_t>(s);
-      int found = Run<2, Checked>(xs, lo0, len0, n, out);
-      found += Run<4, Checked>(xs, lo1, len1, n, out + found);
-      count[s] = found;
-      return found;
-    }
-#endif
-    return Row2(s, lo0, len0, lo1 - len0, len0 + len1, out, out_img);
-  }
-#if defined(__SSE2__)
-  // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) in windows of W (2 or
-  // 4), two candidates a SSE2 vector of ‖u‖² (Test's u0² + u1², so the same rows); the window's
-  // kept candidates are written by one 4-entry store from kCompress. The first window goes
-  // without a branch on len; the loop runs again only for longer runs. A window reaching past
-  // slot n − 1 is finished by Test.
-  template <int W, bool Checked = true>
-  [[gnu::always_inline]] int Run(const double* xs_at, int lo, int len, int n, int* out) const {
-    const __m128d xs = _mm_loadu_pd(xs_at);
-    const __m128d reach2 = _mm_set1_pd(uniform_reach2);
-    int found = 0;
-    int c = 0;
-    do {
-      const int t = lo + c;
-      if (Checked && t + W > n) [[unlikely]] {
-        for (; c < len; ++c) found += Test(xs_at, 0.0, lo + c, out + found, nullptr);
-        return found;
-      }
-      int hit = 0;
-      for (int j = 0; j < W; j += 2) {
-        const double* p = x + 2 * static_cast<std::ptrdiff_t>(t + j);
-        const __m128d u0 = _mm_sub_pd(xs, _mm_loadu_pd(p));
-        const __m128d u1 = _mm_sub_pd(xs, _mm_loadu_pd(p + 2));
-        const __m128d q0 = _mm_mul_pd(u0, u0);
-        const __m128d q1 = _mm_mul_pd(u1, u1);
-        const __m128d r2 = _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
-        hit |= _mm_movemask_pd(_mm_cmplt_pd(r2, reach2)) << j;
-      }
-      hit &= (1 << std::clamp(len - c, 0, W)) - 1;
-      const __m128i offsets =
-          _mm_load_si128(reinterpret_cast<const __m128i*>(kCompress.offset[hit]));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(out + found),
-                       _mm_add_epi32(_mm_set1_epi32(t), offsets));
-      found += kCompress.count[hit];
-      c += W;
-    } while (c < len);
-    return found;
-  }
-#endif
-  // The row of s over the candidates t > s of the ranges (writing up to kSlack entries past it, as
-  // Row2 does).
-  [[gnu::always_inline]] int Row(int s, const CellRanges& run, int n, int* out,
-                                 std::uint8_t* out_img) const {
-#if defined(__SSE2__)
-    if constexpr (K == 2 && !P && U) {
-      const double* xs = x + 2 * static_cast<std::ptrdiff_t>(s);
-      int found = 0;
-      for (int i = 0; i < run.count; ++i) {
-        const int lo = std::max(run.lo[i], s + 1);
-        found += Run<2>(xs, lo, run.hi[i] - lo, n, out + found);
-      }
-      count[s] = found;
-      return found;
-    }
-#endif
-    const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
-    const double rs = U ? 0.0 : radius[s];
-    int found = 0;
-    for (int i = 0; i < run.count; ++i) {
-      for (int t = std::max(run.lo[i], s + 1); t < run.hi[i]; ++t) {
-        found += Test(xs, rs, t, out + found, P ? out_img + found : nullptr);
-      }
-    }
-    count[s] = found;
-    return found;
-  }
-  // Writes t (and its image code); 1 when within reach.
-  [[gnu::always_inline]] int Test(const double* xs, double rs, int t, int* out,
-                                  std::uint8_t* out_img) const {
-    double u[K];
-    const int code = MinimumImage<K, P>(xs, x + static_cast<std::ptrdiff_t>(K) * t, *box, u);
-    *out = t;
-    if constexpr (P) *out_img = static_cast<std::uint8_t>(code);
-    if constexpr (U) return static_cast<int>(SquaredNorm<K>(u) < uniform_reach2);
-    const double c = rs + radius[t] + extra;
-    return static_cast<int>(SquaredNorm<K>(u) < c * c);
-  }
-};
-
-}  // namespace list_fill
-
 using list_fill::CellCandidates;
 using list_fill::CellRanges;
 using list_fill::kSlack;
+using list_fill::MinimumImage;
 using list_fill::RowWriter;
 
 // The rows of the slots of blocks [first, last) into chunk q's buffers; returns the entries used.
