@@ -151,16 +151,10 @@ struct RowWriter {
       return found;
     }
 #endif
-    // The two ranges walked as one loop: candidate c < len0 is lo0 + c, the others lo1 + c − len0.
-    const double* xs = x + static_cast<std::ptrdiff_t>(K) * s;
-    const double rs = U ? 0.0 : radius[s];
-    int found = 0;
-    for (int c = 0; c < len0 + len1; ++c) {
-      const int t = (c < len0 ? lo0 : lo1 - len0) + c;
-      found += Test(xs, rs, t, out + found, P ? out_img + found : nullptr);
-    }
-    count[s] = found;
-    return found;
+    CellRanges two;  // lo0 = s + 1 and lo1 > s: Row skips nothing
+    two.Add(lo0, lo0 + len0);
+    two.Add(lo1, lo1 + len1);
+    return Row(s, two, n, out, out_img);
   }
 #if defined(__SSE2__)
   // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) in windows of W (2 or
