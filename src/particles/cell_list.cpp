@@ -231,6 +231,15 @@ void CellList::BlockShape(std::int64_t r, int* origin, int* width) const {
   }
 }
 
+std::int64_t CellList::AdjacentBlock(std::int64_t r, int a, int step) const {
+  int c[3];
+  BlockCoords(block_of_rank_[static_cast<std::size_t>(r)], nb_, c);
+  c[a] += step;
+  if (c[a] < 0 || c[a] >= nb_[a]) return -1;
+  const std::int64_t b = (static_cast<std::int64_t>(c[2]) * nb_[1] + c[1]) * nb_[0] + c[0];
+  return rank_of_block_[static_cast<std::size_t>(b)];
+}
+
 // Cell ranks: the blocks' ranks, cells row-major inside a block. Cell c of an axis lies in block
 // ((c + 1) nb − 1) / nc, the largest b with BlockLo(b) ≤ c.
 void CellList::RankCells() {

@@ -134,6 +134,9 @@ class CellList {
   // The block of rank r covers the cells origin[a] + [0, width[a]) on each axis (1 on axes ≥ k);
   // its cell (lx, ly, lz) has rank block_cell_begin(r) + (lz·width[1] + ly)·width[0] + lx.
   void BlockShape(std::int64_t r, int* origin, int* width) const;
+  // The rank of the block next to the block of rank r on axis a (step ±1), or −1 past the grid's
+  // end (periodic axes are not wrapped around).
+  std::int64_t AdjacentBlock(std::int64_t r, int a, int step) const;
   // The slots [begin, end) of the block of rank r once storage is in cell order.
   int BlockSlotBegin(std::int64_t r) const {
     return static_cast<int>(cell_start(block_cell_begin(r)));

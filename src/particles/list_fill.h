@@ -136,25 +136,27 @@ struct RowWriter {
   int* count;                   // row lengths, by slot
   double uniform_reach2 = 0.0;  // U: ((r + r) + extra)²
 
-  // The row of s over the candidates [lo0, lo0 + len0), then [lo1, lo1 + len1). Writes up to
-  // kSlack entries past the row (the caller reserves len0 + len1 + kSlack).
-  // Checked false: the caller knows that no window reaches past slot n − 1.
-  template <bool Checked = true>
-  [[gnu::always_inline]] int Row2(int s, int lo0, int len0, int lo1, int len1, int n, int* out,
+  // The row of s over the candidate runs [lo[i], lo[i] + len[i]) in order, every candidate after
+  // s, run i in windows of W_i (SSE2 path). Writes up to kSlack entries past the row (the caller
+  // reserves the runs' total + kSlack). Checked false: the caller knows that no window reaches
+  // past slot n − 1.
+  template <bool Checked, int... W>
+  [[gnu::always_inline]] int Runs(int s, const int (&lo)[sizeof...(W)],
+                                  const int (&len)[sizeof...(W)], int n, int* out,
                                   std::uint8_t* out_img) const {
 #if defined(__SSE2__)
     if constexpr (K == 2 && !P && U) {
       const double* xs = x + 2 * static_cast<std::ptrdiff_t>(s);
-      int found = Run<2, Checked>(xs, lo0, len0, n, out);
-      found += Run<4, Checked>(xs, lo1, len1, n, out + found);
+      int found = 0;
+      int i = 0;
+      ((found += Run<W, Checked>(xs, lo[i], len[i], n, out + found), ++i), ...);
       count[s] = found;
       return found;
     }
 #endif
-    CellRanges two;  // lo0 = s + 1 and lo1 > s: Row skips nothing
-    two.Add(lo0, lo0 + len0);
-    two.Add(lo1, lo1 + len1);
-    return Row(s, two, n, out, out_img);
+    CellRanges runs;  // every run after s: Row skips nothing
+    for (std::size_t i = 0; i < sizeof...(W); ++i) runs.Add(lo[i], lo[i] + len[i]);
+    return Row(s, runs, n, out, out_img);
   }
 #if defined(__SSE2__)
   // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) in windows of W (2 or

@@ -150,44 +150,143 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
       active += found > 0 ? 1 : 0;
     }
   };
+  // The slots of the cells r + 1 … r + wx − 2 of one block row, consecutive: each slot's
+  // candidates are [s + 1, start[c + 2]) and (Above) the three cells at rank offset d − 1 … d + 1
+  // (the row above: d = wx inside the block; the first row of the block above, at a block's top),
+  // c being its cell's rank (from the sort): no branch per cell, empty or not. Every candidate lies
+  // in [s + 1, start[r + wx]) or [start[r + d], start[r + wx + d]): one reservation for the row,
+  // and no window reaches past slot n − 1 when both ends + 4 ≤ n (the windows are at most 4 wide).
+  auto row = [&](std::int64_t r, std::int64_t wx, auto above, std::int64_t d) {
+    const int sb = start[r + 1], se = start[r + wx - 1];
+    std::size_t span = static_cast<std::size_t>(start[r + wx] - sb);
+    int reach_end = start[r + wx];
+    if constexpr (above()) {
+      span += static_cast<std::size_t>(start[r + wx + d] - start[r + d]);
+      reach_end = std::max(reach_end, start[r + wx + d]);
+    }
+    reserve(static_cast<std::size_t>(se - sb) * span + kSlack);
+    auto slots = [&](auto checked) {
+      int* out = buf.data();
+      for (int s = sb; s < se; ++s) {
+        const std::int64_t c = rank_of_slot[s];
+        const int own = start[c + 2] - s - 1;
+        std::uint8_t* out_img = P ? img.data() + used : nullptr;
+        int found;
+        if constexpr (above()) {
+          const int lo = start[c + d - 1], hi = start[c + d + 2];
+          found = writer.template Runs<checked(), 2, 4>(s, {s + 1, lo}, {own, hi - lo}, n_,
+                                                        out + used, out_img);
+        } else {
+          found = writer.template Runs<checked(), 2>(s, {s + 1}, {own}, n_, out + used, out_img);
+        }
+        used += static_cast<std::size_t>(found);
+        active += found > 0 ? 1 : 0;
+      }
+    };
+    if (reach_end + 4 <= n_) {
+      slots(std::false_type());
+    } else {
+      slots(std::true_type());
+    }
+  };
   for (std::int64_t blk = first; blk < last; ++blk) {
     int origin[3], w[3];
     cells.BlockShape(blk, origin, w);
     const std::int64_t wx = w[0];
     std::int64_t r = cells.block_cell_begin(blk);
+    // 2D without periodic axes, a block of at least 3 × 3 cells: every cell but the four corners
+    // takes its candidates at rank offsets fixed for its row or column. Morton order is monotone
+    // in each coordinate, so the blocks above and to the right rank after this one (their cells'
+    // slots are candidates) and those below and to the left before it (checked: else the cells
+    // go one by one). Blocks in one block row have the same height, in one column the same width.
+    const std::int64_t above_block = K == 2 && !P ? cells.AdjacentBlock(blk, 1, 1) : -1;
+    const std::int64_t right_block = K == 2 && !P ? cells.AdjacentBlock(blk, 0, 1) : -1;
+    if (K == 2 && !P && w[0] >= 3 && w[1] >= 3 && cells.AdjacentBlock(blk, 1, -1) < blk &&
+        cells.AdjacentBlock(blk, 0, -1) < blk && (above_block < 0 || above_block > blk) &&
+        (right_block < 0 || right_block > blk)) {
+      const std::int64_t wy = w[1];
+      // At the top, the row above is the first of the block above: offset d_above.
+      const std::int64_t d_above =
+          above_block < 0 ? 0 : cells.block_cell_begin(above_block) - r - (wy - 1) * wx;
+      std::int64_t right_begin = 0, right_width = 0;
+      if (right_block >= 0) {
+        int o[3], rw[3];
+        cells.BlockShape(right_block, o, rw);
+        right_begin = cells.block_cell_begin(right_block);
+        right_width = rw[0];
+      }
+      // The cell of rank c in the first (left) or last column, on row ly (not the first or last
+      // row): its own runs, and on the right the block to the right's cells on rows ly − 1 …
+      // ly + 1 (VisitPartners' order: row by row, left to right).
+      auto column = [&](std::int64_t c, std::int64_t ly, bool left) {
+        const bool side = !left && right_block >= 0;
+        auto side_cell = [&](std::int64_t y) { return right_begin + y * right_width; };
+        if (side) {
+          // The block to the right lies far from this row in memory: its offsets are fetched 8
+          // rows ahead and its positions 3 rows ahead (the misses otherwise dominate).
+          __builtin_prefetch(start + side_cell(std::min(ly + 8, wy - 1)));
+          __builtin_prefetch(x + static_cast<std::ptrdiff_t>(K) *
+                                     start[side_cell(std::min(ly + 3, wy - 1))]);
+        }
+        const int b = start[c], e = start[c + 1];
+        if (b == e) return;
+        // Own cell (and the next on the left), then the row above's two cells.
+        const std::int64_t own_end = left ? c + 2 : c + 1;
+        const int ab = start[left ? c + wx : c + wx - 1], ae = start[c + wx + (left ? 2 : 1)];
+        int lo[3] = {0, 0, 0}, len[3] = {0, 0, 0};
+        if (side) {
+          for (int j = 0; j < 3; ++j) {
+            lo[j] = start[side_cell(ly - 1 + j)];
+            len[j] = start[side_cell(ly - 1 + j) + 1] - lo[j];
+          }
+        }
+        reserve(
+            static_cast<std::size_t>(e - b) *
+                static_cast<std::size_t>(start[own_end] - b + ae - ab + len[0] + len[1] + len[2]) +
+            kSlack);
+        int* out = buf.data();
+        for (int s = b; s < e; ++s) {
+          const int own = start[own_end] - s - 1;
+          std::uint8_t* out_img = P ? img.data() + used : nullptr;
+          const int found =
+              side ? writer.template Runs<true, 2, 2, 2, 4, 2>(
+                         s, {lo[0], s + 1, lo[1], ab, lo[2]},
+                         {len[0], own, len[1], ae - ab, len[2]}, n_, out + used, out_img)
+                   : writer.template Runs<true, 2, 4>(s, {s + 1, ab}, {own, ae - ab}, n_,
+                                                      out + used, out_img);
+          used += static_cast<std::size_t>(found);
+          active += found > 0 ? 1 : 0;
+        }
+      };
+      for (std::int64_t ly = 0; ly < wy; ++ly, r += wx) {
+        const bool edge = ly == 0 || ly == wy - 1;
+        if (edge) {
+          cell(r, false, w);
+        } else {
+          column(r, ly, true);
+        }
+        if (ly < wy - 1) {
+          row(r, wx, std::true_type(), wx);
+        } else if (above_block >= 0) {
+          row(r, wx, std::true_type(), d_above);
+        } else {
+          row(r, wx, std::false_type(), 0);
+        }
+        if (edge) {
+          cell(r + wx - 1, false, w);
+        } else {
+          column(r + wx - 1, ly, false);
+        }
+      }
+      continue;
+    }
     for (int lz = 0; lz < w[2]; ++lz) {
       const bool plane_inside = K < 3 || (lz >= 1 && lz + 2 <= w[2]);
       for (int ly = 0; ly < w[1]; ++ly) {
         const bool row_inside = plane_inside && (K < 2 || (ly >= 1 && ly + 2 <= w[1]));
         if (K == 2 && row_inside && wx >= 3) {
-          // The cells lx = 1 … wx − 2 of a row inside the block hold consecutive slots; each
-          // slot's candidates are [s + 1, start[r + 2]) and the three cells above, r being its
-          // cell's rank (from the sort): no branch per cell, empty or not.
-          // Every candidate of these slots lies in [s + 1, start[r + 2 wx]) (the next row and
-          // the one above it end there): one reservation for the row, and no window reaches
-          // past slot n − 1 when start[r + 2 wx] + 4 ≤ n (the windows are at most 4 wide).
           cell(r, false, w);
-          const int sb = start[r + 1], se = start[r + wx - 1];
-          const int reach_end = start[r + 2 * wx];
-          reserve(static_cast<std::size_t>(se - sb) * static_cast<std::size_t>(reach_end - sb) +
-                  kSlack);
-          auto slots = [&](auto checked) {
-            int* out = buf.data();
-            for (int s = sb; s < se; ++s) {
-              const std::int64_t c = rank_of_slot[s];
-              const int hi0 = start[c + 2], lo1 = start[c + wx - 1], hi1 = start[c + wx + 2];
-              const int found =
-                  writer.template Row2<checked()>(s, s + 1, hi0 - s - 1, lo1, hi1 - lo1, n_,
-                                                  out + used, P ? img.data() + used : nullptr);
-              used += static_cast<std::size_t>(found);
-              active += found > 0 ? 1 : 0;
-            }
-          };
-          if (reach_end + 4 <= n_) {
-            slots(std::false_type());
-          } else {
-            slots(std::true_type());
-          }
+          row(r, wx, std::true_type(), wx);
           cell(r + wx - 1, false, w);
           r += wx;
           continue;

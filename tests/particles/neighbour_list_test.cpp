@@ -66,13 +66,13 @@ struct CellOrdered {
   std::vector<double> x, radius;
   std::vector<int> slot_id;
 
-  CellOrdered(const RandomConfiguration& c, double skin, int threads)
+  CellOrdered(const RandomConfiguration& c, double skin, int threads, int block_cells = 0)
       : box(PeriodicBox::Of(c.model)) {
     const int n = c.model.count();
     const int k = c.model.dimension;
     std::vector<int> id(static_cast<std::size_t>(n));
     std::iota(id.begin(), id.end(), 0);
-    cells.Fit(c.x.data(), n, box, 2.0 * c.model.max_radius() + skin, 0, threads);
+    cells.Fit(c.x.data(), n, box, 2.0 * c.model.max_radius() + skin, block_cells, threads);
     cells.Sort(c.x.data(), id.data(), n, threads);
     x.resize(c.x.size());
     radius.resize(static_cast<std::size_t>(n));
@@ -162,7 +162,10 @@ TEST(ParticleNeighbourList, SkinBoundAndStatistics) {
 // The engine's build (storage in cell order, cell ranges found once per cell or per slot from
 // the sort's ranks, chunks of slots on the threads, with and without the uniform-radius reach)
 // gives the same rows in the same order for 1, 2 and 3 threads, and the same as visiting every
-// slot's adjacent cells one by one (the members path with members[q] = q).
+// slot's adjacent cells one by one (the members path with members[q] = q). Blocks of the
+// automatic edge and of 3 to 5 cells (2D without periodic axes: the rows and columns at a block's
+// edge take their candidates at fixed offsets, the next blocks' cells included, blocks of 3 the
+// narrowest such).
 TEST(ParticleNeighbourList, ParallelBuildEqualsSerialBuildEntryByEntry) {
   std::vector<RandomConfiguration> configs = {
       RandomConfiguration(2, {false, false, false}, 3000, 70.0, 21),
@@ -174,43 +177,45 @@ TEST(ParticleNeighbourList, ParallelBuildEqualsSerialBuildEntryByEntry) {
     r.assign(r.size(), configs[i].model.max_radius());
   }
   for (const RandomConfiguration& c : configs) {
-    const int n = c.model.count();
-    const double skin = 0.35;
-    const CellOrdered o(c, skin, 1);
-    const bool uniform = std::all_of(o.radius.begin(), o.radius.end(),
-                                     [&](double r) { return r == o.radius.front(); });
-    std::vector<int> identity(static_cast<std::size_t>(n));
-    std::iota(identity.begin(), identity.end(), 0);
-    auto build = [&](const int* members, int threads) {
-      NeighbourList list;
-      list.Configure(o.box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
-      if (members == nullptr && uniform) list.AssumeUniformRadius(o.radius.front());
-      list.Build(o.x.data(), o.radius.data(), o.cells, members, false, false, 0, threads);
-      return list;
-    };
-    const NeighbourList serial = build(identity.data(), 1);
-    const std::vector<int> rows(serial.row_start(), serial.row_start() + n + 1);
-    const std::vector<int> nbr(serial.neighbours(), serial.neighbours() + serial.pairs());
-    ASSERT_GT(serial.pairs(), n / 2);
-    for (int threads : {1, 2, 3}) {
-      const NeighbourList list = build(nullptr, threads);
-      EXPECT_EQ(std::vector<int>(list.row_start(), list.row_start() + n + 1), rows) << threads;
-      EXPECT_EQ(std::vector<int>(list.neighbours(), list.neighbours() + list.pairs()), nbr)
-          << threads;
-      if (o.box.any) {
-        EXPECT_TRUE(std::equal(list.images(), list.images() + list.pairs(), serial.images()))
+    for (const int block_cells : {0, 3, 4, 5}) {
+      const int n = c.model.count();
+      const double skin = 0.35;
+      const CellOrdered o(c, skin, 1, block_cells);
+      const bool uniform = std::all_of(o.radius.begin(), o.radius.end(),
+                                       [&](double r) { return r == o.radius.front(); });
+      std::vector<int> identity(static_cast<std::size_t>(n));
+      std::iota(identity.begin(), identity.end(), 0);
+      auto build = [&](const int* members, int threads) {
+        NeighbourList list;
+        list.Configure(o.box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
+        if (members == nullptr && uniform) list.AssumeUniformRadius(o.radius.front());
+        list.Build(o.x.data(), o.radius.data(), o.cells, members, false, false, 0, threads);
+        return list;
+      };
+      const NeighbourList serial = build(identity.data(), 1);
+      const std::vector<int> rows(serial.row_start(), serial.row_start() + n + 1);
+      const std::vector<int> nbr(serial.neighbours(), serial.neighbours() + serial.pairs());
+      ASSERT_GT(serial.pairs(), n / 2);
+      for (int threads : {1, 2, 3}) {
+        const NeighbourList list = build(nullptr, threads);
+        EXPECT_EQ(std::vector<int>(list.row_start(), list.row_start() + n + 1), rows) << threads;
+        EXPECT_EQ(std::vector<int>(list.neighbours(), list.neighbours() + list.pairs()), nbr)
             << threads;
-      }
-      // The sweep's index of non-empty rows: exactly those slots, increasing.
-      std::vector<int> active;
-      for (int s = 0; s < n; ++s) {
-        if (rows[static_cast<std::size_t>(s) + 1] > rows[static_cast<std::size_t>(s)]) {
-          active.push_back(s);
+        if (o.box.any) {
+          EXPECT_TRUE(std::equal(list.images(), list.images() + list.pairs(), serial.images()))
+              << threads;
         }
+        // The sweep's index of non-empty rows: exactly those slots, increasing.
+        std::vector<int> active;
+        for (int s = 0; s < n; ++s) {
+          if (rows[static_cast<std::size_t>(s) + 1] > rows[static_cast<std::size_t>(s)]) {
+            active.push_back(s);
+          }
+        }
+        ASSERT_GT(active.size(), 0u);
+        ASSERT_LT(active.size(), static_cast<std::size_t>(n));  // some rows are empty
+        EXPECT_EQ(std::vector<int>(list.active_rows(), list.active_rows_end()), active) << threads;
       }
-      ASSERT_GT(active.size(), 0u);
-      ASSERT_LT(active.size(), static_cast<std::size_t>(n));  // some rows are empty
-      EXPECT_EQ(std::vector<int>(list.active_rows(), list.active_rows_end()), active) << threads;
     }
   }
 }
