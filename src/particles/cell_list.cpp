@@ -290,7 +290,6 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
   key_.resize(static_cast<std::size_t>(n));
   perm_.resize(static_cast<std::size_t>(n));
   sorted_rank_.resize(static_cast<std::size_t>(n));
-  count_scratch_.resize(static_cast<std::size_t>(cells));
   if (foreign_.size() < static_cast<std::size_t>(T)) foreign_.resize(static_cast<std::size_t>(T));
   std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1, cells);
   std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
@@ -308,7 +307,8 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
     const int se = static_cast<int>(static_cast<std::int64_t>(t + 1) * n / T);
     const std::int64_t cb = bound[static_cast<std::size_t>(t)];
     const std::int64_t ce = bound[static_cast<std::size_t>(t) + 1];
-    std::int32_t* cnt = count_scratch_.data();
+    // cell_start_ holds each cell's count, then its end, then (after the scatter) its start.
+    std::int32_t* cnt = cell_start_.data();
     std::fill(cnt + cb, cnt + ce, 0);
     std::vector<int>& mine = foreign_[static_cast<std::size_t>(t)];
     mine.clear();
@@ -336,26 +336,33 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
     for (int u = 0; u < T; ++u)
       partial[static_cast<std::size_t>(u) + 1] += partial[static_cast<std::size_t>(u)];
     std::int64_t run = partial[static_cast<std::size_t>(t)];
-    for (std::int64_t c = cb; c < ce; ++c) {
-      cell_start_[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(run);
-      const std::int64_t count = cnt[c];
+    for (std::int64_t c = cb; c < ce; ++c) {  // in place: each cell's end
+      run += cnt[c];
       cnt[c] = static_cast<std::int32_t>(run);
-      run += count;
     }
     if (t == T - 1) cell_start_[static_cast<std::size_t>(cells)] = n;
-    for (int s = sb; s < se; ++s) {
-      const int key = key_[static_cast<std::size_t>(s)];
-      if (key >= cb && key < ce) {
-        const auto at = static_cast<std::size_t>(cnt[key]++);
-        perm_[at] = s;
-        sorted_rank_[at] = key;
+    // The scatter fills each cell from its end, in the reverse of the order own slots, then the
+    // other chunks' (in chunk order): the cells' slots end up in that order and their ends turn
+    // into their starts.
+    int* perm = perm_.data();
+    std::int32_t* sorted_rank = sorted_rank_.data();
+    auto place = [&](int s, int key) {
+      const int at = --cnt[key];
+      perm[at] = s;
+      sorted_rank[at] = key;
+    };
+    for (int u = T - 1; u >= 0; --u) {
+      if (u == t) continue;
+      const std::vector<int>& other = foreign_[static_cast<std::size_t>(u)];
+      for (auto it = other.rbegin(); it != other.rend(); ++it) {
+        const int key = key_[static_cast<std::size_t>(*it)];
+        if (key >= cb && key < ce) place(*it, key);
       }
     }
-    for_foreign([&](int s, int key) {
-      const auto at = static_cast<std::size_t>(cnt[key]++);
-      perm_[at] = s;
-      sorted_rank_[at] = key;
-    });
+    for (int s = se - 1; s >= sb; --s) {
+      const int key = key_[static_cast<std::size_t>(s)];
+      if (key >= cb && key < ce) place(s, key);
+    }
 #pragma omp barrier
     SortCellsById(id, cb, ce);
   });
@@ -390,14 +397,14 @@ bool CellList::FitAndSort(const double* x, const int* id, int n, const PeriodicB
   return true;
 }
 
-// Slots [sb, se): their keys (cell ranks) into key_, counted in count_scratch_ when in the cells
+// Slots [sb, se): their keys (cell ranks) into key_, counted in cell_start_ when in the cells
 // [cb, ce), else listed in *foreign. Returns the number counted.
 template <int K>
 std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t cb, std::int64_t ce,
                                  std::vector<int>* foreign, double* lo, double* hi) {
   const CellGrid grid = grid_;
   const std::int32_t* rank = cell_rank_.data();
-  std::int32_t* cnt = count_scratch_.data();
+  std::int32_t* cnt = cell_start_.data();
   int* key = key_.data();
   std::int64_t counted = 0;
   double low[K], high[K];

@@ -170,9 +170,8 @@ class CellList {
   std::vector<std::int32_t> cell_start_;  // rank → first entry of perm_; size cells + 1
   std::vector<int> key_;                  // per slot: the rank of its cell
   std::vector<int> perm_;
-  std::vector<std::int32_t> sorted_rank_;    // per entry of perm_: its cell's rank
-  std::vector<std::int32_t> count_scratch_;  // per cell: count, then next offset (Sort)
-  std::vector<std::vector<int>> foreign_;    // per thread: slots outside its cells (Sort)
+  std::vector<std::int32_t> sorted_rank_;  // per entry of perm_: its cell's rank
+  std::vector<std::vector<int>> foreign_;  // per thread: slots outside its cells (Sort)
 };
 
 // Morton code of the cell/block coordinates c (k of them, < 2^21 each).
