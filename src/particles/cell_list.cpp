@@ -467,16 +467,27 @@ std::int64_t CellList::CountKeys(const double* x, int sb, int se, std::int64_t c
 // Insertion sort by id of the slots of each cell of rank in [cb, ce), walking the entries rather
 // than the cells: an entry already after a smaller id of its cell (or first in it) stays, which is
 // most entries, since the scatter keeps the storage order and storage is in the last build's
-// (cell, id) order. No branch per cell, empty or not.
+// (cell, id) order. No branch per cell, empty or not, and none per entry on the cell boundary.
 void CellList::SortCellsById(const int* id, std::int64_t cb, std::int64_t ce) {
   const std::int64_t qb = cell_start_[static_cast<std::size_t>(cb)];
   const std::int64_t qe = cell_start_[static_cast<std::size_t>(ce)];
   int* perm = perm_.data();
   const std::int32_t* rank = sorted_rank_.data();
+  // First the entries that share their cell with the one before (about one in seven at 10^6
+  // disks), listed without a branch in key_'s entries [qb, qe), free once the slots are
+  // scattered; then only those are compared. A branch on the cell boundary per entry would be
+  // mispredicted at about every seventh.
+  int* same = key_.data() + qb;
+  std::int64_t count = 0;
   for (std::int64_t i = qb + 1; i < qe; ++i) {
+    same[count] = static_cast<int>(i);
+    count += rank[i - 1] == rank[i] ? 1 : 0;
+  }
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::int64_t i = same[k];
     const int v = perm[i];
     const std::int32_t r = rank[i];
-    if (rank[i - 1] != r || id[perm[i - 1]] < id[v]) continue;
+    if (id[perm[i - 1]] < id[v]) continue;
     std::int64_t j = i;
     while (j > qb && rank[j - 1] == r && id[perm[j - 1]] > id[v]) {
       perm[j] = perm[j - 1];

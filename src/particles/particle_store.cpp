@@ -51,9 +51,12 @@ void ParticleStore::Reorder(const std::vector<int>& perm, int threads, bool with
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (int s = 0; s < n; ++s) {
       const int o = perm[static_cast<std::size_t>(s)];
-      for (int a = 0; a < K; ++a) pred2[K * s + a] = pred[K * o + a];
+      if (s + 24 < n) __builtin_prefetch(pred + K * perm[static_cast<std::size_t>(s) + 24]);
+      double row[K];  // loaded once: the stores below might alias pred for the compiler
+      for (int a = 0; a < K; ++a) row[a] = pred[K * o + a];
+      for (int a = 0; a < K; ++a) pred2[K * s + a] = row[a];
       if (copy_predicted) {
-        for (int a = 0; a < K; ++a) copy[K * s + a] = pred[K * o + a];
+        for (int a = 0; a < K; ++a) copy[K * s + a] = row[a];
       }
       if (with_current) {
         for (int a = 0; a < K; ++a) cur2[K * s + a] = cur[K * o + a];
