@@ -137,6 +137,11 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
       if constexpr (P) img.resize(buf.size());
     }
   };
+  // A row of `found` entries written at buf[used]: counted, and the next row starts after it.
+  auto keep = [&](int found) {
+    used += static_cast<std::size_t>(found);
+    active += found > 0 ? 1 : 0;
+  };
   const std::int32_t* rank_of_slot = cells.sorted_ranks();
   // The rows of the slots of the cell of rank r (with all its neighbours in its block: inside).
   auto cell = [&](std::int64_t r, bool inside, const int* w) {
@@ -145,9 +150,7 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
     CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, inside, w, &run);
     reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b) + kSlack);
     for (int s = b; s < e; ++s) {
-      const int found = writer.Row(s, run, n_, buf.data() + used, P ? img.data() + used : nullptr);
-      used += static_cast<std::size_t>(found);
-      active += found > 0 ? 1 : 0;
+      keep(writer.Row(s, run, n_, buf.data() + used, P ? img.data() + used : nullptr));
     }
   };
   // The slots of the cells r + 1 … r + wx − 2 of one block row, consecutive: each slot's
@@ -179,8 +182,7 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
         } else {
           found = writer.template Runs<checked(), 2>(s, {s + 1}, {own}, n_, out + used, out_img);
         }
-        used += static_cast<std::size_t>(found);
-        active += found > 0 ? 1 : 0;
+        keep(found);
       }
     };
     if (reach_end + 4 <= n_) {
@@ -254,8 +256,7 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
                          {len[0], own, len[1], ae - ab, len[2]}, n_, out + used, out_img)
                    : writer.template Runs<true, 2, 4>(s, {s + 1, ab}, {own, ae - ab}, n_,
                                                       out + used, out_img);
-          used += static_cast<std::size_t>(found);
-          active += found > 0 ? 1 : 0;
+          keep(found);
         }
       };
       for (std::int64_t ly = 0; ly < wy; ++ly, r += wx) {

@@ -59,10 +59,11 @@ void ParticleStore::Reorder(const std::vector<int>& perm, int threads, bool with
         for (int a = 0; a < K; ++a) copy[K * s + a] = row[a];
       }
       if (with_current) {
-        for (int a = 0; a < K; ++a) cur2[K * s + a] = cur[K * o + a];
-      }
-      if (copy_current) {
-        for (int a = 0; a < K; ++a) copy[K * s + a] = cur[K * o + a];
+        for (int a = 0; a < K; ++a) row[a] = cur[K * o + a];
+        for (int a = 0; a < K; ++a) cur2[K * s + a] = row[a];
+        if (copy_current) {  // copy_current implies with_current (asserted above)
+          for (int a = 0; a < K; ++a) copy[K * s + a] = row[a];
+        }
       }
       scratch_id_[static_cast<std::size_t>(s)] = id[static_cast<std::size_t>(o)];
       if (keyed) {
