@@ -210,8 +210,15 @@ void BM_PlainCellListSweep(benchmark::State& state) {
 // count) advance in alternating bursts of 5 steps, each burst timed, so both see the same machine
 // (the second core of the shared machines comes and goes). Counters: the two times per step, their
 // ratio, and the same ratio for the trivially parallel control loop measured in the same bursts.
+// Also ms per step of each phase (force = prediction, lists, sweep) on 1 and 2 threads.
+// warm = 1: a parallel region wakes the second thread before each 2-thread burst is timed. While
+// the 1-thread burst and the control loop run (milliseconds), the 2-thread engine's idle thread
+// outlasts its spin (about 0.2 ms, docs/benchmarks.md "OpenMP waiting") and sleeps, so with
+// warm = 0 each burst also pays one wake-up of a halted virtual CPU (about 0.14 ms here), which a
+// run that steps without pause pays once. The two variants bracket what a user sees.
 void BM_ThreadSpeedupInterleaved(benchmark::State& state) {
   const Workload w = MakeWorkload(SideFor(state.range(0)));
+  const bool warm = state.range(1) != 0;
   Engine one = MakeWorkloadEngine(w, 1);
   Engine two = MakeWorkloadEngine(w, 2);
   for (int i = 0; i < 3; ++i) {
@@ -232,6 +239,11 @@ void BM_ThreadSpeedupInterleaved(benchmark::State& state) {
   for (auto _ : state) {
     auto a = Clock::now();
     for (int i = 0; i < 5; ++i) one.Step();
+    if (warm) {
+      // Wake the second thread before the clock starts (see the comment above).
+#pragma omp parallel num_threads(2)
+      benchmark::ClobberMemory();
+    }
     auto b = Clock::now();
     for (int i = 0; i < 5; ++i) two.Step();
     auto c = Clock::now();
@@ -252,6 +264,13 @@ void BM_ThreadSpeedupInterleaved(benchmark::State& state) {
   state.counters["speedup_lists"] = s1.neighbour_seconds / s2.neighbour_seconds;
   state.counters["speedup_sweep"] = s1.sweep_seconds / s2.sweep_seconds;
   state.counters["lists_share_2"] = s2.neighbour_seconds / s2.total_seconds;
+  const double per = 1e3 / static_cast<double>(s1.steps);
+  state.counters["ms_force_1"] = per * s1.force_seconds;
+  state.counters["ms_force_2"] = per * s2.force_seconds;
+  state.counters["ms_sweep_1"] = per * s1.sweep_seconds;
+  state.counters["ms_sweep_2"] = per * s2.sweep_seconds;
+  state.counters["ms_lists_1"] = per * s1.neighbour_seconds;
+  state.counters["ms_lists_2"] = per * s2.neighbour_seconds;
   state.counters["control_speedup"] = c1 / c2;
 }
 
@@ -415,9 +434,8 @@ void BM_ParallelControl(benchmark::State& state) {
 constexpr int kSteps = 100;
 
 BENCHMARK(BM_ThreadSpeedupInterleaved)
-    ->Arg(100000)
-    ->Arg(1000000)
-    ->ArgName("N")
+    ->ArgsProduct({{100000, 1000000}, {0, 1}})
+    ->ArgNames({"N", "warm"})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(20);
