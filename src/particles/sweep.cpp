@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace moreau::particles::internal {
 
 namespace {
@@ -39,6 +43,7 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
                                 const NeighbourList& list, double* max_path, std::int64_t* proj,
                                 double margin, std::vector<int>* near) {
   const int* rs = list.row_start();
+  [[maybe_unused]] const std::int64_t pairs = list.pairs();
   const int* nb = list.neighbours();
   const std::uint8_t* image = list.images();
   const double(*shift)[3] = list.box().shift;
@@ -61,6 +66,40 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
     double* xs_mem = x + K * s;
     double xs[K];
     for (int a = 0; a < K; ++a) xs[a] = xs_mem[a];
+#if defined(__SSE2__)
+    if constexpr (K == 2 && !P && U) {
+      // A row of at most 4 pairs (nearly all of them) is tested whole first, with no branch per
+      // pair: the pair test's ‖u‖² (the same operations, two pairs a vector) for 4 entries from
+      // p on (those past the row are other rows' partners, valid slots, and masked out). When no
+      // pair overlaps (r2 ≥ c², which also fails for NaN) the row projects nothing, and only
+      // the near-contact test is left.
+      if (e - p <= 4 && p + 4 <= pairs) {
+        const __m128d xv = _mm_loadu_pd(xs);
+        auto r2_of = [&](std::int64_t q) {
+          const __m128d u0 =
+              _mm_sub_pd(xv, _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(nb[q])));
+          const __m128d u1 =
+              _mm_sub_pd(xv, _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(nb[q + 1])));
+          const __m128d q0 = _mm_mul_pd(u0, u0), q1 = _mm_mul_pd(u1, u1);
+          return _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
+        };
+        const __m128d lo = r2_of(p), hi = r2_of(p + 2);
+        const int valid = (1 << (e - p)) - 1;
+        const __m128d c2 = _mm_set1_pd(uniform_c2);
+        const int over_lo = _mm_movemask_pd(_mm_cmpnge_pd(lo, c2));
+        const int over_hi = _mm_movemask_pd(_mm_cmpnge_pd(hi, c2));
+        if (((over_lo | (over_hi << 2)) & valid) == 0) {
+          if constexpr (R) {
+            const __m128d near2 = _mm_set1_pd(uniform_near2);
+            const int near_lo = _mm_movemask_pd(_mm_cmplt_pd(lo, near2));
+            const int near_hi = _mm_movemask_pd(_mm_cmplt_pd(hi, near2));
+            if ((near_lo | (near_hi << 2)) & valid) near->push_back(s);
+          }
+          continue;
+        }
+      }
+    }
+#endif
     const double ri = U ? 0.0 : radius[s];
     double add = 0.0;
     bool near_row = false;

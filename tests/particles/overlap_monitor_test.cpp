@@ -3,6 +3,7 @@
 // recorded rows alone when the margin covers the sweep's paths.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -99,6 +100,60 @@ TEST(OverlapMonitor, RecordedRowsGiveTheExactMaximum) {
   }
   EXPECT_EQ(monitor.full_steps() + monitor.screened_steps(), 6);
   EXPECT_GE(monitor.screened_steps(), 3);
+}
+
+// Equal radii in 2D without periodic axes (the sweep then tests short rows whole): with no
+// overlap nothing moves, and the recorded rows are exactly those with a pair closer than
+// 2r + margin. A row test that drops a pair, or a near-contact test that drops a row, fails here.
+TEST(OverlapMonitor, UniformDisksRecordExactlyTheRowsWithinTheMargin) {
+  ParticleModel m;
+  m.dimension = 2;
+  m.radius.assign(900, 0.5);
+  m.domain_lo = {0.0, 0.0, 0.0};
+  m.domain_hi = {40.0, 40.0, 1.0};
+  const std::vector<double> x0 = RandomSequentialAddition(m, m.domain_lo, m.domain_hi, 21);
+  std::vector<double> x = x0;
+  const internal::PeriodicBox box = internal::PeriodicBox::Of(m);
+  const int n = m.count();
+  internal::CellList cells;
+  cells.Fit(x.data(), n, box, 1.0 + 0.6, 0, 1);
+  std::vector<int> id(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) id[static_cast<std::size_t>(i)] = i;
+  cells.Sort(x.data(), id.data(), n, 1);
+  internal::NeighbourList list;
+  list.Configure(box, n, 0.6, 1e300, 0.0);
+  list.Build(x.data(), m.radius.data(), cells, cells.permutation().data(), true, false, 0, 1);
+  internal::Colouring colouring;
+  colouring.Assign(cells);
+  internal::ProjectionSweep sweep(m, true);
+  const double margin = 0.1;
+  internal::NearContactRows near;
+  near.margin = margin;
+  near.rows.resize(1);
+  std::int64_t projections = 0;
+  sweep.Sweep(x.data(), m.radius.data(), list, colouring, cells, true, 1, &projections, &near);
+  EXPECT_EQ(projections, 0);
+  EXPECT_EQ(x, x0);
+  std::vector<int> expected;
+  int longest = 0, rows = 0;
+  for (int s = 0; s < n; ++s) {
+    const int b = list.row_start()[s], e = list.row_start()[s + 1];
+    longest = std::max(longest, e - b);
+    rows += e > b ? 1 : 0;
+    bool close = false;
+    for (int p = b; p < e; ++p) {
+      const int t = list.neighbours()[p];
+      const double dx = x[2 * static_cast<std::size_t>(s)] - x[2 * static_cast<std::size_t>(t)];
+      const double dy =
+          x[2 * static_cast<std::size_t>(s) + 1] - x[2 * static_cast<std::size_t>(t) + 1];
+      close = close || dx * dx + dy * dy < (1.0 + margin) * (1.0 + margin);
+    }
+    if (close) expected.push_back(s);
+  }
+  EXPECT_EQ(near.rows[0], expected);
+  EXPECT_GT(expected.size(), 50u);  // some rows near contact, and some rows not
+  EXPECT_LT(expected.size(), static_cast<std::size_t>(rows) - 50);
+  EXPECT_GT(longest, 4);  // rows too long for the whole-row test take the pair loop
 }
 
 }  // namespace
