@@ -31,6 +31,25 @@ ParticleModel Soup(int n, double side) {
   return m;
 }
 
+// The cell list (one thread), the neighbour list (skin 0.6, rows in id order) and the colouring
+// of the positions x of m, for sweeps in id order.
+struct SweepParts {
+  internal::CellList cells;
+  internal::NeighbourList list;
+  internal::Colouring colouring;
+  SweepParts(const ParticleModel& m, const std::vector<double>& x, double reach, int block_cells) {
+    const internal::PeriodicBox box = internal::PeriodicBox::Of(m);
+    const int n = m.count();
+    cells.Fit(x.data(), n, box, reach, block_cells, 1);
+    std::vector<int> id(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) id[static_cast<std::size_t>(i)] = i;
+    cells.Sort(x.data(), id.data(), n, 1);
+    list.Configure(box, n, 0.6, 1e300, 0.0);
+    list.Build(x.data(), m.radius.data(), cells, cells.permutation().data(), true, false, 0, 1);
+    colouring.Assign(cells);
+  }
+};
+
 TEST(OverlapMonitor, EveryStepEqualsThePassOverAllPairs) {
   const ParticleModel m = Soup(1000, 44.0);
   const std::vector<double> x0 = RandomSequentialAddition(m, m.domain_lo, m.domain_hi, 5);
@@ -67,18 +86,9 @@ TEST(OverlapMonitor, EveryStepEqualsThePassOverAllPairs) {
 TEST(OverlapMonitor, RecordedRowsGiveTheExactMaximum) {
   const ParticleModel m = Soup(800, 38.0);
   std::vector<double> x = RandomSequentialAddition(m, m.domain_lo, m.domain_hi, 9);
-  const internal::PeriodicBox box = internal::PeriodicBox::Of(m);
   const int n = m.count();
-  internal::CellList cells;
-  cells.Fit(x.data(), n, box, 2.0 * 0.6 + 0.6, 2, 1);
-  std::vector<int> id(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) id[static_cast<std::size_t>(i)] = i;
-  cells.Sort(x.data(), id.data(), n, 1);
-  internal::NeighbourList list;
-  list.Configure(box, n, 0.6, 1e300, 0.0);
-  list.Build(x.data(), m.radius.data(), cells, cells.permutation().data(), true, false, 0, 1);
-  internal::Colouring colouring;
-  colouring.Assign(cells);
+  const SweepParts parts(m, x, 2.0 * 0.6 + 0.6, 2);
+  const internal::NeighbourList& list = parts.list;
   internal::ProjectionSweep sweep(m, false);
   internal::OverlapMonitor monitor;
   SplitMix64 rng(4);
@@ -91,8 +101,8 @@ TEST(OverlapMonitor, RecordedRowsGiveTheExactMaximum) {
       extent = std::max({extent, std::abs(xi), std::abs(x[static_cast<std::size_t>(2 * i + 1)])});
     }
     std::int64_t projections = 0;
-    sweep.Sweep(x.data(), m.radius.data(), list, colouring, cells, true, 1, &projections,
-                monitor.Prepare(1));
+    sweep.Sweep(x.data(), m.radius.data(), list, parts.colouring, parts.cells, true, 1,
+                &projections, monitor.Prepare(1));
     ASSERT_GT(projections, 0);
     const double monitored = monitor.Measure(list, x.data(), m.radius.data(), n, 1, extent, 0.6);
     EXPECT_EQ(monitored, internal::MaxPairOverlap(list, x.data(), m.radius.data(), n, 1));
@@ -113,25 +123,17 @@ TEST(OverlapMonitor, UniformDisksRecordExactlyTheRowsWithinTheMargin) {
   m.domain_hi = {40.0, 40.0, 1.0};
   const std::vector<double> x0 = RandomSequentialAddition(m, m.domain_lo, m.domain_hi, 21);
   std::vector<double> x = x0;
-  const internal::PeriodicBox box = internal::PeriodicBox::Of(m);
   const int n = m.count();
-  internal::CellList cells;
-  cells.Fit(x.data(), n, box, 1.0 + 0.6, 0, 1);
-  std::vector<int> id(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) id[static_cast<std::size_t>(i)] = i;
-  cells.Sort(x.data(), id.data(), n, 1);
-  internal::NeighbourList list;
-  list.Configure(box, n, 0.6, 1e300, 0.0);
-  list.Build(x.data(), m.radius.data(), cells, cells.permutation().data(), true, false, 0, 1);
-  internal::Colouring colouring;
-  colouring.Assign(cells);
+  const SweepParts parts(m, x, 1.0 + 0.6, 0);
+  const internal::NeighbourList& list = parts.list;
   internal::ProjectionSweep sweep(m, true);
   const double margin = 0.1;
   internal::NearContactRows near;
   near.margin = margin;
   near.rows.resize(1);
   std::int64_t projections = 0;
-  sweep.Sweep(x.data(), m.radius.data(), list, colouring, cells, true, 1, &projections, &near);
+  sweep.Sweep(x.data(), m.radius.data(), list, parts.colouring, parts.cells, true, 1, &projections,
+              &near);
   EXPECT_EQ(projections, 0);
   EXPECT_EQ(x, x0);
   std::vector<int> expected;
