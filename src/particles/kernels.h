@@ -8,6 +8,10 @@
 #include <type_traits>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "moreau/particles/model.h"
 
 namespace moreau::particles::internal {
@@ -40,14 +44,25 @@ inline double SquaredNorm(const double* u) {
   return r2;
 }
 
+#if defined(__SSE2__)
+// 2D points, two a vector: [‖xs − a‖², ‖xs − b‖²], each with SquaredNorm<2>'s operations
+// (u0² + u1², no fused multiply-add), so the same bits as the scalar pair tests.
+inline __m128d SquaredDistances2(__m128d xs, const double* a, const double* b) {
+  const __m128d u0 = _mm_sub_pd(xs, _mm_loadu_pd(a));
+  const __m128d u1 = _mm_sub_pd(xs, _mm_loadu_pd(b));
+  const __m128d q0 = _mm_mul_pd(u0, u0);
+  const __m128d q1 = _mm_mul_pd(u1, u1);
+  return _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
+}
+#endif
+
 // Pair non-overlap ‖X_i − X_j‖ ≥ c for an overlapping pair: u = X_i − X_j (the minimum image on
 // periodic axes), r2 = ‖u‖² < c² (the caller's test). Each particle moves by half the overlap along
 // u, computed as q · (½ u) with q = (c − r)/r (scaling by ½ is exact away from subnormals, and
 // keeps the halving off the dependency chain through the square root and the division).
 // Coincident centres separate along axis 0. Returns the distance each particle moved.
 template <int K>
-inline double ProjectOverlappingPair(double* xi, double* xj, const double* u, double r2,
-                                     double c) {
+inline double ProjectOverlappingPair(double* xi, double* xj, const double* u, double r2, double c) {
   const double r = std::sqrt(r2);
   if (r > 0.0) {
     const double q = (c - r) / r;

@@ -179,11 +179,7 @@ struct RowWriter {
       int hit = 0;
       for (int j = 0; j < W; j += 2) {
         const double* p = x + 2 * static_cast<std::ptrdiff_t>(t + j);
-        const __m128d u0 = _mm_sub_pd(xs, _mm_loadu_pd(p));
-        const __m128d u1 = _mm_sub_pd(xs, _mm_loadu_pd(p + 2));
-        const __m128d q0 = _mm_mul_pd(u0, u0);
-        const __m128d q1 = _mm_mul_pd(u1, u1);
-        const __m128d r2 = _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
+        const __m128d r2 = SquaredDistances2(xs, p, p + 2);
         hit |= _mm_movemask_pd(_mm_cmplt_pd(r2, reach2)) << j;
       }
       hit &= (1 << std::clamp(len - c, 0, W)) - 1;

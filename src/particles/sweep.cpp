@@ -9,6 +9,8 @@
 #include <emmintrin.h>
 #endif
 
+#include "particles/kernels.h"
+
 namespace moreau::particles::internal {
 
 namespace {
@@ -69,19 +71,15 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
 #if defined(__SSE2__)
     if constexpr (K == 2 && !P && U) {
       // A row of at most 4 pairs (nearly all of them) is tested whole first, with no branch per
-      // pair: the pair test's ‖u‖² (the same operations, two pairs a vector) for 4 entries from
+      // pair: the pair test's ‖u‖² (SquaredDistances2, two pairs a vector) for 4 entries from
       // p on (those past the row are other rows' partners, valid slots, and masked out). When no
       // pair overlaps (r2 ≥ c², which also fails for NaN) the row projects nothing, and only
       // the near-contact test is left.
       if (e - p <= 4 && p + 4 <= pairs) {
         const __m128d xv = _mm_loadu_pd(xs);
-        auto r2_of = [&](std::int64_t q) {
-          const __m128d u0 =
-              _mm_sub_pd(xv, _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(nb[q])));
-          const __m128d u1 =
-              _mm_sub_pd(xv, _mm_loadu_pd(x + 2 * static_cast<std::ptrdiff_t>(nb[q + 1])));
-          const __m128d q0 = _mm_mul_pd(u0, u0), q1 = _mm_mul_pd(u1, u1);
-          return _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
+        auto r2_of = [&](std::int64_t q) {  // the pairs q and q + 1
+          return SquaredDistances2(xv, x + 2 * static_cast<std::ptrdiff_t>(nb[q]),
+                                   x + 2 * static_cast<std::ptrdiff_t>(nb[q + 1]));
         };
         const __m128d lo = r2_of(p), hi = r2_of(p + 2);
         const int valid = (1 << (e - p)) - 1;
