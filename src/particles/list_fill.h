@@ -159,9 +159,9 @@ struct RowWriter {
     return Row(s, runs, n, out, out_img);
   }
 #if defined(__SSE2__)
-  // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) in windows of W (2 or
-  // 4), two candidates a SSE2 vector of ‖u‖² (Test's u0² + u1², so the same rows); the window's
-  // kept candidates are written by one 4-entry store from kCompress. The first window goes
+  // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) (len ≥ 0) in windows of
+  // W (2 or 4), two candidates a SSE2 vector of ‖u‖² (Test's u0² + u1², so the same rows); the
+  // window's kept candidates are written by one 4-entry store from kCompress. The first window goes
   // without a branch on len; the loop runs again only for longer runs. A window reaching past
   // slot n − 1 is finished by Test.
   template <int W, bool Checked = true>
@@ -182,7 +182,7 @@ struct RowWriter {
         const __m128d r2 = SquaredDistances2(xs, p, p + 2);
         hit |= _mm_movemask_pd(_mm_cmplt_pd(r2, reach2)) << j;
       }
-      hit &= (1 << std::clamp(len - c, 0, W)) - 1;
+      hit &= (1 << std::min(len - c, W)) - 1;  // len ≥ 0, and len − c > 0 after the first window
       const __m128i offsets =
           _mm_load_si128(reinterpret_cast<const __m128i*>(kCompress.offset[hit]));
       _mm_storeu_si128(reinterpret_cast<__m128i*>(out + found),
@@ -203,7 +203,7 @@ struct RowWriter {
       int found = 0;
       for (int i = 0; i < run.count; ++i) {
         const int lo = std::max(run.lo[i], s + 1);
-        found += Run<2>(xs, lo, run.hi[i] - lo, n, out + found);
+        found += Run<2>(xs, lo, std::max(run.hi[i] - lo, 0), n, out + found);
       }
       count[s] = found;
       return found;

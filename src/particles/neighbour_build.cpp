@@ -169,21 +169,33 @@ std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, con
     }
     reserve(static_cast<std::size_t>(se - sb) * span + kSlack);
     auto slots = [&](auto checked) {
-      int* out = buf.data();
+      // Local copies of the captured state: the row writer's vector stores may alias any memory
+      // for the compiler, which would otherwise reload and store it around every store.
+      int* const out = buf.data();
+      std::uint8_t* const out_img = P ? img.data() : nullptr;
+      const std::int32_t* const st = start;
+      const std::int32_t* const rk = rank_of_slot;
+      const RowWriter<K, P, U> w = writer;
+      const int n = n_;
+      std::size_t at = used;
+      std::int64_t nonempty = active;
       for (int s = sb; s < se; ++s) {
-        const std::int64_t c = rank_of_slot[s];
-        const int own = start[c + 2] - s - 1;
-        std::uint8_t* out_img = P ? img.data() + used : nullptr;
+        const std::int64_t c = rk[s];
+        const int own = st[c + 2] - s - 1;
         int found;
         if constexpr (above()) {
-          const int lo = start[c + d - 1], hi = start[c + d + 2];
-          found = writer.template Runs<checked(), 2, 4>(s, {s + 1, lo}, {own, hi - lo}, n_,
-                                                        out + used, out_img);
+          const int lo = st[c + d - 1], hi = st[c + d + 2];
+          found = w.template Runs<checked(), 2, 4>(s, {s + 1, lo}, {own, hi - lo}, n, out + at,
+                                                   P ? out_img + at : nullptr);
         } else {
-          found = writer.template Runs<checked(), 2>(s, {s + 1}, {own}, n_, out + used, out_img);
+          found = w.template Runs<checked(), 2>(s, {s + 1}, {own}, n, out + at,
+                                                P ? out_img + at : nullptr);
         }
-        keep(found);
+        at += static_cast<std::size_t>(found);
+        nonempty += found > 0 ? 1 : 0;
       }
+      used = at;
+      active = nonempty;
     };
     if (reach_end + 4 <= n_) {
       slots(std::false_type());
