@@ -8,7 +8,8 @@ Each round runs every binary once (OMP_NUM_THREADS=THREADS, problem.T=T, its own
 policy unless the caller set one); per binary it prints the minimum and the median over the rounds
 of: ms per step (the engine's total_seconds over its steps; setup excluded), ms per list build and
 the sweep, prediction and monitor ms per step, and the set of positions hashes (one per binary
-when the results agree).
+when the results agree); then, for each binary after the first, the first's step and build times
+over its own, round by round (median and range).
 """
 import json
 import os
@@ -49,6 +50,15 @@ def main():
         print(f"{b}: threads {threads}, min/median: step ms {stat(0)} ({1e3 / min(cols[0]):.1f} "
               f"steps/s), build ms {stat(1)}, sweep {stat(2)}, prediction {stat(3)}, "
               f"monitor {stat(4)}; hashes {sorted(set(cols[5]))}")
+    # Each round runs the binaries back to back, so the ratio within a round cancels the slower
+    # drifts of the machine's speed: the first binary's time over each other's, round by round.
+    ref = binaries[0]
+    for b in binaries[1:]:
+        def paired(i):
+            r = sorted(x[i] / y[i] for x, y in zip(rows[ref], rows[b]))
+            return f"{statistics.median(r):.2f}x ({r[0]:.2f}-{r[-1]:.2f})"
+        print(f"{b}: {ref} over it, round by round, median (range): step {paired(0)}, "
+              f"build {paired(1)}")
 
 
 if __name__ == "__main__":
