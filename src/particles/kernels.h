@@ -54,6 +54,33 @@ inline __m128d SquaredDistances2(__m128d xs, const double* a, const double* b) {
   const __m128d q1 = _mm_mul_pd(u1, u1);
   return _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
 }
+
+// For each 4-bit mask (bit i: lane i kept): the kept lanes in order, as one vector (the lanes past
+// the count are scratch), and their count.
+struct CompressTable {
+  alignas(16) std::int32_t offset[16][4];
+  int count[16];
+};
+constexpr CompressTable MakeCompressTable() {
+  CompressTable t{};
+  for (int m = 0; m < 16; ++m) {
+    int c = 0;
+    for (int b = 0; b < 4; ++b) {
+      if ((m >> b) & 1) t.offset[m][c++] = b;
+    }
+    t.count[m] = c;
+  }
+  return t;
+}
+inline constexpr CompressTable kCompress = MakeCompressTable();
+
+// base + i for each set bit i of the 4-bit mask, in order, written at out by one 4-entry store
+// (out must have room for 4: the entries past the count are scratch); returns their count.
+inline int CompressStore(int mask, int base, int* out) {
+  const __m128i offsets = _mm_load_si128(reinterpret_cast<const __m128i*>(kCompress.offset[mask]));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_add_epi32(_mm_set1_epi32(base), offsets));
+  return kCompress.count[mask];
+}
 #endif
 
 // Pair non-overlap ‖X_i − X_j‖ ≥ c for an overlapping pair: u = X_i − X_j (the minimum image on

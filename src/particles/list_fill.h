@@ -103,27 +103,6 @@ template <int K>
 // The entries a row writer may write past a row (RowWriter::Run's 4-entry stores).
 constexpr std::size_t kSlack = 4;
 
-#if defined(__SSE2__)
-// For each 4-bit mask of kept candidates (bit i: candidate i of a window): their offsets in
-// order, as one vector (the lanes past the count are scratch), and their count.
-struct CompressTable {
-  alignas(16) std::int32_t offset[16][4];
-  int count[16];
-};
-constexpr CompressTable MakeCompressTable() {
-  CompressTable t{};
-  for (int m = 0; m < 16; ++m) {
-    int c = 0;
-    for (int b = 0; b < 4; ++b) {
-      if ((m >> b) & 1) t.offset[m][c++] = b;
-    }
-    t.count[m] = c;
-  }
-  return t;
-}
-constexpr CompressTable kCompress = MakeCompressTable();
-#endif
-
 // Writes rows: slot s's candidates t, each written and kept only when within reach (no branch on
 // it), the row's length into count[s]. U: every radius is `uniform` (the reach (r + r) + extra
 // is then computed once, as each pair would compute it, and no radius is loaded).
@@ -161,8 +140,8 @@ struct RowWriter {
 #if defined(__SSE2__)
   // K = 2, no periodic axis, uniform radii: the candidates [lo, lo + len) (len ≥ 0) in windows of
   // W (2 or 4), two candidates a SSE2 vector of ‖u‖² (Test's u0² + u1², so the same rows); the
-  // window's kept candidates are written by one 4-entry store from kCompress. The first window goes
-  // without a branch on len; the loop runs again only for longer runs. A window reaching past
+  // window's kept candidates are written by one 4-entry store (CompressStore). The first window
+  // goes without a branch on len; the loop runs again only for longer runs. A window reaching past
   // slot n − 1 is finished by Test.
   template <int W, bool Checked = true>
   [[gnu::always_inline]] int Run(const double* xs_at, int lo, int len, int n, int* out) const {
@@ -183,11 +162,7 @@ struct RowWriter {
         hit |= _mm_movemask_pd(_mm_cmplt_pd(r2, reach2)) << j;
       }
       hit &= (1 << std::min(len - c, W)) - 1;  // len ≥ 0, and len − c > 0 after the first window
-      const __m128i offsets =
-          _mm_load_si128(reinterpret_cast<const __m128i*>(kCompress.offset[hit]));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(out + found),
-                       _mm_add_epi32(_mm_set1_epi32(t), offsets));
-      found += kCompress.count[hit];
+      found += CompressStore(hit, t, out + found);
       c += W;
     } while (c < len);
     return found;
