@@ -22,6 +22,7 @@ void AddInspectCommand(CLI::App& app);
 void AddFillGapsCommand(CLI::App& app);
 void AddEvaluateGapsCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
+void AddKeysCommand(CLI::App& app);
 
 // The arguments of every scenario command: SCENARIO.toml [--set key=value ...] [--out DIR].
 struct ScenarioArgs {

@@ -6,35 +6,23 @@
 
 namespace moreau::cli {
 
-Range Range::Because(std::string reason) const {
-  Range r = *this;
-  r.why = std::move(reason);
-  return r;
+void CheckRange(const Scenario& scenario, std::string_view key, const Range& range, double v,
+                std::string_view got) {
+  const std::string why = range.Violation(v, got);
+  if (!why.empty()) scenario.Fail(key, why);
 }
 
-bool Range::Contains(double v) const {
-  if (std::isnan(v)) return false;
-  const bool above = min_open ? v > min : v >= min;
-  const bool below = max_open ? v < max : v <= max;
-  return above && below;
-}
-
-std::string Range::Describe() const {
-  const bool has_min = std::isfinite(min);
-  const bool has_max = std::isfinite(max);
-  if (has_min && has_max) {
-    return fmt::format("in {}{}, {}{}", min_open ? "(" : "[", min, max, max_open ? ")" : "]");
+nlohmann::json NodeToJson(const toml::node& node) {
+  if (const auto v = node.value_exact<std::int64_t>()) return *v;
+  if (const auto v = node.value_exact<double>()) return *v;
+  if (const auto v = node.value_exact<bool>()) return *v;
+  if (const auto v = node.value_exact<std::string>()) return *v;
+  if (const toml::array* arr = node.as_array()) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const toml::node& item : *arr) j.push_back(NodeToJson(item));
+    return j;
   }
-  if (has_min) return fmt::format("{} {}", min_open ? ">" : "≥", min);
-  if (has_max) return fmt::format("{} {}", max_open ? "<" : "≤", max);
-  return "";
-}
-
-void Range::Check(const Scenario& scenario, std::string_view key, double v,
-                  std::string_view got) const {
-  if (Contains(v)) return;
-  scenario.Fail(
-      key, fmt::format("must be {} (got {}){}{}", Describe(), got, why.empty() ? "" : " ", why));
+  return nlohmann::json::object();
 }
 
 std::int64_t CheckFrameCount(std::int64_t steps, std::int64_t stride) {
@@ -44,16 +32,6 @@ std::int64_t CheckFrameCount(std::int64_t steps, std::int64_t stride) {
                                  frames, steps, stride, kMaxFrames));
   }
   return frames;
-}
-
-void SetDotted(nlohmann::json& j, std::string_view key, nlohmann::json value) {
-  nlohmann::json* node = &j;
-  std::size_t start = 0;
-  for (std::size_t dot = key.find('.'); dot != std::string_view::npos;
-       start = dot + 1, dot = key.find('.', start)) {
-    node = &(*node)[std::string(key.substr(start, dot - start))];
-  }
-  (*node)[std::string(key.substr(start))] = std::move(value);
 }
 
 void NamingAllocations(const Scenario& scenario, std::string_view key,
@@ -69,19 +47,11 @@ void NamingAllocations(const Scenario& scenario, std::string_view key,
 void WithKey(const Scenario& scenario, std::string_view key, const std::function<void()>& check) {
   try {
     check();
+  } catch (const ScenarioError&) {
+    throw;  // names its file and key already
   } catch (const InputError& e) {
-    // A message that already names the file (a nested table's Read) names its key too.
-    const std::string_view reason = e.what();
-    if (reason.starts_with(scenario.path() + ": ")) throw;
-    // "KEY: reason" from a library Validate() that names the same key: keep the key once;
-    // "KEY.SUB must …" names a key below KEY: name that one.
-    const std::string own = std::string(key) + ": ";
-    if (reason.starts_with(own)) scenario.Fail(key, reason.substr(own.size()));
-    const std::size_t space = reason.find(' ');
-    if (reason.starts_with(std::string(key) + ".") && space != std::string_view::npos) {
-      scenario.Fail(reason.substr(0, space), reason.substr(space + 1));
-    }
-    scenario.Fail(key, reason);
+    if (e.key().empty()) scenario.Fail(key, e.reason());
+    scenario.Fail(key.empty() ? e.key() : std::string(key) + "." + e.key(), e.reason());
   }
 }
 

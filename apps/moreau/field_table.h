@@ -6,7 +6,7 @@
 //                             type and the range, then runs the cross-field checks; errors are
 //                             InputError "FILE: KEY: REASON";
 //   Echo(settings)            the JSON of the settings used ({"solver": {"h": …}, …});
-//   Describe(settings)        one line per field: key, type, default, range, help.
+//   Rows(settings)            one row per field: key, type, default, range, unit, help.
 // A field's member is reached through an accessor: a pointer to member (&Options::h) or a generic
 // lambda `[](auto& s) -> auto& { return s.newton.armijo; }` (called with S& to read, const S& to
 // echo). Mount() reuses the table of a sub-struct (e.g. the stepper options) under a prefix.
@@ -29,33 +29,20 @@
 #include <nlohmann/json.hpp>
 
 #include "moreau/common/error.h"
+#include "moreau/common/field_list.h"
 #include "moreau/common/memory.h"
 #include "scenario.h"
 
 namespace moreau::cli {
 
-// The allowed values of a numeric field.
-struct Range {
-  double min = -std::numeric_limits<double>::infinity();
-  double max = std::numeric_limits<double>::infinity();
-  bool min_open = false;
-  bool max_open = false;
-  std::string why;  // added to the error message ("so that the time step T/N is positive")
+using moreau::Range;
 
-  static Range Any() { return {}; }
-  static Range Positive() { return {0.0, Range{}.max, true, false, ""}; }      // > 0
-  static Range NonNegative() { return {0.0, Range{}.max, false, false, ""}; }  // ≥ 0
-  static Range AtLeast(double a) { return {a, Range{}.max, false, false, ""}; }
-  static Range Closed(double a, double b) { return {a, b, false, false, ""}; }   // [a, b]
-  static Range Open(double a, double b) { return {a, b, true, true, ""}; }       // (a, b)
-  static Range LeftOpen(double a, double b) { return {a, b, true, false, ""}; }  // (a, b]
-  Range Because(std::string reason) const;
+// Throws through scenario.Fail ("must be > 0 (got -1)" + why) when v is outside `range`.
+void CheckRange(const Scenario& scenario, std::string_view key, const Range& range, double v,
+                std::string_view got);
 
-  bool Contains(double v) const;
-  std::string Describe() const;  // "> 0", "≥ 1", "in [3, 1000]", "" for Any()
-  // Throws through scenario.Fail: "must be > 0 (got -1)" (+ why).
-  void Check(const Scenario& scenario, std::string_view key, double v, std::string_view got) const;
-};
+// A scenario value as JSON (number, integer, boolean, string, array); marks the key used.
+nlohmann::json NodeToJson(const toml::node& node);
 
 // The most trajectory frames one run may write (docs/reliability.md, "Limits and validation").
 inline constexpr std::int64_t kMaxFrames = 1'000'000;
@@ -65,14 +52,29 @@ inline constexpr std::int64_t kMaxFrames = 1'000'000;
 // above kMaxFrames.
 std::int64_t CheckFrameCount(std::int64_t steps, std::int64_t stride);
 
-// Sets j[a][b]… = value for the dotted key "a.b…".
-void SetDotted(nlohmann::json& j, std::string_view key, nlohmann::json value);
 // Runs `work`; a std::bad_alloc it throws is re-thrown as OutOfMemoryError "FILE: KEY: out of
 // memory while reading this key".
 void NamingAllocations(const Scenario& scenario, std::string_view key,
                        const std::function<void()>& work);
-// Runs `check`; an InputError it throws is re-thrown as "FILE: KEY: REASON".
+// Runs `check`; an InputError it throws is re-thrown as "FILE: KEY: REASON", KEY being `key`
+// followed by the error's own key when it names one ("solver" + "h": "solver.h").
 void WithKey(const Scenario& scenario, std::string_view key, const std::function<void()>& check);
+
+// A key of a command's reference (`moreau keys`).
+struct KeyRow {
+  std::string key, type, default_value, range, unit, help;
+};
+
+// The rows of a library list under "prefix." (defaults of a default-constructed T).
+template <class T>
+std::vector<KeyRow> ListRows(const moreau::FieldList<T>& list, const std::string& prefix) {
+  std::vector<KeyRow> rows;
+  const T defaults{};
+  for (const auto& f : list.fields()) {
+    rows.push_back({prefix + "." + f.key, f.type, f.get(defaults).dump(), f.range, f.unit, f.help});
+  }
+  return rows;
+}
 
 template <class S>
 class FieldTable {
@@ -85,7 +87,24 @@ class FieldTable {
     bool required = false;
     std::function<void(Scenario&, S&, const std::string& key)> read;
     std::function<nlohmann::json(const S&)> echo;  // null json: not echoed
+    // Fields mounted from a library list: sets the member from JSON ("" or the reason).
+    std::function<std::string(S&, const nlohmann::json&)> set = nullptr;
+    std::string unit = "";
   };
+
+  // Where a library list's key lands in the scenario: under `prefix`, except a key that one of
+  // `moved`'s entries names, or that lies below it, which goes to the scenario key it maps to
+  // (the control command's [newton] and [fixed_point] tables hold ContinuationOptions' newton.*
+  // and fixed_point.*); mapped to "", the key is not mounted (the command sets that member from
+  // another key, e.g. the engine's seed from problem.seed).
+  using Moved = std::vector<std::pair<std::string, std::string>>;
+  static std::string Rekey(const std::string& prefix, const Moved& moved, const std::string& key) {
+    for (const auto& [from, to] : moved) {
+      if (key == from) return to;
+      if (key.starts_with(from + ".") && !to.empty()) return to + key.substr(from.size());
+    }
+    return Prefixed(prefix, key);
+  }
 
   template <class A>
   FieldTable& Number(std::string key, A ref, Range range, std::string help) {
@@ -93,7 +112,7 @@ class FieldTable {
                 [ref, range](Scenario& sc, S& s, const std::string& k) {
                   double& v = std::invoke(ref, s);
                   v = sc.GetDouble(k, v);
-                  range.Check(sc, k, v, fmt::format("{}", v));
+                  CheckRange(sc, k, range, v, fmt::format("{}", v));
                 },
                 Echoer(ref)});
   }
@@ -106,7 +125,7 @@ class FieldTable {
                   std::optional<double>& v = std::invoke(ref, s);
                   if (sc.Has(k)) {
                     v = sc.GetDouble(k, 0.0);
-                    range.Check(sc, k, *v, fmt::format("{}", *v));
+                    CheckRange(sc, k, range, *v, fmt::format("{}", *v));
                   } else {
                     (void)sc.GetNode(k);  // known key, absent
                   }
@@ -129,8 +148,8 @@ class FieldTable {
                   T& v = std::invoke(ref, s);
                   const std::int64_t read = sc.GetInt(k, static_cast<std::int64_t>(v));
                   const std::string got = fmt::format("{}", read);
-                  range.Check(sc, k, static_cast<double>(read), got);
-                  type_range.Check(sc, k, static_cast<double>(read), got);
+                  CheckRange(sc, k, range, static_cast<double>(read), got);
+                  CheckRange(sc, k, type_range, static_cast<double>(read), got);
                   v = static_cast<T>(read);
                 },
                 Echoer(ref)});
@@ -238,13 +257,81 @@ class FieldTable {
            },
            f.echo ? std::function<nlohmann::json(const S&)>(
                         [ref, echo = f.echo](const S& s) { return echo(std::invoke(ref, s)); })
-                  : nullptr});
+                  : nullptr,
+           f.set ? std::function<std::string(S&, const nlohmann::json&)>(
+                       [ref, set = f.set](S& s, const nlohmann::json& j) {
+                         return set(std::invoke(ref, s), j);
+                       })
+                 : nullptr,
+           f.unit});
     }
     for (const auto& item : sub.checks()) {  // no structured binding: clang 14 cannot capture one
       checks_.emplace_back(Prefixed(prefix, item.first),
                            [ref, check = item.second](const S& s) { check(std::invoke(ref, s)); });
     }
     return *this;
+  }
+
+  // Every field of the library's list of the options struct ref(s) under "prefix." (an empty
+  // prefix keeps the list's keys): read from the scenario, checked and echoed by the list, so the
+  // CLI states no rule of its own; then the list's Validate() as this table's check.
+  template <class T, class A>
+  FieldTable& Mount(const std::string& prefix, A ref, const moreau::FieldList<T>& list,
+                    Moved moved = {}) {
+    for (const typename moreau::FieldList<T>::Field& f : list.fields()) {
+      auto set = [ref, set = f.set](S& s, const nlohmann::json& j) {
+        return set(std::invoke(ref, s), j);
+      };
+      const std::string key = Rekey(prefix, moved, f.key);
+      if (key.empty()) continue;
+      Add({key, f.type, f.range, f.help, false,
+           [set](Scenario& sc, S& s, const std::string& k) {
+             const toml::node* node = sc.GetNode(k);
+             if (node == nullptr) return;
+             const std::string why = set(s, NodeToJson(*node));
+             if (!why.empty()) sc.Fail(k, why);
+           },
+           [ref, get = f.get](const S& s) { return get(std::invoke(ref, s)); }, set, f.unit});
+    }
+    // The list's Validate() names its own key; report it under the scenario's key.
+    checks_.emplace_back("", [ref, &list, prefix, moved](const S& s) {
+      try {
+        list.Validate(std::invoke(ref, s));
+      } catch (const InputError& e) {
+        throw InputError(Rekey(prefix, moved, e.key()), e.reason());
+      }
+    });
+    return *this;
+  }
+
+  // Marks the field `key` as required: absent, Read fails "required key is missing".
+  FieldTable& Require(const std::string& key) {
+    for (Field& f : fields_) {
+      if (f.key == key) f.required = true;
+    }
+    return *this;
+  }
+
+  // The mounted thread count `key` (≥ 0, 0: automatic) is capped to the machine's hardware
+  // threads, with a warning line on stderr (oversubscribed threads only wait for each other).
+  FieldTable& CapThreads(const std::string& key) {
+    for (Field& f : fields_) {
+      if (f.key != key) continue;
+      MOREAU_ASSERT(f.set != nullptr);
+      f.read = [read = f.read, echo = f.echo, set = f.set](Scenario& sc, S& s,
+                                                           const std::string& k) {
+        read(sc, s, k);
+        const auto hardware = static_cast<std::int64_t>(std::thread::hardware_concurrency());
+        const auto v = echo(s).template get<std::int64_t>();
+        if (hardware > 0 && v > hardware) {
+          sc.Warn(k, fmt::format("{} threads is more than the {} hardware threads; using {}", v,
+                                 hardware, hardware));
+          (void)set(s, hardware);
+        }
+      };
+      return *this;
+    }
+    MOREAU_ASSERT(false);  // no such key
   }
 
   // A std::bad_alloc while reading or checking a key becomes OutOfMemoryError naming the key.
@@ -270,18 +357,18 @@ class FieldTable {
     return j;
   }
 
-  // "key  type  default  range  help", one line per field (the defaults are those of `defaults`).
-  std::string Describe(const S& defaults) const {
-    std::string out;
+  // One row per field (the defaults are those of `defaults`): the key reference.
+  std::vector<KeyRow> Rows(const S& defaults) const {
+    std::vector<KeyRow> rows;
     for (const Field& f : fields_) {
       const nlohmann::json value = f.echo ? f.echo(defaults) : nlohmann::json();
-      out += fmt::format("{:<32} {:<18} {:<14} {:<16} {}\n", f.key, f.type,
-                         f.required        ? "(required)"
-                         : value.is_null() ? "-"
-                                           : value.dump(),
-                         f.range, f.help);
+      rows.push_back({f.key, f.type,
+                      f.required        ? "(required)"
+                      : value.is_null() ? "-"
+                                        : value.dump(),
+                      f.range, f.unit, f.help});
     }
-    return out;
+    return rows;
   }
 
   const std::vector<Field>& fields() const { return fields_; }

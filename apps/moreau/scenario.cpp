@@ -38,6 +38,17 @@ toml::table ParseOverrideValue(const std::string& value) {
   }
 }
 
+// The table of `entries` whose key "name" is `name`, or nullptr.
+toml::node* NamedEntry(toml::array& entries, std::string_view name) {
+  for (toml::node& entry : entries) {
+    const toml::table* t = entry.as_table();
+    if (t != nullptr && t->get("name") != nullptr && t->get("name")->value<std::string>() == name) {
+      return &entry;
+    }
+  }
+  return nullptr;
+}
+
 const char* TypeName(const toml::node& node) {
   switch (node.type()) {
     case toml::node_type::string:
@@ -160,6 +171,15 @@ void Scenario::ApplyOverrides(const std::vector<std::string>& overrides) {
         table->insert(parts[i], toml::table{});
         child = table->get(parts[i]);
       }
+      if (toml::array* entries = child->as_array(); entries != nullptr && i + 2 < parts.size()) {
+        // An array of tables named by their `name` key ([[types]]): types.cell.radius.
+        child = NamedEntry(*entries, parts[i + 1]);
+        if (child == nullptr) {
+          throw InputError(fmt::format("--set {}: no [[{}]] entry has name = \"{}\"", item,
+                                       parts[i], parts[i + 1]));
+        }
+        ++i;
+      }
       table = child->as_table();
       if (table == nullptr) {
         throw InputError(fmt::format("--set {}: {} is not a table", item, parts[i]));
@@ -186,7 +206,7 @@ void Scenario::MarkUsed(std::string_view key) { used_.emplace(key); }
 bool Scenario::Has(std::string_view key) const { return Find(key) != nullptr; }
 
 void Scenario::Fail(std::string_view key, std::string_view reason) const {
-  throw InputError(fmt::format("{}: {}: {}", path_, key, reason));
+  throw ScenarioError(fmt::format("{}: {}: {}", path_, key, reason));
 }
 
 void Scenario::Warn(std::string_view key, std::string_view text) const {

@@ -17,7 +17,15 @@
 
 #include <toml++/toml.h>
 
+#include "moreau/common/error.h"
+
 namespace moreau::cli {
+
+// An InputError that names its file and key already ("FILE: KEY: REASON").
+class ScenarioError : public InputError {
+ public:
+  using InputError::InputError;
+};
 
 class Scenario {
  public:

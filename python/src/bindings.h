@@ -9,9 +9,13 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 #include <nlohmann/json.hpp>
+
+#include "moreau/common/error.h"
 
 namespace moreau::python {
 
@@ -25,17 +29,52 @@ void RegisterMocap(py::module_& m);
 // JSON → Python objects (dict, list, float, int, str, None) through the json module.
 py::object JsonToPython(const nlohmann::json& j);
 
-// Sets the attributes named by the keyword arguments on `self` (an options object). An unknown
-// name raises ValueError "TYPE: unknown option 'NAME'"; a value of the wrong type TypeError.
+// Python → JSON (bool, int, float, str, lists and tuples of them; numpy scalars through
+// __index__ / __float__); TypeError for anything else.
+nlohmann::json PythonToJson(const py::handle& value);
+
+// Sets the attributes named by the keyword arguments on `self` (an object without a field list:
+// a model, a case). An unknown name raises ValueError "TYPE: unknown option 'NAME'".
 void SetOptions(py::object self, const py::kwargs& kwargs);
 
+// The type has a field list (field_list.h): its keys, ranges and help are those of the tool.
+template <typename T>
+concept HasFieldList = requires {
+  T::Fields();
+};
+
+// Sets `object`'s fields from keyword arguments: a key of T::Fields() (dotted keys through
+// **{"newton.armijo": 0.1}) is set and checked by the list (ValueError "KEY: REASON", the
+// tool's reason); another name must be an attribute (a nested options object).
+template <typename T>
+void SetFields(T& object, const py::kwargs& kwargs) {
+  if constexpr (HasFieldList<T>) {
+    py::kwargs rest;
+    for (const auto& [key, value] : kwargs) {
+      const std::string name = py::str(key);
+      if (T::Fields().Find(name) != nullptr) {
+        T::Fields().Set(object, name, PythonToJson(value));
+      } else {
+        rest[key] = value;
+      }
+    }
+    SetOptions(py::cast(&object, py::return_value_policy::reference), rest);
+  } else {
+    SetOptions(py::cast(&object, py::return_value_policy::reference), kwargs);
+  }
+}
+
 // A new T (an options struct, a model, a case) from keyword arguments named like its fields, then
-// T::Validate() when T has one: the constructor `T(**kwargs)` of every options type.
+// its field list's checks (or T::Validate() for a type without a list): `T(**kwargs)`.
 template <typename T>
 std::unique_ptr<T> FromKwargs(const py::kwargs& kwargs) {
   auto object = std::make_unique<T>();
-  SetOptions(py::cast(object.get(), py::return_value_policy::reference), kwargs);
-  if constexpr (requires(const T& t) { t.Validate(); }) object->Validate();
+  SetFields(*object, kwargs);
+  if constexpr (HasFieldList<T>) {
+    T::Fields().Validate(*object);  // the fields; validate() checks the whole (e.g. the types)
+  } else if constexpr (requires(const T& t) { t.Validate(); }) {
+    object->Validate();
+  }
   return object;
 }
 
@@ -44,8 +83,95 @@ std::unique_ptr<T> FromKwargs(const py::kwargs& kwargs) {
 template <typename T>
 T WithKwargs(const std::optional<T>& base, const py::kwargs& kwargs) {
   T object = base.value_or(T{});
-  SetOptions(py::cast(&object, py::return_value_policy::reference), kwargs);
+  SetFields(object, kwargs);
   return object;
+}
+
+// "Keyword arguments (the tool's keys):" and one line per key of the list: type, default, range,
+// unit, help. The docstring of an options class.
+template <typename T>
+std::string FieldsDoc(const std::string& summary) {
+  std::string doc = summary +
+                    "\n\nKeyword arguments and attributes (the tool's keys; dotted ones "
+                    "through set()):\n";
+  const T defaults{};
+  for (const auto& f : T::Fields().fields()) {
+    doc += "  " + f.key + " (" + f.type + (f.range.empty() ? "" : ", " + f.range) +
+           (f.unit.empty() ? "" : ", " + f.unit) + "; default " + f.get(defaults).dump() +
+           "): " + f.help + "\n";
+  }
+  return doc;
+}
+
+// An options class from its field list: T(**kwargs) (validated), a property per undotted key
+// (read and written as the tool reads them, checked on assignment), set(key, value) and
+// get(key) for every key, keys(), validate() and to_dict(). Returns the class for additions
+// (nested options objects as attributes).
+template <typename T>
+py::class_<T> BindOptionsClass(py::handle scope, const char* name, const std::string& summary) {
+  py::class_<T> c(scope, name, FieldsDoc<T>(summary).c_str());
+  c.def(py::init(&FromKwargs<T>));
+  for (const auto& f : T::Fields().fields()) {
+    if (f.key.find('.') != std::string::npos) continue;
+    const std::string key = f.key;
+    c.def_property(
+        key.c_str(), [key](const T& o) { return JsonToPython(T::Fields().Find(key)->get(o)); },
+        [key](T& o, const py::object& v) { T::Fields().Set(o, key, PythonToJson(v)); },
+        f.help.c_str());
+  }
+  c.def(
+       "set",
+       [](T& o, const std::string& key, const py::object& v) {
+         T::Fields().Set(o, key, PythonToJson(v));
+       },
+       py::arg("key"), py::arg("value"), "Sets a key (dotted for nested options), checked.")
+      .def(
+          "get",
+          [](const T& o, const std::string& key) {
+            const auto* f = T::Fields().Find(key);
+            if (f == nullptr) throw InputError(key, "unknown key");
+            return JsonToPython(f->get(o));
+          },
+          py::arg("key"), "The value of a key (dotted for nested options).")
+      .def_static(
+          "keys",
+          [] {
+            std::vector<std::string> keys;
+            for (const auto& f : T::Fields().fields()) keys.push_back(f.key);
+            return keys;
+          },
+          "Every key, as the tool names it below its table.")
+      .def_static(
+          "fields",
+          [] {
+            py::list out;
+            const T defaults{};
+            for (const auto& f : T::Fields().fields()) {
+              py::dict d;
+              d["key"] = f.key;
+              d["type"] = f.type;
+              d["range"] = f.range;
+              d["unit"] = f.unit;
+              d["help"] = f.help;
+              d["default"] = JsonToPython(f.get(defaults));
+              out.append(d);
+            }
+            return out;
+          },
+          "Every field: key, type, range, unit, help and default.")
+      .def("validate",
+           [](const T& o) {
+             if constexpr (requires { o.Validate(); }) {
+               o.Validate();
+             } else {
+               T::Fields().Validate(o);
+             }
+           })
+      .def("to_dict", [](const T& o) { return JsonToPython(T::Fields().ToJson(o)); })
+      .def("__repr__", [name](const T& o) {
+        return std::string(name) + "(" + T::Fields().ToJson(o).dump() + ")";
+      });
+  return c;
 }
 
 // Raises moreau.NumericalError(message) with the given attributes (summary, state, …).

@@ -108,42 +108,11 @@ void BindExamples(py::module_& m) {
 }
 
 void BindOptions(py::module_& m) {
-  py::class_<FixedPointOptions>(m, "FixedPointOptions")
-      .def(py::init(&FromKwargs<FixedPointOptions>))
-      .def_readwrite("sweeps", &FixedPointOptions::sweeps)
-      .def_readwrite("damping", &FixedPointOptions::damping)
-      .def_readwrite("tolerance", &FixedPointOptions::tolerance);
-  py::class_<NewtonOptions>(m, "NewtonOptions")
-      .def(py::init(&FromKwargs<NewtonOptions>))
-      .def_readwrite("max_iterations", &NewtonOptions::max_iterations)
-      .def_readwrite("residual_tolerance", &NewtonOptions::residual_tolerance)
-      .def_property(
-          "linear_solver",
-          [](const NewtonOptions& o) { return std::string(ToString(o.linear_solver)); },
-          [](NewtonOptions& o, const std::string& s) {
-            o.linear_solver = ParseLinearSolverType(s);
-          })
-      .def_readwrite("armijo", &NewtonOptions::armijo)
-      .def_readwrite("min_step", &NewtonOptions::min_step)
-      .def_readwrite("divergence_threshold", &NewtonOptions::divergence_threshold)
-      .def_readwrite("threads", &NewtonOptions::threads);
-  py::class_<ContinuationOptions>(m, "ContinuationOptions", "Keys of [continuation].")
-      .def(py::init(&FromKwargs<ContinuationOptions>))
-      .def_readwrite("path_start", &ContinuationOptions::path_start)
-      .def_readwrite("path_increase", &ContinuationOptions::path_increase)
-      .def_readwrite("stiffness_start", &ContinuationOptions::stiffness_start)
-      .def_readwrite("stiffness_increase", &ContinuationOptions::stiffness_increase)
-      .def_readwrite("gamma_start", &ContinuationOptions::gamma_start)
-      .def_readwrite("gamma_decrease", &ContinuationOptions::gamma_decrease)
-      .def_readwrite("min_increase", &ContinuationOptions::min_increase)
-      .def_readwrite("max_solves", &ContinuationOptions::max_solves)
-      .def_readwrite("coarse_steps", &ContinuationOptions::coarse_steps)
-      .def_readwrite("refine_factor", &ContinuationOptions::refine_factor)
-      .def_readwrite("start_steps", &ContinuationOptions::start_steps)
+  BindOptionsClass<FixedPointOptions>(m, "FixedPointOptions", "Keys of [fixed_point].");
+  BindOptionsClass<NewtonOptions>(m, "NewtonOptions", "Keys of [newton].");
+  BindOptionsClass<ContinuationOptions>(m, "ContinuationOptions", "Keys of [continuation].")
       .def_readwrite("fixed_point", &ContinuationOptions::fixed_point)
-      .def_readwrite("newton", &ContinuationOptions::newton)
-      .def("validate", &ContinuationOptions::Validate)
-      .def("to_dict", [](const ContinuationOptions& o) { return JsonToPython(o.ToJson()); });
+      .def_readwrite("newton", &ContinuationOptions::newton);
   BindSummary<ContinuationSummary>(m, "ContinuationSummary", "How the solve ended.")
       .def("brief_report", &ContinuationSummary::BriefReport);
 }

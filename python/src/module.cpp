@@ -16,6 +16,24 @@ py::object JsonToPython(const nlohmann::json& j) {
   return loads(j.dump());
 }
 
+nlohmann::json PythonToJson(const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const py::handle item : value) j.push_back(PythonToJson(item));
+    return j;
+  }
+  if (py::isinstance<py::int_>(value) || py::hasattr(value, "__index__")) {
+    return py::int_(py::reinterpret_borrow<py::object>(value)).cast<std::int64_t>();
+  }
+  if (py::isinstance<py::float_>(value) || py::hasattr(value, "__float__")) {
+    return py::float_(py::reinterpret_borrow<py::object>(value)).cast<double>();
+  }
+  throw py::type_error("expected a number, a boolean, a string or a list of them, got " +
+                       std::string(py::str(py::type::of(value).attr("__name__"))));
+}
+
 void SetOptions(py::object self, const py::kwargs& kwargs) {
   for (const auto& [key, value] : kwargs) {
     const std::string name = py::str(key);

@@ -13,6 +13,7 @@
 #include "moreau/common/error.h"
 #include "moreau/common/steps.h"
 #include "moreau/particles/engine.h"
+#include "moreau/particles/population.h"
 #include "moreau/particles/room.h"
 
 namespace moreau::python {
@@ -174,38 +175,11 @@ void BindRoomAndForces(py::module_& m) {
 }
 
 void BindEngineOptions(py::module_& m) {
-  py::class_<EngineOptions>(m, "EngineOptions", "Keys of [solver] for the particle engine.")
-      .def(py::init(&FromKwargs<EngineOptions>))
-      .def_readwrite("h", &EngineOptions::h)
-      .def_readwrite("seed", &EngineOptions::seed)
-      .def_property(
-          "order", [](const EngineOptions& o) { return std::string(SweepOrderName(o.order)); },
-          [](EngineOptions& o, const std::string& name) { o.order = ParseSweepOrder(name); })
-      .def_property(
-          "search",
-          [](const EngineOptions& o) {
-            return std::string(o.search == NeighbourSearch::kCellGrid ? "cell_grid"
-                                                                      : "brute_force");
-          },
-          [](EngineOptions& o, const std::string& name) {
-            if (name == "cell_grid") {
-              o.search = NeighbourSearch::kCellGrid;
-            } else if (name == "brute_force") {
-              o.search = NeighbourSearch::kBruteForce;
-            } else {
-              throw InputError("search must be cell_grid or brute_force (got '" + name + "')");
-            }
-          })
-      .def_readwrite("skin_factor", &EngineOptions::skin_factor)
-      .def_readwrite("threads", &EngineOptions::threads)
-      .def_readwrite("block_cells", &EngineOptions::block_cells)
-      .def_readwrite("sweeps", &EngineOptions::sweeps)
-      .def_readwrite("monitor_overlap", &EngineOptions::monitor_overlap)
-      .def_readwrite("check_initial_state", &EngineOptions::check_initial_state)
-      .def_readwrite("initial_tolerance", &EngineOptions::initial_tolerance)
-      .def_readwrite("memory_limit_bytes", &EngineOptions::memory_limit_bytes)
-      .def("validate", &EngineOptions::Validate)
-      .def("to_dict", [](const EngineOptions& o) { return JsonToPython(o.ToJson()); });
+  BindOptionsClass<EngineOptions>(m, "EngineOptions", "Keys of [solver] for the particle engine.");
+  BindOptionsClass<AgentType>(m, "AgentType", "One agent type: the keys of a [[types]] table.");
+  BindOptionsClass<PopulationRules>(m, "PopulationRules",
+                                    "The population's rules: keys of [population]; types by name.")
+      .def_readwrite("types", &PopulationRules::types);
   BindSummary<EngineSummary>(m, "EngineSummary",
                              "How a run ended: termination, message, counters, *_seconds.")
       .def("brief_report", &EngineSummary::BriefReport);

@@ -177,19 +177,7 @@ void BindDrifts(py::module_& m) {
 }
 
 void BindStepper(py::module_& m) {
-  py::class_<StepperOptions>(m, "StepperOptions", "Keys of [solver]: method, h, abstol, …")
-      .def(py::init(&FromKwargs<StepperOptions>))
-      .def_property(
-          "method", [](const StepperOptions& o) { return std::string(MethodName(o.method)); },
-          [](StepperOptions& o, const std::string& name) { o.method = ParseMethod(name); })
-      .def_readwrite("h", &StepperOptions::h)
-      .def_readwrite("abstol", &StepperOptions::abstol)
-      .def_readwrite("reltol", &StepperOptions::reltol)
-      .def_readwrite("max_sweeps", &StepperOptions::max_sweeps)
-      .def_readwrite("penalty", &StepperOptions::penalty)
-      .def_readwrite("monitor_violation", &StepperOptions::monitor_violation)
-      .def("validate", &StepperOptions::Validate)
-      .def("to_dict", [](const StepperOptions& o) { return JsonToPython(o.ToJson()); });
+  BindOptionsClass<StepperOptions>(m, "StepperOptions", "Keys of [solver] of run and study.");
   BindSummary<SimulationSummary>(m, "SimulationSummary", "How a simulation ended.")
       .def("brief_report", &SimulationSummary::BriefReport);
 

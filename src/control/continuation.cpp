@@ -35,49 +35,39 @@ ProblemFamily LinearPathFamily(const TrackingProblem& problem) {
   };
 }
 
-void ContinuationOptions::Validate() const {
-  auto fail = [](const char* field, const std::string& reason) {
-    throw InputError(fmt::format("continuation.{}: {}", field, reason));
-  };
-  if (!(path_start > 0.0 && path_start <= 1.0)) {
-    fail("path_start", fmt::format("must be in (0, 1], got {}", path_start));
-  }
-  if (!(path_increase > 0.0))
-    fail("path_increase", fmt::format("must be > 0, got {}", path_increase));
-  if (!(stiffness_start > 0.0 && stiffness_start <= 1.0)) {
-    fail("stiffness_start", fmt::format("must be in (0, 1], got {}", stiffness_start));
-  }
-  if (!(stiffness_increase > 0.0)) {
-    fail("stiffness_increase", fmt::format("must be > 0, got {}", stiffness_increase));
-  }
-  if (!(gamma_start >= 0.0) || !std::isfinite(gamma_start)) {
-    fail("gamma_start", fmt::format("must be >= 0, got {}", gamma_start));
-  }
-  if (!(gamma_decrease > 0.0 && gamma_decrease < 1.0)) {
-    fail("gamma_decrease", fmt::format("must be in (0, 1), got {}", gamma_decrease));
-  }
-  if (!(min_increase > 0.0 && min_increase < 1.0)) {
-    fail("min_increase", fmt::format("must be in (0, 1), got {}", min_increase));
-  }
-  if (max_solves < 1) fail("max_solves", fmt::format("must be >= 1, got {}", max_solves));
-  if (coarse_steps < 0) fail("coarse_steps", fmt::format("must be >= 0, got {}", coarse_steps));
-  if (refine_factor < 2) {
-    fail("refine_factor", fmt::format("must be >= 2, got {}", refine_factor));
-  }
-  if (start_steps < 0) fail("start_steps", fmt::format("must be >= 0, got {}", start_steps));
-  fixed_point.Validate();
-  newton.Validate();
+const FieldList<ContinuationOptions>& ContinuationOptions::Fields() {
+  using O = ContinuationOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Number("path_start", &O::path_start, Range::LeftOpen(0, 1), "",
+             "p_0 (1: no path continuation)")
+        .Number("path_increase", &O::path_increase, Range::Positive(), "", "C^p")
+        .Number("stiffness_start", &O::stiffness_start, Range::LeftOpen(0, 1), "",
+                "s_0: κ and ξ start at s_0 × target (1: no stiffness continuation)")
+        .Number("stiffness_increase", &O::stiffness_increase, Range::Positive(), "", "C^κξ")
+        .Number("gamma_start", &O::gamma_start, Range::NonNegative(), "",
+                "γ_0 (≤ the target γ: no δ continuation)")
+        .Number("gamma_decrease", &O::gamma_decrease, Range::Open(0, 1), "", "C^δ")
+        .Number("min_increase", &O::min_increase, Range::Open(0, 1), "",
+                "smallest coefficient before a stage gives up")
+        .Integer("max_solves", &O::max_solves, Range::AtLeast(1), "",
+                 "Newton solves in all, accepted or not")
+        .Integer("coarse_steps", &O::coarse_steps, Range::NonNegative(), "",
+                 "coarse-to-fine: largest coarse grid (0: all stages on the requested grid)")
+        .Integer("refine_factor", &O::refine_factor, Range::AtLeast(2), "",
+                 "ratio of successive grids")
+        .Integer("start_steps", &O::start_steps, Range::NonNegative(), "",
+                 "largest grid of the stages before γ (0: the coarse grid)")
+        .Mount("fixed_point", &O::fixed_point, FixedPointOptions::Fields())
+        .Mount("newton", &O::newton, NewtonOptions::Fields());
+    return t;
+  }();
+  return list;
 }
 
-nlohmann::json ContinuationOptions::ToJson() const {
-  return {{"path_start", path_start},           {"path_increase", path_increase},
-          {"stiffness_start", stiffness_start}, {"stiffness_increase", stiffness_increase},
-          {"gamma_start", gamma_start},         {"gamma_decrease", gamma_decrease},
-          {"min_increase", min_increase},       {"max_solves", max_solves},
-          {"coarse_steps", coarse_steps},       {"refine_factor", refine_factor},
-          {"start_steps", start_steps},         {"fixed_point", fixed_point.ToJson()},
-          {"newton", newton.ToJson()}};
-}
+void ContinuationOptions::Validate() const { Fields().Validate(*this); }
+
+nlohmann::json ContinuationOptions::ToJson() const { return Fields().ToJson(*this); }
 
 nlohmann::json GridRecord::ToJson() const {
   return {{"steps", steps},

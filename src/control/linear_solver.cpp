@@ -6,20 +6,10 @@
 
 namespace moreau::control {
 
-const char* ToString(LinearSolverType type) {
-  switch (type) {
-    case LinearSolverType::kRiccati:
-      return "riccati";
-    case LinearSolverType::kSparseLU:
-      return "sparse_lu";
-  }
-  return "unknown";
-}
+const char* ToString(LinearSolverType type) { return EnumName(kLinearSolverNames, type).data(); }
 
 LinearSolverType ParseLinearSolverType(const std::string& text) {
-  if (text == "riccati") return LinearSolverType::kRiccati;
-  if (text == "sparse_lu") return LinearSolverType::kSparseLU;
-  throw InputError(fmt::format("unknown linear solver '{}' (expected riccati or sparse_lu)", text));
+  return ParseEnumName(kLinearSolverNames, text, "linear solver");
 }
 
 namespace {

@@ -11,19 +11,23 @@
 
 namespace moreau::control {
 
-void FixedPointOptions::Validate() const {
-  if (sweeps < 0) throw InputError(fmt::format("fixed_point.sweeps: must be >= 0, got {}", sweeps));
-  if (!(damping > 0.0 && damping <= 1.0)) {
-    throw InputError(fmt::format("fixed_point.damping: must be in (0, 1], got {}", damping));
-  }
-  if (!(tolerance >= 0.0)) {
-    throw InputError(fmt::format("fixed_point.tolerance: must be >= 0, got {}", tolerance));
-  }
+const FieldList<FixedPointOptions>& FixedPointOptions::Fields() {
+  using O = FixedPointOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Integer("sweeps", &O::sweeps, Range::NonNegative(), "",
+              "forward/backward sweep pairs before the final backward sweep")
+        .Number("damping", &O::damping, Range::LeftOpen(0, 1), "", "θ: z ← z + θ (z̃ − z)")
+        .Number("tolerance", &O::tolerance, Range::NonNegative(), "",
+                "stop early when max |z̃ − z| < this (0: never)");
+    return t;
+  }();
+  return list;
 }
 
-nlohmann::json FixedPointOptions::ToJson() const {
-  return {{"sweeps", sweeps}, {"damping", damping}, {"tolerance", tolerance}};
-}
+void FixedPointOptions::Validate() const { Fields().Validate(*this); }
+
+nlohmann::json FixedPointOptions::ToJson() const { return Fields().ToJson(*this); }
 
 nlohmann::json FixedPointSummary::ToJson() const {
   nlohmann::json j = SummaryJson(termination, message, total_seconds);
@@ -96,35 +100,37 @@ FixedPointSummary FixedPointSweep(const PontryaginDiscretization& disc,
   return summary;
 }
 
-void NewtonOptions::Validate() const {
-  if (max_iterations < 1) {
-    throw InputError(fmt::format("newton.max_iterations: must be >= 1, got {}", max_iterations));
-  }
-  if (!(residual_tolerance > 0.0)) {
-    throw InputError(
-        fmt::format("newton.residual_tolerance: must be > 0, got {}", residual_tolerance));
-  }
-  if (!(armijo > 0.0 && armijo < 0.5)) {
-    throw InputError(fmt::format("newton.armijo: must be in (0, 0.5), got {}", armijo));
-  }
-  if (!(min_step > 0.0 && min_step <= 1.0)) {
-    throw InputError(fmt::format("newton.min_step: must be in (0, 1], got {}", min_step));
-  }
-  if (threads < 0) throw InputError(fmt::format("newton.threads: must be >= 0, got {}", threads));
-  if (!(divergence_threshold > residual_tolerance)) {
-    throw InputError("newton.divergence_threshold: must exceed newton.residual_tolerance");
-  }
+const FieldList<NewtonOptions>& NewtonOptions::Fields() {
+  using O = NewtonOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Integer("max_iterations", &O::max_iterations, Range::AtLeast(1), "",
+              "Newton iterations (Jacobian factorisations)")
+        .Number("residual_tolerance", &O::residual_tolerance, Range::Positive(), "solver units",
+                "converged when ‖F(y)‖_∞ ≤ this")
+        .Choice("linear_solver", &O::linear_solver, kLinearSolverNames,
+                "solver of the Newton system: the Riccati sweep or sparse LU")
+        .Number("armijo", &O::armijo, Range::Open(0, 0.5), "",
+                "sufficient decrease c: ½‖F(y+αδ)‖² ≤ (1 − 2cα) ½‖F(y)‖²")
+        .Number("min_step", &O::min_step, Range::LeftOpen(0, 1), "",
+                "the line search gives up below this step length α")
+        .Number("divergence_threshold", &O::divergence_threshold, Range::Positive(), "solver units",
+                "‖F‖_∞ above this (or non-finite) counts as divergence")
+        .Integer("threads", &O::threads, Range::NonNegative(), "",
+                 "OpenMP threads over time steps (0: the OpenMP default); same bits for any")
+        .Rule("divergence_threshold", [](const O& o) {
+          return o.divergence_threshold > o.residual_tolerance
+                     ? std::string()
+                     : std::string("must exceed residual_tolerance");
+        });
+    return t;
+  }();
+  return list;
 }
 
-nlohmann::json NewtonOptions::ToJson() const {
-  return {{"max_iterations", max_iterations},
-          {"residual_tolerance", residual_tolerance},
-          {"linear_solver", control::ToString(linear_solver)},
-          {"armijo", armijo},
-          {"min_step", min_step},
-          {"divergence_threshold", divergence_threshold},
-          {"threads", threads}};
-}
+void NewtonOptions::Validate() const { Fields().Validate(*this); }
+
+nlohmann::json NewtonOptions::ToJson() const { return Fields().ToJson(*this); }
 
 nlohmann::json NewtonSummary::ToJson() const {
   nlohmann::json j = SummaryJson(termination, message, total_seconds);

@@ -9,49 +9,45 @@
 
 namespace moreau::particles {
 
-std::string_view SweepOrderName(SweepOrder order) {
-  return order == SweepOrder::kColoured ? "coloured" : "lexicographic";
-}
+std::string_view SweepOrderName(SweepOrder order) { return EnumName(kSweepOrderNames, order); }
 
 SweepOrder ParseSweepOrder(std::string_view name) {
-  if (name == "coloured" || name == "colored") return SweepOrder::kColoured;
-  if (name == "lexicographic") return SweepOrder::kLexicographic;
-  throw InputError(
-      fmt::format("unknown sweep order '{}' (expected coloured or lexicographic)", name));
+  if (name == "colored") return SweepOrder::kColoured;
+  return ParseEnumName(kSweepOrderNames, name, "sweep order");
 }
 
-void EngineOptions::Validate() const {
-  if (!(h > 0.0) || !std::isfinite(h)) throw InputError(fmt::format("h must be > 0 (got {})", h));
-  if (!(skin_factor > 0.0) || !std::isfinite(skin_factor)) {
-    throw InputError(fmt::format("skin_factor must be > 0 (got {})", skin_factor));
-  }
-  if (threads < 0) throw InputError(fmt::format("threads must be ≥ 0 (got {})", threads));
-  if (sweeps < 1) throw InputError(fmt::format("sweeps must be ≥ 1 (got {})", sweeps));
-  if (block_cells < 0) {
-    throw InputError(fmt::format("block_cells must be ≥ 0 (got {})", block_cells));
-  }
-  if (!(initial_tolerance >= 0.0)) {
-    throw InputError(fmt::format("initial_tolerance must be ≥ 0 (got {})", initial_tolerance));
-  }
-  if (memory_limit_bytes < 0) {
-    throw InputError(fmt::format("memory_limit_bytes must be ≥ 0 (got {})", memory_limit_bytes));
-  }
+const FieldList<EngineOptions>& EngineOptions::Fields() {
+  using O = EngineOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Number("h", &O::h, Range::Positive(), "time", "time step h")
+        .Integer("seed", &O::seed, Range::Any(), "", "noise key (Philox)")
+        .Choice("order", &O::order, kSweepOrderNames, "sweep order")
+        .Choice("search", &O::search, kNeighbourSearchNames,
+                "neighbour search (brute_force: O(N²), for tests of the grid)")
+        .Number("skin_factor", &O::skin_factor, Range::Positive(), "",
+                "Verlet skin = skin_factor · max r")
+        .Integer("threads", &O::threads, Range::NonNegative(), "",
+                 "OpenMP threads (0: automatic); results do not depend on it")
+        .Integer("block_cells", &O::block_cells, Range::NonNegative(), "cells",
+                 "colouring block edge (0: automatic from the cell count)")
+        .Integer("sweeps", &O::sweeps, Range::AtLeast(1), "", "PBD sweeps per step")
+        .Flag("monitor_overlap", &O::monitor_overlap,
+              "track the largest pair overlap after every step")
+        .Flag("check_initial_state", &O::check_initial_state,
+              "reject a start with overlaps beyond initial_tolerance")
+        .Number("initial_tolerance", &O::initial_tolerance, Range::NonNegative(), "length",
+                "overlap allowed in the start")
+        .Integer("memory_limit", &O::memory_limit_bytes, Range::NonNegative(), "bytes",
+                 "memory limit for the particle count (0: what is available)");
+    return t;
+  }();
+  return list;
 }
 
-nlohmann::json EngineOptions::ToJson() const {
-  return {{"h", h},
-          {"seed", seed},
-          {"order", SweepOrderName(order)},
-          {"search", search == NeighbourSearch::kCellGrid ? "cell_grid" : "brute_force"},
-          {"skin_factor", skin_factor},
-          {"threads", threads},
-          {"block_cells", block_cells},
-          {"sweeps", sweeps},
-          {"monitor_overlap", monitor_overlap},
-          {"check_initial_state", check_initial_state},
-          {"initial_tolerance", initial_tolerance},
-          {"memory_limit_bytes", memory_limit_bytes}};
-}
+void EngineOptions::Validate() const { Fields().Validate(*this); }
+
+nlohmann::json EngineOptions::ToJson() const { return Fields().ToJson(*this); }
 
 nlohmann::json EngineSummary::ToJson() const {
   nlohmann::json j = SummaryJson(termination, message, stats.total_seconds);

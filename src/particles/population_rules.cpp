@@ -10,14 +10,10 @@
 
 namespace moreau::particles {
 
-std::string_view DivisionAxisName(DivisionAxis axis) {
-  return axis == DivisionAxis::kRandom ? "random" : "polarity";
-}
+std::string_view DivisionAxisName(DivisionAxis axis) { return EnumName(kDivisionAxisNames, axis); }
 
 DivisionAxis ParseDivisionAxis(std::string_view name) {
-  if (name == "random") return DivisionAxis::kRandom;
-  if (name == "polarity") return DivisionAxis::kPolarity;
-  throw InputError(fmt::format("unknown division axis '{}' (expected random or polarity)", name));
+  return ParseEnumName(kDivisionAxisNames, name, "division axis");
 }
 
 std::int64_t ChildId(std::int64_t mother_id, int count) {
@@ -30,63 +26,97 @@ std::int64_t ChildId(std::int64_t mother_id, int count) {
   return static_cast<std::int64_t>(z >> 2);
 }
 
-namespace {
-
-void CheckNonNegative(std::size_t t, const char* field, double v) {
-  if (!(v >= 0.0) || !std::isfinite(v)) {
-    throw InputError(fmt::format("types[{}].{} must be ≥ 0 (got {})", t, field, v));
-  }
+const FieldList<AgentType>& AgentType::Fields() {
+  using A = AgentType;
+  static const FieldList<A> list = [] {
+    const Range rate = Range::NonNegative();
+    FieldList<A> t;
+    t.Text("name", &A::name, "unique among the types")
+        .Number("radius", &A::radius, Range::Positive(), "length",
+                "r_0: initial agents' and daughters' radius")
+        .Number("growth_rate", &A::growth_rate, rate, "length/time", "g: dr/dt")
+        .Number("division_radius", &A::division_radius, rate, "length",
+                "r_div: divides at r ≥ r_div (0: never by size; else > radius)")
+        .Number("cycle_time", &A::cycle_time, rate, "time", "τ_c: divides at age ≥ τ_c (0: never)")
+        .Number("division_rate", &A::division_rate, rate, "1/time", "λ: divides at rate λ")
+        .Number("death_rate", &A::death_rate, rate, "1/time", "δ: dies at rate δ")
+        .Number("mobility", &A::mobility, Range::Positive(), "", "μ, the engine's mobility")
+        .Number("speed", &A::speed, rate, "length/time", "v0: motility along the polarity")
+        .Number("persistence_time", &A::persistence_time, rate, "time",
+                "τ_p: polarity rotational diffusion 1/τ_p (0: none)")
+        .Number("alignment", &A::alignment, rate, "1/time",
+                "J: alignment with touching agents' polarity")
+        .Number("velocity_alignment", &A::velocity_alignment, rate, "1/time",
+                "β: alignment with the own velocity")
+        .Number("max_contacts", &A::max_contacts, rate, "",
+                "c_max: grows and divides only while touching fewer (0: no inhibition)")
+        .Rule("name", [](const A& a) { return a.name.empty() ? "must not be empty" : ""; })
+        .Rule("division_radius", [](const A& a) {
+          return a.division_radius > 0.0 && !(a.division_radius > a.radius)
+                     ? fmt::format("must be > the radius {} (got {})", a.radius, a.division_radius)
+                     : std::string();
+        });
+    return t;
+  }();
+  return list;
 }
 
-void ValidateType(std::size_t t, const AgentType& a) {
-  if (a.name.empty()) throw InputError(fmt::format("types[{}].name must not be empty", t));
-  if (!(a.radius > 0.0) || !std::isfinite(a.radius)) {
-    throw InputError(fmt::format("types[{}].radius must be > 0 (got {})", t, a.radius));
-  }
-  if (!(a.mobility > 0.0) || !std::isfinite(a.mobility)) {
-    throw InputError(fmt::format("types[{}].mobility must be > 0 (got {})", t, a.mobility));
-  }
-  CheckNonNegative(t, "growth_rate", a.growth_rate);
-  CheckNonNegative(t, "division_radius", a.division_radius);
-  CheckNonNegative(t, "cycle_time", a.cycle_time);
-  CheckNonNegative(t, "division_rate", a.division_rate);
-  CheckNonNegative(t, "death_rate", a.death_rate);
-  CheckNonNegative(t, "speed", a.speed);
-  CheckNonNegative(t, "persistence_time", a.persistence_time);
-  CheckNonNegative(t, "alignment", a.alignment);
-  CheckNonNegative(t, "velocity_alignment", a.velocity_alignment);
-  CheckNonNegative(t, "max_contacts", a.max_contacts);
-  if (a.division_radius > 0.0 && !(a.division_radius > a.radius)) {
-    throw InputError(fmt::format("types[{}].division_radius ({}) must be > the radius ({})", t,
-                                 a.division_radius, a.radius));
-  }
+const FieldList<PopulationRules>& PopulationRules::Fields() {
+  using P = PopulationRules;
+  static const FieldList<P> list = [] {
+    FieldList<P> t;
+    t.Integer("interval", &P::interval, Range::AtLeast(1), "steps", "engine steps per rule step")
+        .Integer("seed", &P::seed, Range::Any(), "", "key of the rules' randomness")
+        .Choice("axis", &P::axis, kDivisionAxisNames, "division axis")
+        .Number("contact_factor", &P::contact_factor, Range::Closed(1.0, 1.5), "",
+                "touching: distance ≤ factor · (r_i + r_j)")
+        .Flag("relax", &P::relax, "project after every rule step until overlaps ≤ tolerance")
+        .Number("relax_tolerance", &P::relax_tolerance, Range::Positive(), "× min radius",
+                "overlap left by the relaxation")
+        .Integer("relax_max_sweeps", &P::relax_max_sweeps, Range::AtLeast(1), "",
+                 "relaxation sweeps at most")
+        .Integer("max_count", &P::max_count, Range::NonNegative(), "",
+                 "stop at this count (0: none)");
+    return t;
+  }();
+  return list;
 }
-
-}  // namespace
 
 void PopulationRules::Validate() const {
-  if (types.empty()) throw InputError("types: a population needs at least one agent type");
+  if (types.empty()) throw InputError("types", "a population needs at least one agent type");
   std::set<std::string_view> names;
-  for (std::size_t t = 0; t < types.size(); ++t) {
-    ValidateType(t, types[t]);
-    if (!names.insert(types[t].name).second) {
-      throw InputError(fmt::format("types: the name '{}' is used twice", types[t].name));
+  for (const AgentType& type : types) {
+    try {
+      AgentType::Fields().Validate(type);
+    } catch (const InputError& e) {
+      throw e.Under(type.name.empty() ? "types" : "types." + type.name);
+    }
+    if (!names.insert(type.name).second) {
+      throw InputError("types", fmt::format("the name '{}' is used twice", type.name));
     }
   }
-  if (interval < 1) throw InputError(fmt::format("interval must be ≥ 1 (got {})", interval));
+  Fields().Validate(*this);
   if (exit && exit->normal == Vec3{0.0, 0.0, 0.0}) {
-    throw InputError("exit.normal must be non-zero");
+    throw InputError("exit.normal", "must be non-zero");
   }
-  if (!(contact_factor >= 1.0 && contact_factor <= 1.5)) {
-    throw InputError(fmt::format("contact_factor must be in [1, 1.5] (got {})", contact_factor));
+}
+
+void PopulationRules::Set(std::string_view key, const nlohmann::json& value) {
+  if (!key.starts_with("types.")) return Fields().Set(*this, key, value);
+  const std::string_view rest = key.substr(6);
+  const std::size_t dot = rest.find('.');
+  const std::string_view name = rest.substr(0, dot);
+  for (AgentType& type : types) {
+    if (type.name != name) continue;
+    try {
+      AgentType::Fields().Set(type, dot == std::string_view::npos ? "" : rest.substr(dot + 1),
+                              value);
+    } catch (const InputError& e) {
+      throw e.Under("types." + std::string(name));
+    }
+    return;
   }
-  if (!(relax_tolerance > 0.0)) {
-    throw InputError(fmt::format("relax_tolerance must be > 0 (got {})", relax_tolerance));
-  }
-  if (relax_max_sweeps < 1) {
-    throw InputError(fmt::format("relax_max_sweeps must be ≥ 1 (got {})", relax_max_sweeps));
-  }
-  if (max_count < 0) throw InputError(fmt::format("max_count must be ≥ 0 (got {})", max_count));
+  throw InputError(std::string(key), fmt::format("unknown type '{}'", name));
 }
 
 int PopulationRules::TypeIndex(std::string_view name) const {
@@ -100,21 +130,7 @@ int PopulationRules::TypeIndex(std::string_view name) const {
 
 nlohmann::json PopulationRules::ToJson() const {
   nlohmann::json j;
-  for (const AgentType& a : types) {
-    j["types"].push_back({{"name", a.name},
-                          {"radius", a.radius},
-                          {"growth_rate", a.growth_rate},
-                          {"division_radius", a.division_radius},
-                          {"cycle_time", a.cycle_time},
-                          {"division_rate", a.division_rate},
-                          {"death_rate", a.death_rate},
-                          {"mobility", a.mobility},
-                          {"speed", a.speed},
-                          {"persistence_time", a.persistence_time},
-                          {"alignment", a.alignment},
-                          {"velocity_alignment", a.velocity_alignment},
-                          {"max_contacts", a.max_contacts}});
-  }
+  for (const AgentType& a : types) j["types"].push_back(AgentType::Fields().ToJson(a));
   j["interval"] = interval;
   j["seed"] = seed;
   j["axis"] = DivisionAxisName(axis);

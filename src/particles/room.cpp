@@ -8,21 +8,25 @@
 
 namespace moreau::particles {
 
-void Room::Validate() const {
-  if (!(width > 0.0) || !std::isfinite(width)) {
-    throw InputError(fmt::format("room.width must be > 0 (got {})", width));
-  }
-  if (!(height > 0.0) || !std::isfinite(height)) {
-    throw InputError(fmt::format("room.height must be > 0 (got {})", height));
-  }
-  if (!(door_width > 0.0) || !std::isfinite(door_width)) {
-    throw InputError(fmt::format("room.door_width must be > 0 (got {})", door_width));
-  }
-  if (door_width >= height) {
-    throw InputError(fmt::format(
-        "room.door_width must be smaller than the room height (got {} ≥ {})", door_width, height));
-  }
+const FieldList<Room>& Room::Fields() {
+  static const FieldList<Room> list = [] {
+    FieldList<Room> t;
+    t.Number("width", &Room::width, Range::Positive(), "length", "room width (x)")
+        .Number("height", &Room::height, Range::Positive(), "length", "room height (y)")
+        .Number("door_width", &Room::door_width, Range::Positive(), "length",
+                "door in the right wall, centred")
+        .Rule("door_width", [](const Room& r) {
+          return r.door_width < r.height
+                     ? std::string()
+                     : fmt::format("must be smaller than the room height (got {} ≥ {})",
+                                   r.door_width, r.height);
+        });
+    return t;
+  }();
+  return list;
 }
+
+void Room::Validate() const { Fields().Validate(*this); }
 
 std::vector<SegmentObstacle> Room::Walls() const {
   const double W = width;
@@ -44,7 +48,11 @@ SelfPropulsion Room::WalkToTheDoor(double speed) const {
 }
 
 void AddRoom(const Room& room, ParticleModel* model) {
-  room.Validate();
+  try {
+    room.Validate();
+  } catch (const InputError& e) {
+    throw e.Under("room");
+  }
   if (model->dimension != 2) {
     throw InputError(fmt::format("room: a room needs dimension 2 (got {})", model->dimension));
   }

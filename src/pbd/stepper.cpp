@@ -1,7 +1,7 @@
 #include "moreau/pbd/stepper.h"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "moreau/common/error.h"
 #include "moreau/common/stopwatch.h"
@@ -9,42 +9,36 @@
 
 namespace moreau::pbd {
 
-std::string_view MethodName(Method method) {
-  switch (method) {
-    case Method::kPBD: return "pbd";
-    case Method::kPNGS: return "pngs";
-    case Method::kPGS: return "pgs";
-    case Method::kPenalty: return "penalty";
-  }
-  return "unknown";
+std::string_view MethodName(Method method) { return EnumName(kMethodNames, method); }
+
+Method ParseMethod(std::string_view name) { return ParseEnumName(kMethodNames, name, "method"); }
+
+const FieldList<StepperOptions>& StepperOptions::Fields() {
+  using O = StepperOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Choice("method", &O::method, kMethodNames, "time stepping method")
+        .Number("h", &O::h, Range::Positive(), "time", "time step h")
+        .Number("abstol", &O::abstol, Range::NonNegative(), "",
+                "PNGS/PGS: absolute sweep tolerance")
+        .Number("reltol", &O::reltol, Range::NonNegative(), "",
+                "PNGS/PGS: relative sweep tolerance")
+        .Integer("max_sweeps", &O::max_sweeps, Range::Closed(1, 1e9), "",
+                 "PNGS/PGS: sweeps per step at most")
+        .Number("penalty", &O::penalty, Range::Positive(), "", "penalty parameter γ")
+        .Flag("monitor_violation", &O::monitor_violation,
+              "evaluate the constraint violation after every step (about one sweep)")
+        .Rule("reltol", [](const O& o) {
+          return o.abstol == 0.0 && o.reltol == 0.0 ? "abstol and reltol are both 0" : "";
+        });
+    return t;
+  }();
+  return list;
 }
 
-Method ParseMethod(std::string_view name) {
-  for (Method m : {Method::kPBD, Method::kPNGS, Method::kPGS, Method::kPenalty}) {
-    if (name == MethodName(m)) return m;
-  }
-  throw InputError(fmt::format("unknown method '{}' (expected pbd, pngs, pgs or penalty)", name));
-}
+void StepperOptions::Validate() const { Fields().Validate(*this); }
 
-void StepperOptions::Validate() const {
-  if (!(h > 0.0) || !std::isfinite(h)) throw InputError(fmt::format("h must be > 0 (got {})", h));
-  if (!(abstol >= 0.0) || !(reltol >= 0.0) || (abstol == 0.0 && reltol == 0.0)) {
-    throw InputError(fmt::format("abstol and reltol must be ≥ 0 and not both 0 (got {}, {})",
-                                 abstol, reltol));
-  }
-  if (max_sweeps < 1) throw InputError(fmt::format("max_sweeps must be ≥ 1 (got {})", max_sweeps));
-  if (!(penalty > 0.0)) throw InputError(fmt::format("penalty must be > 0 (got {})", penalty));
-}
-
-nlohmann::json StepperOptions::ToJson() const {
-  return {{"method", std::string(MethodName(method))},
-          {"h", h},
-          {"abstol", abstol},
-          {"reltol", reltol},
-          {"max_sweeps", max_sweeps},
-          {"penalty", penalty},
-          {"monitor_violation", monitor_violation}};
-}
+nlohmann::json StepperOptions::ToJson() const { return Fields().ToJson(*this); }
 
 nlohmann::json SimulationSummary::ToJson() const {
   nlohmann::json j = SummaryJson(termination, message, total_seconds);
@@ -63,10 +57,12 @@ nlohmann::json SimulationSummary::ToJson() const {
 
 std::string SimulationSummary::BriefReport() const {
   std::string s = fmt::format(
-      "{}: h = {:g}, {} steps, {} constraint evaluations, {} sweeps, max violation {:.3e}, {:.3f} s",
+      "{}: h = {:g}, {} steps, {} constraint evaluations, {} sweeps, max violation {:.3e}, {:.3f} "
+      "s",
       MethodName(method), h, counters.steps, counters.constraint_evaluations, counters.sweeps,
       max_violation, total_seconds);
-  if (counters.capped_steps > 0) s += fmt::format(", {} steps hit max_sweeps", counters.capped_steps);
+  if (counters.capped_steps > 0)
+    s += fmt::format(", {} steps hit max_sweeps", counters.capped_steps);
   if (!ok()) s += ": " + message;
   return s;
 }
@@ -140,7 +136,6 @@ namespace {
 bool AllFinite(const Vector& x) { return (x.array() - x.array()).sum() == 0.0; }
 
 }  // namespace
-
 
 SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
                            const StepperOptions& options, ConstVectorRef x0, double T,

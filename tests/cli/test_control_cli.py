@@ -145,7 +145,7 @@ def bad_case(name):
     if name == "coarse_steps":
         return BASE + "\n[continuation]\ncoarse_steps = -1\n", "continuation.coarse_steps", "-1"
     if name == "refine_factor":
-        return BASE + "\n[continuation]\nrefine_factor = 1\n", "continuation.refine_factor", ">= 2"
+        return BASE + "\n[continuation]\nrefine_factor = 1\n", "continuation.refine_factor", "≥ 2 (got 1)"
     if name == "start_steps":
         return BASE + "\n[continuation]\nstart_steps = -3\n", "continuation.start_steps", "-3"
     if name == "newton_threads":

@@ -115,7 +115,7 @@ BAD_INPUTS = [
     ("dimension", SLIDING.replace("dimension = 3", "dimension = 2"), "problem.dimension",
      "must be in [3"),
     ("kind", SLIDING.replace('"sliding"', '"spheres"'), "problem.kind", "unknown kind"),
-    ("method", SLIDING.replace('"pbd"', '"rk4"'), "solver.method", "unknown method"),
+    ("method", SLIDING.replace('"pbd"', '"rk4"'), "solver.method", "must be one of pbd, pngs, pgs, penalty"),
     ("infeasible", DISKS.replace("count = 6", "count = 2") +
      "\n", "problem.positions", "overlap"),
     ("bad toml", "[problem\nkind=", "line", ""),

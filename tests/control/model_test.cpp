@@ -268,28 +268,28 @@ TEST(ControlContinuation, ReportsFailureWithoutThrowing) {
 TEST(ControlContinuation, OptionsValidateNamingTheKey) {
   ContinuationOptions o;
   o.path_start = 0.0;
-  ExpectInputError([&] { o.Validate(); }, {"continuation.path_start"});
+  ExpectInputError([&] { o.Validate(); }, {"path_start: must be in (0, 1] (got 0)"});
   o = ContinuationOptions{};
   o.gamma_decrease = 1.5;
-  ExpectInputError([&] { o.Validate(); }, {"continuation.gamma_decrease"});
+  ExpectInputError([&] { o.Validate(); }, {"gamma_decrease: must be in (0, 1) (got 1.5)"});
   o = ContinuationOptions{};
   o.newton.residual_tolerance = -1;
-  ExpectInputError([&] { o.Validate(); }, {"newton.residual_tolerance"});
+  ExpectInputError([&] { o.Validate(); }, {"newton.residual_tolerance: must be > 0 (got -1)"});
   o = ContinuationOptions{};
   o.fixed_point.damping = 0;
-  ExpectInputError([&] { o.Validate(); }, {"fixed_point.damping"});
+  ExpectInputError([&] { o.Validate(); }, {"fixed_point.damping: must be in (0, 1] (got 0)"});
   o = ContinuationOptions{};
   o.coarse_steps = -1;
-  ExpectInputError([&] { o.Validate(); }, {"continuation.coarse_steps", "-1"});
+  ExpectInputError([&] { o.Validate(); }, {"coarse_steps: must be ≥ 0 (got -1)"});
   o = ContinuationOptions{};
   o.refine_factor = 1;
-  ExpectInputError([&] { o.Validate(); }, {"continuation.refine_factor", ">= 2"});
+  ExpectInputError([&] { o.Validate(); }, {"refine_factor: must be ≥ 2 (got 1)"});
   o = ContinuationOptions{};
   o.start_steps = -3;
-  ExpectInputError([&] { o.Validate(); }, {"continuation.start_steps", "-3"});
+  ExpectInputError([&] { o.Validate(); }, {"start_steps: must be ≥ 0 (got -3)"});
   o = ContinuationOptions{};
   o.newton.threads = -2;
-  ExpectInputError([&] { o.Validate(); }, {"newton.threads"});
+  ExpectInputError([&] { o.Validate(); }, {"newton.threads: must be ≥ 0 (got -2)"});
 }
 
 TEST(ControlContinuation, CoarseToFineGridsEndOnTheRequestedGrid) {

@@ -106,10 +106,10 @@ TEST(ParticleInput, InfeasibleInitialStates) {
 TEST(ParticleInput, OptionsAndForces) {
   EngineOptions o;
   o.h = 0.0;
-  ExpectInputError([&] { Make(TwoDisks(), kApart, {}, o); }, "h must be > 0");
+  ExpectInputError([&] { Make(TwoDisks(), kApart, {}, o); }, "h: must be > 0 (got 0)");
   o = {};
   o.skin_factor = -1;
-  ExpectInputError([&] { Make(TwoDisks(), kApart, {}, o); }, "skin_factor must be > 0");
+  ExpectInputError([&] { Make(TwoDisks(), kApart, {}, o); }, "skin_factor: must be > 0");
   Forces f;
   f.diffusion = -1;
   ExpectInputError([&] { Make(TwoDisks(), kApart, f); }, "forces.diffusion must be ≥ 0");

@@ -263,10 +263,11 @@ TEST(Population, BadInputNamesTheField) {
   PopulationRules r;
   r.types = {AgentType{}};
   r.types[0].death_rate = -1.0;
-  ExpectInputError([&] { r.Validate(); }, "types[0].death_rate must be ≥ 0 (got -1)");
+  ExpectInputError([&] { r.Validate(); }, "types.cell.death_rate: must be ≥ 0 (got -1)");
   r.types[0].death_rate = 0.0;
   r.types[0].division_radius = 0.3;
-  ExpectInputError([&] { r.Validate(); }, "types[0].division_radius (0.3) must be > the radius");
+  ExpectInputError([&] { r.Validate(); },
+                   "types.cell.division_radius: must be > the radius 0.5 (got 0.3)");
   r.types[0].division_radius = 0.0;
   r.types.push_back(AgentType{});
   ExpectInputError([&] { r.Validate(); }, "the name 'cell' is used twice");

@@ -78,7 +78,7 @@ def test_observer_and_numerical_error_with_the_last_good_state():
 def test_errors_carry_the_cpp_messages():
     with pytest.raises(ValueError, match=r"^radius of particle 1 must be > 0 \(got -1\)$"):
         particles.ParticleModel(dimension=2, radius=[0.1, -1.0])
-    with pytest.raises(ValueError, match=r"^h must be > 0 \(got 0\)$"):
+    with pytest.raises(ValueError, match=r"^h: must be > 0 \(got 0\)$"):
         particles.EngineOptions(h=0.0)
     with pytest.raises(ValueError, match=r"^EngineOptions: unknown option 'step'$"):
         particles.EngineOptions(step=1)

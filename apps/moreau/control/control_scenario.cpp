@@ -9,7 +9,7 @@
 namespace moreau::cli {
 namespace {
 
-using S = ControlScenario;
+using CS = ControlScenario;
 
 // Runs `f`, prefixing a library InputError ("key: reason") with the scenario file.
 template <typename F>
@@ -78,51 +78,6 @@ FieldTable<control::CostWeights> CostFields(bool terminal) {
   return t;
 }
 
-FieldTable<control::ContinuationOptions> ContinuationFields() {
-  using O = control::ContinuationOptions;
-  FieldTable<O> t;
-  t.Number("path_start", &O::path_start, Range::Any(), "p_0")
-      .Number("path_increase", &O::path_increase, Range::Any(), "C^p")
-      .Number("stiffness_start", &O::stiffness_start, Range::Any(), "s_0")
-      .Number("stiffness_increase", &O::stiffness_increase, Range::Any(), "C^κξ")
-      .Number("gamma_start", &O::gamma_start, Range::Any(), "γ_0")
-      .Number("gamma_decrease", &O::gamma_decrease, Range::Any(), "C^δ")
-      .Number("min_increase", &O::min_increase, Range::Any(), "a stage gives up below this")
-      .Integer("max_solves", &O::max_solves, Range::Any(), "Newton solves in all")
-      .Integer("coarse_steps", &O::coarse_steps, Range::Any(),
-               "coarse-to-fine: largest coarse grid (0: all stages on the requested grid)")
-      .Integer("refine_factor", &O::refine_factor, Range::Any(), "ratio of successive grids")
-      .Integer("start_steps", &O::start_steps, Range::Any(),
-               "largest grid of the stages before gamma (0: the coarse grid)");
-  return t;
-}
-
-FieldTable<control::FixedPointOptions> FixedPointFields() {
-  using O = control::FixedPointOptions;
-  FieldTable<O> t;
-  t.Integer("sweeps", &O::sweeps, Range::Any(), "sweep pairs before the final backward sweep")
-      .Number("damping", &O::damping, Range::Any(), "θ: z ← z + θ (z̃ − z)")
-      .Number("tolerance", &O::tolerance, Range::Any(), "stop when max |z̃ − z| < this");
-  return t;
-}
-
-FieldTable<control::NewtonOptions> NewtonFields() {
-  using O = control::NewtonOptions;
-  FieldTable<O> t;
-  t.Integer("max_iterations", &O::max_iterations, Range::Any(), "Newton iterations")
-      .Number("residual_tolerance", &O::residual_tolerance, Range::Any(), "‖F‖_∞ tolerance")
-      .Choice(
-          "linear_solver", &O::linear_solver, control::ParseLinearSolverType,
-          [](control::LinearSolverType type) { return control::ToString(type); },
-          "riccati, sparse_lu", "solver of the Newton system")
-      .Number("armijo", &O::armijo, Range::Any(), "sufficient decrease c")
-      .Number("min_step", &O::min_step, Range::Any(), "smallest line-search step")
-      .Number("divergence_threshold", &O::divergence_threshold, Range::Any(),
-              "‖F‖_∞ above this is divergence")
-      .Threads("threads", &O::threads, "OpenMP threads over time steps (0: default)");
-  return t;
-}
-
 FieldTable<control::ValueErrorConstants> TheoremFields() {
   using C = control::ValueErrorConstants;
   FieldTable<C> t;
@@ -136,7 +91,7 @@ FieldTable<control::ValueErrorConstants> TheoremFields() {
   return t;
 }
 
-void ReadTheorem(Scenario& s, S& c, const std::string& key) {
+void ReadTheorem(Scenario& s, CS& c, const std::string& key) {
   if (!s.Has(key)) {
     (void)s.GetNode(key);
     return;
@@ -150,18 +105,18 @@ void ReadTheorem(Scenario& s, S& c, const std::string& key) {
 }
 
 // model-specific fields: the example or the network, horizon, γ and cost.
-void AddModelFields(FieldTable<S>& t, const std::string& model) {
+void AddModelFields(FieldTable<CS>& t, const std::string& model) {
   if (model == "oscillator") {
-    t.Mount("oscillator", &S::oscillator, OscillatorFields())
-        .Mount("", &S::oscillator, ExampleProblemFields<control::OscillatorExample>());
+    t.Mount("oscillator", &CS::oscillator, OscillatorFields())
+        .Mount("", &CS::oscillator, ExampleProblemFields<control::OscillatorExample>());
   } else if (model == "arm") {
-    t.Mount("arm", &S::arm, ArmFields())
-        .OptionalNumber("arm.bounds_time", &S::arm_bounds_time, Range::Any(),
+    t.Mount("arm", &CS::arm, ArmFields())
+        .OptionalNumber("arm.bounds_time", &CS::arm_bounds_time, Range::Any(),
                         "time of the bounds' reference configuration (default T/2)")
-        .Mount("", &S::arm, ExampleProblemFields<control::ArmExample>());
+        .Mount("", &CS::arm, ExampleProblemFields<control::ArmExample>());
   } else {
     auto matrix = [](Eigen::MatrixXd NetworkSettings::*m) {
-      return [m](Scenario& sc, S& s, const std::string& k) {
+      return [m](Scenario& sc, CS& s, const std::string& k) {
         ReadReferenceMatrix(sc, k, &(s.network.*m));
       };
     };
@@ -170,12 +125,12 @@ void AddModelFields(FieldTable<S>& t, const std::string& model) {
          Range::Closed(1, 3), "d")
         .Custom(
             "network.nodes", "array of tables", ReadNetworkNodes,
-            [](const S& s) { return nlohmann::json(s.network.nodes.size()); },
+            [](const CS& s) { return nlohmann::json(s.network.nodes.size()); },
             "{mass, position, velocity, fixed}")
         .Required()
         .Custom(
             "network.springs", "array of tables", ReadNetworkSprings,
-            [](const S& s) { return nlohmann::json(s.network.springs.size()); },
+            [](const CS& s) { return nlohmann::json(s.network.springs.size()); },
             "{nodes, stiffness, damping, rest_min, rest_max}")
         .Required()
         .Number(
@@ -197,34 +152,24 @@ void AddModelFields(FieldTable<S>& t, const std::string& model) {
   }
 }
 
-FieldTable<S> MakeFields(const std::string& model) {
-  FieldTable<S> t;
-  t.Text("model", &S::model, "oscillator, arm or network").Required();
+FieldTable<CS> MakeControlFields(const std::string& model) {
+  FieldTable<CS> t;
+  t.Text("model", &CS::model, "oscillator, arm or network").Required();
   AddModelFields(t, model);
-  t.Integer("discretization.steps", &S::steps,
+  t.Integer("discretization.steps", &CS::steps,
             Range::Closed(1, 1e8).Because("so that the time step T/N is positive"),
             "number of time steps N")
-      .Mount("continuation", &S::continuation, ContinuationFields())
-      .Mount(
-          "fixed_point", [](auto& s) -> auto& { return s.continuation.fixed_point; },
-          FixedPointFields())
-      .Mount(
-          "newton", [](auto& s) -> auto& { return s.continuation.newton; }, NewtonFields())
-      .Flag("study.warm_start", &S::warm_start, "Newton from the coarser solution first")
-      .Integer("study.compare_samples", &S::compare_samples, Range::NonNegative(),
+      .Mount("continuation", &CS::continuation, control::ContinuationOptions::Fields(),
+             {{"fixed_point", "fixed_point"}, {"newton", "newton"}})
+      .CapThreads("newton.threads")
+      .Flag("study.warm_start", &CS::warm_start, "Newton from the coarser solution first")
+      .Integer("study.compare_samples", &CS::compare_samples, Range::NonNegative(),
                "instants for diff_finest (0: the coarsest grid's nodes)")
       .Custom(
           "study.theorem", "table {c1, c2, c3, delta}", ReadTheorem,
-          [](const S& s) { return s.theorem ? s.theorem->ToJson() : nlohmann::json(); },
+          [](const CS& s) { return s.theorem ? s.theorem->ToJson() : nlohmann::json(); },
           "constants of Theorem 5.1 for the bounds in convergence.csv");
   return t;
-}
-
-const FieldTable<S>& ControlFields(const std::string& model) {
-  static const FieldTable<S> oscillator = MakeFields("oscillator");
-  static const FieldTable<S> arm = MakeFields("arm");
-  static const FieldTable<S> network = MakeFields("network");
-  return model == "oscillator" ? oscillator : model == "arm" ? arm : network;
 }
 
 // Per time step: the instant, the Jacobian blocks A, B, C and the Riccati factors (about eight
@@ -243,6 +188,13 @@ void CheckControlMemory(const control::SpringNetwork& network, int steps) {
 
 }  // namespace
 
+const FieldTable<CS>& ControlFields(const std::string& model) {
+  static const FieldTable<CS> oscillator = MakeControlFields("oscillator");
+  static const FieldTable<CS> arm = MakeControlFields("arm");
+  static const FieldTable<CS> network = MakeControlFields("network");
+  return model == "oscillator" ? oscillator : model == "arm" ? arm : network;
+}
+
 ControlScenario ReadControlScenario(Scenario& s) {
   ControlScenario c;
   c.model = s.RequireString("model");
@@ -256,7 +208,6 @@ ControlScenario ReadControlScenario(Scenario& s) {
     c.arm_bounds_time = c.arm.bounds_time;
   }
   WithFile(s, [&] {
-    c.continuation.Validate();
     // Build the target problem now so that every model error surfaces before any output.
     const control::TrackingProblem target = MakeProblemFamily(c)(1.0);
     CheckControlMemory(target.network(), c.steps);

@@ -48,6 +48,9 @@ struct ControlScenario {
 
 // Reads and validates every key, builds the target problem once so that every model error
 // surfaces before any output; throws InputError "FILE: KEY: REASON".
+// Every key of a control scenario of `model` (oscillator, arm, network).
+const FieldTable<ControlScenario>& ControlFields(const std::string& model);
+
 ControlScenario ReadControlScenario(Scenario& scenario);
 
 // The settings used, keyed as in the scenario file.

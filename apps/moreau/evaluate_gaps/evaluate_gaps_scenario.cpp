@@ -9,10 +9,10 @@
 namespace moreau::cli {
 namespace {
 
-using S = EvaluateGapsSettings;
+using EG = EvaluateGapsSettings;
 
 // evaluation.methods: an array of names or one comma-separated string ("linear,pca").
-void ReadMethods(Scenario& sc, S& s, const std::string& key) {
+void ReadMethods(Scenario& sc, EG& s, const std::string& key) {
   const toml::node* node = sc.GetNode(key);
   if (node == nullptr) return;
   std::vector<std::string> names;
@@ -41,7 +41,7 @@ void ReadMethods(Scenario& sc, S& s, const std::string& key) {
   }
 }
 
-nlohmann::json EchoMethods(const S& s) {
+nlohmann::json EchoMethods(const EG& s) {
   nlohmann::json names = nlohmann::json::array();
   for (mocap::FillMethod m : s.evaluation.methods) names.push_back(mocap::ToString(m));
   return names;
@@ -50,19 +50,19 @@ nlohmann::json EchoMethods(const S& s) {
 }  // namespace
 
 FieldTable<EvaluateGapsSettings> EvaluateGapsFields() {
-  FieldTable<S> t;
+  FieldTable<EG> t;
   t.Custom("evaluation.methods", "method names", ReadMethods, EchoMethods,
            "methods compared: " + FillMethodNames())
       .Custom(
           "evaluation.gap_seconds", "array of numbers",
-          [](Scenario& sc, S& s, const std::string& k) {
+          [](Scenario& sc, EG& s, const std::string& k) {
             s.evaluation.gap_seconds = sc.GetDoubleArray(k, s.evaluation.gap_seconds);
             if (s.evaluation.gap_seconds.empty()) sc.Fail(k, "must list at least one duration");
             for (double d : s.evaluation.gap_seconds) {
               if (!(d > 0.0)) sc.Fail(k, fmt::format("each duration must be > 0 (got {})", d));
             }
           },
-          [](const S& s) { return nlohmann::json(s.evaluation.gap_seconds); },
+          [](const EG& s) { return nlohmann::json(s.evaluation.gap_seconds); },
           "gap durations, each > 0 (length = duration × rate, rounded)")
       .Integer(
           "evaluation.trials", [](auto& s) -> auto& { return s.evaluation.trials; },
@@ -75,8 +75,8 @@ FieldTable<EvaluateGapsSettings> EvaluateGapsFields() {
           "OpenMP threads; 0: the default (results do not depend on it)")
       .Mount(
           "", [](auto& s) -> auto& { return s.evaluation.fill; }, FillOptionFields())
-      .Mount("", &S::read, ReadFields())
-      .Check("evaluation", [](const S& s) { s.evaluation.Validate(); });
+      .Mount("", &EG::read, ReadFields())
+      .Check("evaluation", [](const EG& s) { s.evaluation.Validate(); });
   return t;
 }
 

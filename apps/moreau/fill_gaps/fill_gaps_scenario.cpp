@@ -10,14 +10,14 @@
 namespace moreau::cli {
 
 FieldTable<FillGapsSettings> FillGapsFields() {
-  using S = FillGapsSettings;
-  FieldTable<S> t;
+  using FG = FillGapsSettings;
+  FieldTable<FG> t;
   t.Choice(
        "fill.method", [](auto& s) -> auto& { return s.fill.method; }, mocap::ParseFillMethod,
        [](mocap::FillMethod m) { return mocap::ToString(m); }, FillMethodNames(), "the fill method")
-      .Mount("", &S::fill, FillOptionFields())
-      .Mount("", &S::read, ReadFields())
-      .Check("fill", [](const S& s) { s.fill.Validate(); });
+      .Mount("", &FG::fill, FillOptionFields())
+      .Mount("", &FG::read, ReadFields())
+      .Check("fill", [](const FG& s) { s.fill.Validate(); });
   return t;
 }
 

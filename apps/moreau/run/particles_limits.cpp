@@ -12,9 +12,9 @@
 namespace moreau::cli {
 namespace {
 
-using S = ParticleScenario;
+using PS = ParticleScenario;
 
-void CheckOutputSize(const S& s) {
+void CheckOutputSize(const PS& s) {
   const std::int64_t steps = StepCount(s.T, s.solver.h);
   (void)CheckFrameCount(
       steps, s.output.stride > 0 ? s.output.stride : std::max<std::int64_t>(1, steps / 100));
@@ -35,7 +35,7 @@ bool InsideTheRoom(const particles::Room& room, double x, double y) {
 }
 
 // Everybody starts inside the room: every given position ...
-void CheckPositionsInTheRoom(const S& s) {
+void CheckPositionsInTheRoom(const PS& s) {
   if (!s.room || !s.positions || s.dimension != 2) return;
   const std::vector<double>& x = *s.positions;
   for (std::size_t i = 0; 2 * i + 1 < x.size(); ++i) {
@@ -46,7 +46,7 @@ void CheckPositionsInTheRoom(const S& s) {
 }
 
 // ... or the random start's box (initial.lo/hi, else the domain).
-void CheckStartBoxInTheRoom(const S& s) {
+void CheckStartBoxInTheRoom(const PS& s) {
   if (!s.room || s.positions || s.dimension != 2) return;
   const particles::Vec3 lo = s.initial_lo.value_or(s.domain_lo);
   const particles::Vec3 hi = s.initial_hi.value_or(s.domain_hi);
@@ -62,10 +62,10 @@ void AddParticleLimitChecks(FieldTable<ParticleScenario>& table) {
   table.Check("output.stride", CheckOutputSize)
       .Check("initial.positions", CheckPositionsInTheRoom)
       .Check("domain.lo",
-             [](const S& s) {
+             [](const PS& s) {
                if (!s.initial_lo && !s.initial_hi) CheckStartBoxInTheRoom(s);
              })
-      .Check("initial.lo", [](const S& s) {
+      .Check("initial.lo", [](const PS& s) {
         if (s.initial_lo || s.initial_hi) CheckStartBoxInTheRoom(s);
       });
 }

@@ -15,7 +15,7 @@ namespace moreau::cli {
 namespace {
 
 using particles::Vec3;
-using S = ParticleScenario;
+using PS = ParticleScenario;
 
 // k numbers from a TOML array node (k: the problem's dimension).
 Vec3 VecFromNode(const Scenario& sc, const std::string& key, const toml::node* node, int k) {
@@ -34,13 +34,13 @@ Vec3 VecFromNode(const Scenario& sc, const std::string& key, const toml::node* n
 
 // A flag whose default depends on fields read before it.
 template <class A, class D>
-void AddFlag(FieldTable<S>& t, std::string key, A ref, D fallback, std::string help) {
+void AddFlag(FieldTable<PS>& t, std::string key, A ref, D fallback, std::string help) {
   t.Custom(
       std::move(key), "boolean",
-      [ref, fallback](Scenario& sc, S& s, const std::string& k) {
+      [ref, fallback](Scenario& sc, PS& s, const std::string& k) {
         std::invoke(ref, s) = sc.GetBool(k, fallback(s));
       },
-      [ref](const S& s) { return nlohmann::json(std::invoke(ref, s)); }, std::move(help));
+      [ref](const PS& s) { return nlohmann::json(std::invoke(ref, s)); }, std::move(help));
 }
 
 // The tables of an array of tables ([[walls]]); empty when absent.
@@ -66,8 +66,8 @@ double NumberFromTable(const Scenario& sc, const std::string& key, const toml::t
 
 // [[KEY]]: one entry of `list` per table, made by make(scenario, settings, "KEY[i]", table).
 template <class T, class Make>
-auto ReadEach(std::vector<T> S::*list, Make make) {
-  return [list, make](Scenario& sc, S& s, const std::string& key) {
+auto ReadEach(std::vector<T> PS::*list, Make make) {
+  return [list, make](Scenario& sc, PS& s, const std::string& key) {
     const auto tables = Tables(sc, key);
     for (std::size_t i = 0; i < tables.size(); ++i) {
       (s.*list).push_back(make(sc, s, fmt::format("{}[{}]", key, i), *tables[i]));
@@ -75,21 +75,21 @@ auto ReadEach(std::vector<T> S::*list, Make make) {
   };
 }
 
-particles::Wall MakeWall(const Scenario& sc, const S& s, const std::string& at,
+particles::Wall MakeWall(const Scenario& sc, const PS& s, const std::string& at,
                          const toml::table& t) {
   sc.CheckTableKeys(at, t, {"normal", "offset"});
   return {VecFromNode(sc, at + ".normal", t.get("normal"), s.dimension),
           NumberFromTable(sc, at, t, "offset")};
 }
 
-particles::SphereObstacle MakeSphere(const Scenario& sc, const S& s, const std::string& at,
+particles::SphereObstacle MakeSphere(const Scenario& sc, const PS& s, const std::string& at,
                                      const toml::table& t) {
   sc.CheckTableKeys(at, t, {"center", "radius"});
   return {VecFromNode(sc, at + ".center", t.get("center"), s.dimension),
           NumberFromTable(sc, at, t, "radius")};
 }
 
-particles::SegmentObstacle MakeSegment(const Scenario& sc, const S& s, const std::string& at,
+particles::SegmentObstacle MakeSegment(const Scenario& sc, const PS& s, const std::string& at,
                                        const toml::table& t) {
   sc.CheckTableKeys(at, t, {"a", "b"});
   if (s.dimension != 2) sc.Fail(at, "segments need dimension 2");
@@ -98,7 +98,7 @@ particles::SegmentObstacle MakeSegment(const Scenario& sc, const S& s, const std
   return {{a[0], a[1]}, {b[0], b[1]}};
 }
 
-nlohmann::json EchoWalls(const S& s) {
+nlohmann::json EchoWalls(const PS& s) {
   nlohmann::json j;
   for (const particles::Wall& w : s.walls) {
     j.push_back({{"normal", EchoVec(w.normal, s.dimension)}, {"offset", w.offset}});
@@ -106,7 +106,7 @@ nlohmann::json EchoWalls(const S& s) {
   return j;
 }
 
-nlohmann::json EchoSpheres(const S& s) {
+nlohmann::json EchoSpheres(const PS& s) {
   nlohmann::json j;
   for (const particles::SphereObstacle& o : s.spheres) {
     j.push_back({{"center", EchoVec(o.center, s.dimension)}, {"radius", o.radius}});
@@ -114,14 +114,14 @@ nlohmann::json EchoSpheres(const S& s) {
   return j;
 }
 
-nlohmann::json EchoSegments(const S& s) {
+nlohmann::json EchoSegments(const PS& s) {
   nlohmann::json j;
   for (const particles::SegmentObstacle& g : s.segments) j.push_back({{"a", g.a}, {"b", g.b}});
   return j;
 }
 
 // [room] width, height, door_width, all three required when the table is there.
-void ReadRoom(Scenario& sc, S& s, const std::string& key) {
+void ReadRoom(Scenario& sc, PS& s, const std::string& key) {
   if (!sc.Has(key)) {
     (void)sc.GetNode(key);
     return;
@@ -130,13 +130,13 @@ void ReadRoom(Scenario& sc, S& s, const std::string& key) {
                            sc.RequireDouble(key + ".door_width")};
 }
 
-nlohmann::json EchoRoom(const S& s) {
+nlohmann::json EchoRoom(const PS& s) {
   if (!s.room) return nullptr;
   return {{"width", s.room->width}, {"height", s.room->height}, {"door_width", s.room->door_width}};
 }
 
 // [initial] positions = [[x, y], …]: problem.count rows of k numbers.
-void ReadPositions(Scenario& sc, S& s, const std::string& key) {
+void ReadParticlePositions(Scenario& sc, PS& s, const std::string& key) {
   const toml::node* node = sc.GetNode(key);
   if (node == nullptr) return;
   const toml::array* rows = node->as_array();
@@ -152,7 +152,7 @@ void ReadPositions(Scenario& sc, S& s, const std::string& key) {
   s.positions = std::move(x);
 }
 
-void ReadPeriodic(Scenario& sc, S& s, const std::string& key) {
+void ReadPeriodic(Scenario& sc, PS& s, const std::string& key) {
   const toml::node* node = sc.GetNode(key);
   if (node == nullptr) return;
   const toml::array* arr = node->as_array();
@@ -166,76 +166,59 @@ void ReadPeriodic(Scenario& sc, S& s, const std::string& key) {
   }
 }
 
-void ReadDimension(Scenario& sc, S& s, const std::string& key) {
+void ReadDimension(Scenario& sc, PS& s, const std::string& key) {
   const std::int64_t d = sc.GetInt(key, s.dimension);
   if (d != 2 && d != 3) sc.Fail(key, fmt::format("must be 2 or 3 (got {})", d));
   s.dimension = static_cast<int>(d);
 }
 
-void AddProblemFields(FieldTable<S>& t) {
-  t.Text("problem.kind", &S::kind, "particles (sliding, disks: docs/paper.md)")
+void AddProblemFields(FieldTable<PS>& t) {
+  t.Text("problem.kind", &PS::kind, "particles (sliding, disks: docs/paper.md)")
       .Custom(
           "problem.dimension", "2 or 3", ReadDimension,
-          [](const S& s) { return nlohmann::json(s.dimension); }, "dimension k")
-      .Integer("problem.count", &S::count, Range::AtLeast(1), "number of particles N")
+          [](const PS& s) { return nlohmann::json(s.dimension); }, "dimension k")
+      .Integer("problem.count", &PS::count, Range::AtLeast(1), "number of particles N")
       .Required()
-      .OptionalNumber("problem.radius", &S::radius, Range::Positive(), "radius of every particle")
-      .OptionalNumber("problem.radius_min", &S::radius_min, Range::Positive(),
+      .OptionalNumber("problem.radius", &PS::radius, Range::Positive(), "radius of every particle")
+      .OptionalNumber("problem.radius_min", &PS::radius_min, Range::Positive(),
                       "polydisperse: radii uniform in [radius_min, radius_max] (seeded)")
-      .OptionalNumber("problem.radius_max", &S::radius_max, Range::Any(), "polydisperse")
-      .Number("problem.mobility", &S::mobility, Range::Positive(), "mobility of every particle")
-      .Number("problem.T", &S::T, Range::Positive(), "final time")
+      .OptionalNumber("problem.radius_max", &PS::radius_max, Range::Any(), "polydisperse")
+      .Number("problem.mobility", &PS::mobility, Range::Positive(), "mobility of every particle")
+      .Number("problem.T", &PS::T, Range::Positive(), "final time")
       .Required()
-      .Integer("problem.seed", &S::seed, Range::Any(), "radii, random start and noise")
-      .Flag("problem.fix_overlaps", &S::fix_overlaps, "project an overlapping start (sweeps)");
-  AddVec(t, "domain.lo", &S::domain_lo, "box of the random start; periodic axes' domain");
-  AddVec(t, "domain.hi", &S::domain_hi, "the other corner");
+      .Integer("problem.seed", &PS::seed, Range::Any(), "radii, random start and noise")
+      .Flag("problem.fix_overlaps", &PS::fix_overlaps, "project an overlapping start (sweeps)");
+  AddVec(t, "domain.lo", &PS::domain_lo, "box of the random start; periodic axes' domain");
+  AddVec(t, "domain.hi", &PS::domain_hi, "the other corner");
   t.Custom(
        "domain.periodic", "k booleans", ReadPeriodic,
-       [](const S& s) {
+       [](const PS& s) {
          return nlohmann::json(
              std::vector<bool>(s.periodic.begin(), s.periodic.begin() + s.dimension));
        },
        "periodic axes")
-      .Flag("domain.box_walls", &S::box_walls, "walls on the faces of the non-periodic axes")
-      .Custom("initial.positions", "array of k numbers", ReadPositions, {},
+      .Flag("domain.box_walls", &PS::box_walls, "walls on the faces of the non-periodic axes")
+      .Custom("initial.positions", "array of k numbers", ReadParticlePositions, {},
               "explicit start (default: random sequential addition)");
-  AddVec(t, "initial.lo", &S::initial_lo, "box of the random start (default: the domain)");
-  AddVec(t, "initial.hi", &S::initial_hi, "the other corner");
-  t.Custom("walls", "[[walls]] normal, offset", ReadEach(&S::walls, MakeWall), EchoWalls,
+  AddVec(t, "initial.lo", &PS::initial_lo, "box of the random start (default: the domain)");
+  AddVec(t, "initial.hi", &PS::initial_hi, "the other corner");
+  t.Custom("walls", "[[walls]] normal, offset", ReadEach(&PS::walls, MakeWall), EchoWalls,
            "half-spaces ⟨n, X⟩ ≥ offset + r")
-      .Custom("spheres", "[[spheres]] center, radius", ReadEach(&S::spheres, MakeSphere),
+      .Custom("spheres", "[[spheres]] center, radius", ReadEach(&PS::spheres, MakeSphere),
               EchoSpheres, "obstacles")
-      .Custom("segments", "[[segments]] a, b", ReadEach(&S::segments, MakeSegment), EchoSegments,
+      .Custom("segments", "[[segments]] a, b", ReadEach(&PS::segments, MakeSegment), EchoSegments,
               "segment obstacles (2D)")
       .Custom("room", "width, height, door_width", ReadRoom, EchoRoom,
               "a walled room with a door; everybody walks to it");
 }
 
-FieldTable<particles::EngineOptions> EngineFields() {
-  using O = particles::EngineOptions;
-  FieldTable<O> t;
-  t.Number("h", &O::h, Range::Positive(), "time step h")
-      .Required()
-      .Choice("order", &O::order, particles::ParseSweepOrder, particles::SweepOrderName,
-              "coloured, lexicographic", "sweep order")
-      .Threads("threads", &O::threads, "OpenMP threads (0: automatic)")
-      .Integer("sweeps", &O::sweeps, Range::AtLeast(1), "PBD sweeps per step")
-      .Number("skin_factor", &O::skin_factor, Range::Any(), "Verlet skin / max r")
-      .Integer("block_cells", &O::block_cells, Range::Any(), "colouring block (0: automatic)")
-      .Integer("memory_limit", &O::memory_limit_bytes,
-               Range::NonNegative().Because("(bytes; 0 = what is available)"),
-               "memory limit for the particle count (0: what is available)");
-  return t;
-}
-
-void AddOutputFields(FieldTable<S>& t) {
+void AddOutputFields(FieldTable<PS>& t) {
   t.Integer(
       "output.stride", [](auto& s) -> auto& { return s.output.stride; }, Range::NonNegative(),
       "steps between trajectory frames (0: about 100 frames)");
   AddFlag(
       t, "output.hdf5", [](auto& s) -> auto& { return s.output.hdf5; },
-      [](const S&) { return true; }, "trajectory.h5 + trajectory.xdmf");
+      [](const PS&) { return true; }, "trajectory.h5 + trajectory.xdmf");
   t.Choice(
        "output.precision", [](auto& s) -> auto& { return s.output.trajectory.precision; },
        io::ParseTrajectoryPrecision, io::TrajectoryPrecisionName, "double, single",
@@ -243,25 +226,25 @@ void AddOutputFields(FieldTable<S>& t) {
       .Integer(
           "output.compression", [](auto& s) -> auto& { return s.output.trajectory.compression; },
           Range::Closed(0, 9), "deflate level of trajectory.h5 (0: none)")
-      .Check("output.compression", [](const S& s) { s.output.trajectory.Validate(); });
+      .Check("output.compression", [](const PS& s) { s.output.trajectory.Validate(); });
   AddFlag(
       t, "output.vtu", [](auto& s) -> auto& { return s.output.vtu; },
-      [](const S& s) { return s.count <= 100000; }, "vtu/frame.pvd");
+      [](const PS& s) { return s.count <= 100000; }, "vtu/frame.pvd");
   AddFlag(
       t, "output.snapshots", [](auto& s) -> auto& { return s.output.snapshots; },
-      [](const S& s) { return s.count <= 200000 && s.dimension == 2; }, "snapshots.png (2D only)");
+      [](const PS& s) { return s.count <= 200000 && s.dimension == 2; }, "snapshots.png (2D only)");
   t.Custom(
       "output.snapshot_times", "numbers",
-      [](Scenario& sc, S& s, const std::string& k) {
+      [](Scenario& sc, PS& s, const std::string& k) {
         s.output.snapshot_times = sc.GetDoubleArray(k, s.output.snapshot_times);
       },
-      [](const S& s) { return nlohmann::json(s.output.snapshot_times); },
+      [](const PS& s) { return nlohmann::json(s.output.snapshot_times); },
       "at most four snapshot times (default: the first and the last frame)");
 }
 
-void CheckRadii(FieldTable<S>& t) {
+void CheckRadii(FieldTable<PS>& t) {
   t.Check("problem.radius",
-          [](const S& s) {
+          [](const PS& s) {
             if (s.is_population()) {
               if (s.radius || s.radius_min || s.radius_max) {
                 throw InputError("the agents' radii come from [[types]]; give no problem.radius");
@@ -276,10 +259,10 @@ void CheckRadii(FieldTable<S>& t) {
             }
           })
       .Check("problem.radius_min",
-             [](const S& s) {
+             [](const PS& s) {
                if (s.radius_max && !s.radius_min) throw InputError("required key is missing");
              })
-      .Check("problem.radius_max", [](const S& s) {
+      .Check("problem.radius_max", [](const PS& s) {
         if (s.radius_min && !s.radius_max) throw InputError("required key is missing");
         if (s.radius_min && s.radius_max && !(*s.radius_max >= *s.radius_min)) {
           throw InputError("must be ≥ problem.radius_min");
@@ -288,14 +271,14 @@ void CheckRadii(FieldTable<S>& t) {
 }
 
 // Checks over several fields; the memory check comes first, before anything of size N.
-void AddChecks(FieldTable<S>& t) {
-  t.Check("problem.count", [](const S& s) {
+void AddChecks(FieldTable<PS>& t) {
+  t.Check("problem.count", [](const PS& s) {
     particles::CheckParticleMemory(s.dimension, s.count, s.solver.memory_limit_bytes);
     if (s.count > std::numeric_limits<int>::max()) throw InputError("too many particles");
   });
   CheckRadii(t);
   t.Check("domain.hi",
-          [](const S& s) {
+          [](const PS& s) {
             for (std::size_t a = 0; a < static_cast<std::size_t>(s.dimension); ++a) {
               if (!(s.domain_hi[a] > s.domain_lo[a])) {
                 throw InputError(fmt::format("must exceed domain.lo on axis {}", a));
@@ -303,26 +286,26 @@ void AddChecks(FieldTable<S>& t) {
             }
           })
       .Check("initial.lo",
-             [](const S& s) {
+             [](const PS& s) {
                if (s.positions && (s.initial_lo || s.initial_hi)) {
                  throw InputError("initial.lo and initial.hi do not go with initial.positions");
                }
              })
       .Check("room",
-             [](const S& s) {
+             [](const PS& s) {
                if (!s.room) return;
                if (s.dimension != 2) throw InputError("a room needs dimension 2");
                s.room->Validate();
              })
       .Check("forces.target",
-             [](const S& s) {
+             [](const PS& s) {
                if ((s.forces.target || s.forces.target_end) &&
                    (!s.forces.propulsion_speed || s.room)) {
                  throw InputError("needs forces.propulsion_speed (and no [room])");
                }
              })
       .Check("forces.density_radius",
-             [](const S& s) {
+             [](const PS& s) {
                const ParticleForceSettings& f = s.forces;
                if ((f.density_radius || f.propulsion_speed_sd != 0.0) && !f.propulsion_speed &&
                    !s.room) {
@@ -334,19 +317,18 @@ void AddChecks(FieldTable<S>& t) {
                if (f.density_radius && s.dimension != 2) throw InputError("needs dimension 2");
              })
       .Check("forces.attraction_range",
-             [](const S& s) {
+             [](const PS& s) {
                if (s.forces.attraction_range && !s.forces.attraction_stiffness) {
                  throw InputError("needs forces.attraction_stiffness");
                }
              })
-      .Check("forces", [](const S& s) { (void)s.MakeForces(); })
-      .Check("solver", [](const S& s) { s.solver.Validate(); })
+      .Check("forces", [](const PS& s) { (void)s.MakeForces(); })
       .Check("solver.method",
-             [](const S& s) {
+             [](const PS& s) {
                if (s.method != "pbd") throw InputError("the particle engine runs pbd");
              })
-      .Check("solver.h", [](const S& s) { (void)StepCount(s.T, s.solver.h); })
-      .Check("output.snapshot_times", [](const S& s) {
+      .Check("solver.h", [](const PS& s) { (void)StepCount(s.T, s.solver.h); })
+      .Check("output.snapshot_times", [](const PS& s) {
         if (s.output.snapshot_times.size() > 4) throw InputError("at most four times");
         for (double time : s.output.snapshot_times) {
           if (time < 0.0 || time > s.T) {
@@ -356,12 +338,14 @@ void AddChecks(FieldTable<S>& t) {
       });
 }
 
-FieldTable<S> MakeFields() {
-  FieldTable<S> t;
+FieldTable<PS> MakeParticleFields() {
+  FieldTable<PS> t;
   AddProblemFields(t);
   AddForceFields(t);
-  t.Mount("solver", &S::solver, EngineFields())
-      .Text("solver.method", &S::method, "pbd (the only method of the particle engine)");
+  t.Mount("solver", &PS::solver, particles::EngineOptions::Fields(), {{"seed", ""}})
+      .Require("solver.h")
+      .CapThreads("solver.threads")
+      .Text("solver.method", &PS::method, "pbd (the only method of the particle engine)");
   AddPopulationFields(t);
   AddOutputFields(t);
   AddChecks(t);
@@ -369,12 +353,12 @@ FieldTable<S> MakeFields() {
   return t;
 }
 
-const FieldTable<S>& ParticleFields() {
-  static const FieldTable<S> table = MakeFields();
+}  // namespace
+
+const FieldTable<PS>& ParticleFields() {
+  static const FieldTable<PS> table = MakeParticleFields();
   return table;
 }
-
-}  // namespace
 
 particles::ParticleModel ParticleScenario::MakeModel() const {
   particles::ParticleModel model;

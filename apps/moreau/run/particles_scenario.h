@@ -108,6 +108,9 @@ void AddParticleLimitChecks(FieldTable<ParticleScenario>& table);
 
 // Reads and validates every key (throws InputError "FILE: KEY: REASON"); --fix-overlaps is
 // `fix_overlaps_flag`. Call scenario.CheckAllKeysUsed() after.
+// Every key of a particle (and agent-based) scenario.
+const FieldTable<ParticleScenario>& ParticleFields();
+
 ParticleScenario ReadParticleScenario(Scenario& scenario, bool fix_overlaps_flag);
 
 // The settings used, keyed like the scenario file: {"problem": {…}, "domain": {…}, …}.

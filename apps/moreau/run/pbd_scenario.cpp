@@ -12,22 +12,6 @@
 namespace moreau::cli {
 namespace {
 
-FieldTable<pbd::StepperOptions> StepperFields() {
-  using O = pbd::StepperOptions;
-  FieldTable<O> t;
-  t.Choice("method", &O::method, pbd::ParseMethod, pbd::MethodName, "pbd, pngs, pgs, penalty",
-           "time stepping method")
-      .Number("h", &O::h, Range::Positive(), "time step h")
-      .Number("abstol", &O::abstol, Range::NonNegative(), "PNGS/PGS: absolute sweep tolerance")
-      .Number("reltol", &O::reltol, Range::NonNegative(), "PNGS/PGS: relative sweep tolerance")
-      .Integer("max_sweeps", &O::max_sweeps, Range::Closed(1, 1e9), "PNGS/PGS: sweeps per step")
-      .Number("penalty", &O::penalty, Range::Positive(), "penalty parameter γ")
-      .Check("reltol", [](const O& o) {
-        if (o.abstol == 0.0 && o.reltol == 0.0) throw InputError("abstol and reltol are both 0");
-      });
-  return t;
-}
-
 FieldTable<pbd::SlidingCase> SlidingFields() {
   using C = pbd::SlidingCase;
   FieldTable<C> t;
@@ -58,7 +42,7 @@ FieldTable<pbd::DisksCase> DisksFields() {
   return t;
 }
 
-void ReadPositions(Scenario& s, PbdScenario& out, const std::string& key) {
+void ReadDiskPositions(Scenario& s, PbdScenario& out, const std::string& key) {
   const toml::node* node = s.GetNode(key);
   if (node == nullptr) return;
   const int n = out.disks.count;
@@ -116,25 +100,25 @@ void CheckTrajectorySize(const PbdScenario& s) {
               static_cast<double>(frames) * numbers * (8.0 + 25.0));
 }
 
-FieldTable<PbdScenario> MakeFields(const std::string& kind) {
-  using S = PbdScenario;
-  FieldTable<S> t;
-  t.Text("problem.kind", &S::kind, "sliding, disks (or particles: see docs/particles.md)")
+FieldTable<PbdScenario> MakePbdFields(const std::string& kind) {
+  using PD = PbdScenario;
+  FieldTable<PD> t;
+  t.Text("problem.kind", &PD::kind, "sliding, disks (or particles: see docs/particles.md)")
       .Required();
   if (kind == "sliding") {
-    t.Mount("problem", &S::sliding, SlidingFields());
+    t.Mount("problem", &PD::sliding, SlidingFields());
   } else {
-    t.Mount("problem", &S::disks, DisksFields())
-        .Custom("problem.positions", "array of [x, y]", ReadPositions, {},
+    t.Mount("problem", &PD::disks, DisksFields())
+        .Custom("problem.positions", "array of [x, y]", ReadDiskPositions, {},
                 "initial positions (default: random sequential addition from the seed)")
         .Check("problem.positions", CheckNoOverlap)
         .Check("problem.wall", CheckAboveWall);
   }
-  t.Mount("solver", &S::solver, StepperFields())
-      .Check("solver.h", [](const S& s) { (void)StepCount(s.T(), s.solver.h); })
-      .Mount("reference", &S::reference, StepperFields())
-      .Flag("reference.compute", &S::reference_for_run, "disks: error against a reference in run")
-      .Integer("output.stride", &S::output_stride, Range::NonNegative(),
+  t.Mount("solver", &PD::solver, pbd::StepperOptions::Fields())
+      .Check("solver.h", [](const PD& s) { (void)StepCount(s.T(), s.solver.h); })
+      .Mount("reference", &PD::reference, pbd::StepperOptions::Fields())
+      .Flag("reference.compute", &PD::reference_for_run, "disks: error against a reference in run")
+      .Integer("output.stride", &PD::output_stride, Range::NonNegative(),
                "write every stride-th step (0: about 1000 frames)")
       .Check("output.stride", CheckTrajectorySize);
   return t;
@@ -153,8 +137,8 @@ pbd::StepperOptions ReferenceSolverDefaults() {
 }
 
 const FieldTable<PbdScenario>& PbdFields(const std::string& kind) {
-  static const FieldTable<PbdScenario> sliding = MakeFields("sliding");
-  static const FieldTable<PbdScenario> disks = MakeFields("disks");
+  static const FieldTable<PbdScenario> sliding = MakePbdFields("sliding");
+  static const FieldTable<PbdScenario> disks = MakePbdFields("disks");
   return kind == "sliding" ? sliding : disks;
 }
 

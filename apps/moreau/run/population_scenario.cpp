@@ -11,50 +11,28 @@
 namespace moreau::cli {
 namespace {
 
-using S = ParticleScenario;
+using PS = ParticleScenario;
 using particles::AgentType;
 
-// The numeric fields of one [[types]] table, by key.
-const std::vector<std::pair<const char*, double AgentType::*>>& TypeNumbers() {
-  static const std::vector<std::pair<const char*, double AgentType::*>> fields = {
-      {"radius", &AgentType::radius},
-      {"growth_rate", &AgentType::growth_rate},
-      {"division_radius", &AgentType::division_radius},
-      {"cycle_time", &AgentType::cycle_time},
-      {"division_rate", &AgentType::division_rate},
-      {"death_rate", &AgentType::death_rate},
-      {"mobility", &AgentType::mobility},
-      {"speed", &AgentType::speed},
-      {"persistence_time", &AgentType::persistence_time},
-      {"alignment", &AgentType::alignment},
-      {"velocity_alignment", &AgentType::velocity_alignment},
-      {"max_contacts", &AgentType::max_contacts}};
-  return fields;
-}
-
+// One [[types]] table (the keys of AgentType::Fields()); errors name the key as --set does,
+// types.<name>.<key> (types[i].<key> while the type has no name).
 AgentType ReadType(const Scenario& sc, const std::string& at, const toml::table& t) {
   AgentType a;
+  if (!t.contains("name")) sc.Fail(at + ".name", "required key is missing");
+  const std::string why = AgentType::Fields().Find("name")->set(a, NodeToJson(*t.get("name")));
+  if (!why.empty()) sc.Fail(at + ".name", why);
+  const std::string prefix = "types." + a.name;
   for (const auto& [key, node] : t) {
     const std::string field(key.str());
-    if (field == "name") {
-      const auto name = node.value<std::string>();
-      if (!name) sc.Fail(at + ".name", "expected a string");
-      a.name = *name;
-      continue;
-    }
-    const auto& numbers = TypeNumbers();
-    const auto it = std::find_if(numbers.begin(), numbers.end(),
-                                 [&](const auto& f) { return field == f.first; });
-    if (it == numbers.end()) sc.Fail(at + "." + field, "unknown key");
-    const auto v = node.value<double>();
-    if (!v || !std::isfinite(*v)) sc.Fail(at + "." + field, "expected a finite number");
-    a.*(it->second) = *v;
+    const auto* f = AgentType::Fields().Find(field);
+    if (f == nullptr) sc.Fail(prefix + "." + field, "unknown key");
+    const std::string reason = f->set(a, NodeToJson(node));
+    if (!reason.empty()) sc.Fail(prefix + "." + field, reason);
   }
-  if (!t.contains("name")) sc.Fail(at + ".name", "required key is missing");
   return a;
 }
 
-void ReadTypes(Scenario& sc, S& s, const std::string& key) {
+void ReadTypes(Scenario& sc, PS& s, const std::string& key) {
   const toml::node* node = sc.GetNode(key);
   if (node == nullptr) return;
   const toml::array* arr = node->as_array();
@@ -66,13 +44,13 @@ void ReadTypes(Scenario& sc, S& s, const std::string& key) {
   }
 }
 
-nlohmann::json EchoTypes(const S& s) {
+nlohmann::json EchoTypes(const PS& s) {
   if (!s.is_population()) return nullptr;
   return s.population.rules.ToJson()["types"];
 }
 
 // initial.types: one name, or one name per agent.
-void ReadInitialTypes(Scenario& sc, S& s, const std::string& key) {
+void ReadInitialTypes(Scenario& sc, PS& s, const std::string& key) {
   const toml::node* node = sc.GetNode(key);
   if (node == nullptr) return;
   if (const auto one = node->value<std::string>()) {
@@ -88,25 +66,15 @@ void ReadInitialTypes(Scenario& sc, S& s, const std::string& key) {
   }
 }
 
-void AddRuleFields(FieldTable<S>& t) {
-  using P = particles::PopulationRules;
-  FieldTable<P> sub;
-  sub.Integer("interval", &P::interval, Range::AtLeast(1), "engine steps per rule step")
-      .Choice("axis", &P::axis, particles::ParseDivisionAxis, particles::DivisionAxisName,
-              "random, polarity", "division axis")
-      .Number("contact_factor", &P::contact_factor, Range::Closed(1.0, 1.5),
-              "touching: distance ≤ factor · (r_i + r_j)")
-      .Flag("relax", &P::relax, "project after every rule step until overlaps ≤ tolerance")
-      .Number("relax_tolerance", &P::relax_tolerance, Range::Positive(), "× the smallest radius")
-      .Integer("relax_max_sweeps", &P::relax_max_sweeps, Range::AtLeast(1), "sweeps at most")
-      .Integer("max_count", &P::max_count, Range::NonNegative(), "stop at this count (0: none)");
-  t.Mount(
-      "population", [](auto& s) -> auto& { return s.population.rules; }, sub);
+void AddRuleFields(FieldTable<PS>& t) {
+  // population.seed is not a key: the rules take problem.seed (MakeRules).
+  t.Mount("population", [](auto& s) -> auto& { return s.population.rules; },
+          particles::PopulationRules::Fields(), {{"seed", ""}});
 }
 
 }  // namespace
 
-void AddPopulationFields(FieldTable<S>& t) {
+void AddPopulationFields(FieldTable<PS>& t) {
   t.Custom("types", "[[types]] name, radius, …", ReadTypes, EchoTypes,
            "agent types: an agent-based model (docs/abm.md)");
   AddRuleFields(t);
@@ -118,7 +86,7 @@ void AddPopulationFields(FieldTable<S>& t) {
           Range::Any(), "agents with ⟨exit_normal, X⟩ > exit_offset are removed");
   t.Custom(
        "population.exit_normal", "k numbers",
-       [](Scenario& sc, S& s, const std::string& k) {
+       [](Scenario& sc, PS& s, const std::string& k) {
          const std::vector<double> v = sc.GetDoubleArray(k, {});
          if (v.empty()) return;
          if (static_cast<int>(v.size()) != s.dimension) {
@@ -126,18 +94,18 @@ void AddPopulationFields(FieldTable<S>& t) {
          }
          std::copy(v.begin(), v.end(), s.population.exit_normal.begin());
        },
-       [](const S& s) {
+       [](const PS& s) {
          return nlohmann::json(std::vector<double>(s.population.exit_normal.begin(),
                                                    s.population.exit_normal.begin() + s.dimension));
        },
        "normal of the exit plane")
       .Custom(
           "initial.types", "name or names", ReadInitialTypes,
-          [](const S& s) { return nlohmann::json(s.population.initial_types); },
+          [](const PS& s) { return nlohmann::json(s.population.initial_types); },
           "type of every agent (default: the first type)");
-  t.Check("types", [](const S& s) {
+  t.Check("", [](const PS& s) {
      if (s.is_population()) s.MakeRules().Validate();
-   }).Check("initial.types", [](const S& s) {
+   }).Check("initial.types", [](const PS& s) {
     if (!s.is_population()) {
       if (!s.population.initial_types.empty()) throw InputError("needs [[types]]");
       return;

@@ -163,6 +163,8 @@ std::string ReadBytes(Scenario& file, const std::string& key, const std::string&
 
 }  // namespace
 
+std::vector<KeyRow> SweepKeys() { return SweepFields().Rows(SweepScenario{}); }
+
 std::vector<std::string> SweepScenario::Overrides(std::int64_t index) const {
   std::vector<std::string> overrides;
   for (const sweep::Setting& f : fixed) overrides.push_back(f.key + "=" + f.value);

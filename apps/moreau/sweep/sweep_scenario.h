@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "field_table.h"
 #include "moreau/sweep/grid.h"
 #include "scenario.h"
 
@@ -33,6 +34,9 @@ struct SweepScenario {
 // Reads and checks the sweep file (throws InputError "FILE: KEY: REASON"); reads the base
 // scenario's bytes for the context, so a missing base is an error here, before any run.
 SweepScenario ReadSweepScenario(Scenario& file);
+
+// Every key of a sweep file (`moreau keys sweep`).
+std::vector<KeyRow> SweepKeys();
 
 // The settings used, keyed like the sweep file.
 nlohmann::json EchoSweepScenario(const SweepScenario& sweep);

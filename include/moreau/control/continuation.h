@@ -58,7 +58,8 @@ struct ContinuationOptions {
                                     // on the coarse grid too)
   FixedPointOptions fixed_point;    // initial dual from the guess (section 7.1)
   NewtonOptions newton;             // every Newton solve
-  // Throws InputError("continuation.<field>: ...") on a value out of range.
+  static const FieldList<ContinuationOptions>& Fields();  // with fixed_point.*, newton.*
+  // Throws InputError(key, reason) on a value out of range.
   void Validate() const;
   // The continuation fields, with "fixed_point" and "newton" as nested objects.
   nlohmann::json ToJson() const;

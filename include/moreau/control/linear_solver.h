@@ -22,11 +22,14 @@
 #include <string>
 #include <vector>
 
+#include "moreau/common/enum_names.h"
 #include "moreau/control/pontryagin.h"
 
 namespace moreau::control {
 
 enum class LinearSolverType { kRiccati, kSparseLU };
+inline constexpr EnumNames<LinearSolverType, 2> kLinearSolverNames{
+    {{LinearSolverType::kRiccati, "riccati"}, {LinearSolverType::kSparseLU, "sparse_lu"}}};
 // "riccati" / "sparse_lu". ParseLinearSolverType throws InputError for any other name.
 const char* ToString(LinearSolverType type);
 LinearSolverType ParseLinearSolverType(const std::string& text);

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "moreau/common/field_list.h"
 #include "moreau/common/termination.h"
 #include "moreau/control/linear_solver.h"
 #include "moreau/control/pontryagin.h"
@@ -27,7 +28,8 @@ struct FixedPointOptions {
   int sweeps = 0;          // forward/backward sweep pairs before the final backward sweep (>= 0)
   double damping = 0.5;    // θ ∈ (0, 1]: z ← z + θ (z̃ − z)
   double tolerance = 0.0;  // stop early when max |z̃ − z| < tolerance (0: never)
-  // Throws InputError("fixed_point.<field>: ...") on sweeps < 0 or θ ∉ (0, 1].
+  static const FieldList<FixedPointOptions>& Fields();  // key, range, help of every field
+  // Throws InputError(key, reason) on sweeps < 0, θ ∉ (0, 1] or tolerance < 0.
   void Validate() const;
   nlohmann::json ToJson() const;  // {"sweeps", "damping", "tolerance"}
 };
@@ -60,7 +62,8 @@ struct NewtonOptions {
   double divergence_threshold = 1e12;  // ‖F‖_∞ above this (or non-finite) counts as divergence
   int threads = 0;  // OpenMP threads of the residual/Jacobian over time steps (>= 0; 0: the
                     // OpenMP default); results are bit-identical for every thread count
-  // Throws InputError("newton.<field>: ...") on a value out of range.
+  static const FieldList<NewtonOptions>& Fields();  // key, range, help of every field
+  // Throws InputError(key, reason) on a value out of range.
   void Validate() const;
   // {"max_iterations", "residual_tolerance", "linear_solver", "armijo", "min_step",
   //  "divergence_threshold", "threads"}

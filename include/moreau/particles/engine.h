@@ -55,6 +55,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "moreau/common/enum_names.h"
+#include "moreau/common/field_list.h"
 #include "moreau/common/termination.h"
 #include "moreau/particles/forces.h"
 #include "moreau/particles/model.h"
@@ -62,6 +64,8 @@
 namespace moreau::particles {
 
 enum class SweepOrder { kColoured, kLexicographic };
+inline constexpr EnumNames<SweepOrder, 2> kSweepOrderNames{
+    {{SweepOrder::kColoured, "coloured"}, {SweepOrder::kLexicographic, "lexicographic"}}};
 // "coloured", "lexicographic"; Parse throws InputError for other names.
 std::string_view SweepOrderName(SweepOrder order);
 SweepOrder ParseSweepOrder(std::string_view name);
@@ -70,6 +74,8 @@ enum class NeighbourSearch {
   kCellGrid,    // cell grid + Verlet lists: O(N) per build
   kBruteForce,  // all pairs within reach by an O(N²) loop; opt-in, for tests of the grid
 };
+inline constexpr EnumNames<NeighbourSearch, 2> kNeighbourSearchNames{
+    {{NeighbourSearch::kCellGrid, "cell_grid"}, {NeighbourSearch::kBruteForce, "brute_force"}}};
 
 struct EngineOptions {
   double h = 1e-3;         // time step, > 0
@@ -95,9 +101,10 @@ struct EngineOptions {
   double initial_tolerance = 1e-9;
   std::int64_t memory_limit_bytes = 0;  // for CheckParticleMemory; 0: AvailableMemory()
 
-  // Throws InputError naming the field ("h must be > 0 (got 0)", …).
+  static const FieldList<EngineOptions>& Fields();  // key, range, help of every field
+  // Throws InputError(key, reason) ("h", "must be > 0 (got 0)"), …).
   void Validate() const;
-  // Every field by its name here ("order": "coloured", "search": "cell_grid" | "brute_force").
+  // Every field by its key ("order": "coloured", "search": "cell_grid" | "brute_force").
   nlohmann::json ToJson() const;
 };
 

@@ -47,6 +47,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "moreau/common/enum_names.h"
+#include "moreau/common/field_list.h"
 #include "moreau/common/termination.h"
 #include "moreau/particles/engine.h"
 
@@ -68,9 +70,14 @@ struct AgentType {
   double velocity_alignment = 0.0;  // β ≥ 0 (1/time): alignment with the own velocity
   double max_contacts = 0.0;        // c_max ≥ 0: contact inhibition, grows and divides only while
                                     // touching fewer than c_max agents; 0: no inhibition
+
+  // Every field (name, radius, …); the rule division_radius = 0 or > radius.
+  static const FieldList<AgentType>& Fields();
 };
 
 enum class DivisionAxis { kRandom, kPolarity };
+inline constexpr EnumNames<DivisionAxis, 2> kDivisionAxisNames{
+    {{DivisionAxis::kRandom, "random"}, {DivisionAxis::kPolarity, "polarity"}}};
 // "random", "polarity"; Parse throws InputError for other names.
 std::string_view DivisionAxisName(DivisionAxis axis);
 DivisionAxis ParseDivisionAxis(std::string_view name);
@@ -94,10 +101,15 @@ struct PopulationRules {
   int relax_max_sweeps = 10000;   // ≥ 1
   std::int64_t max_count = 0;     // stop (completed) once the count reaches it; 0: no cap
 
-  // Throws InputError naming the field: "types[1].growth_rate must be ≥ 0 (got -1)",
-  // "types[0].division_radius (0.4) must be > the radius (0.5)",
-  // "types: the name 'cell' is used twice", "interval must be ≥ 1 (got 0)", …
+  // The scalar fields (interval, seed, axis, contact_factor, relax, …); the types are addressed
+  // by name, types.<name>.<key> with the keys of AgentType::Fields().
+  static const FieldList<PopulationRules>& Fields();
+  // Throws InputError(key, reason) naming the field: ("types.cell.growth_rate", "must be ≥ 0
+  // (got -1)"), ("types", "the name 'cell' is used twice"), ("interval", "must be ≥ 1 (got 0)"), …
   void Validate() const;
+  // Sets types.<name>.<key> (AgentType::Fields()) or a scalar field from JSON; InputError(key,
+  // reason) for an unknown type or key, a wrong type or a value out of range.
+  void Set(std::string_view key, const nlohmann::json& value);
   // The index of the type called `name`; InputError "unknown type 'x' (types: a, b)".
   int TypeIndex(std::string_view name) const;
   nlohmann::json ToJson() const;

@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "moreau/common/field_list.h"
 #include "moreau/particles/forces.h"
 #include "moreau/particles/model.h"
 
@@ -19,8 +20,9 @@ struct Room {
   double height = 15.0;     // > 0
   double door_width = 1.2;  // in (0, height)
 
-  // Throws InputError naming the field: "room.width must be > 0 (got 0)",
-  // "room.door_width must be smaller than the room height (got 16 ≥ 15)".
+  static const FieldList<Room>& Fields();  // width, height, door_width
+  // Throws InputError(key, reason): ("width", "must be > 0 (got 0)"), ("door_width", "must be
+  // smaller than the room height (got 16 ≥ 15)").
   void Validate() const;
   double door_lo() const { return 0.5 * (height - door_width); }
   double door_hi() const { return 0.5 * (height + door_width); }

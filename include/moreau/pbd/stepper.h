@@ -18,14 +18,20 @@
 
 #include <nlohmann/json.hpp>
 
-#include "moreau/common/termination.h"
+#include "moreau/common/enum_names.h"
+#include "moreau/common/field_list.h"
 #include "moreau/common/steps.h"
+#include "moreau/common/termination.h"
 #include "moreau/pbd/constraints.h"
 #include "moreau/pbd/drift.h"
 
 namespace moreau::pbd {
 
 enum class Method { kPBD, kPNGS, kPGS, kPenalty };
+inline constexpr EnumNames<Method, 4> kMethodNames{{{Method::kPBD, "pbd"},
+                                                    {Method::kPNGS, "pngs"},
+                                                    {Method::kPGS, "pgs"},
+                                                    {Method::kPenalty, "penalty"}}};
 
 // "pbd", "pngs", "pgs", "penalty" — the names files and flags use.
 std::string_view MethodName(Method method);
@@ -48,7 +54,8 @@ struct StepperOptions {
   // sweep per step.
   bool monitor_violation = true;
 
-  // Throws InputError naming the field.
+  static const FieldList<StepperOptions>& Fields();  // key, range, help of every field
+  // Throws InputError(key, reason).
   void Validate() const;
   // {"method", "h", "abstol", "reltol", "max_sweeps", "penalty", "monitor_violation"}
   nlohmann::json ToJson() const;
@@ -69,9 +76,9 @@ struct SimulationSummary {
   double max_violation = 0.0;  // max over all steps of Constraints::MaxViolation
   double total_seconds = 0.0;  // the whole time loop
   Termination termination = Termination::kCompleted;  // kCompleted or kNonFinite
-  std::string message;         // why it stopped early, with the step and time
+  std::string message;  // why it stopped early, with the step and time
   std::int64_t failed_step = -1;
-  StepperOptions options;      // the settings used
+  StepperOptions options;  // the settings used
 
   bool ok() const { return IsSuccess(termination); }
   std::string BriefReport() const;
