@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """examples/disks_1e6.toml through `moreau run` with several binaries taking turns, for comparing
-builds on a machine whose speed drifts (docs/benchmarks.md, "Issue 11, session 7").
+builds on a machine whose speed drifts (docs/benchmarks.md, "Paired rounds").
 
     bench/disks_1e6_ab.py THREADS REPEATS T MOREAU [MOREAU ...]
 

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# moreau against IPOPT on the arm model (issue 11; docs/benchmarks.md, "Control: moreau against
+# moreau against IPOPT on the arm model (docs/benchmarks.md, "moreau against
 # IPOPT"). IPOPT is a benchmark-only dependency: without it this prints one line and exits 0.
 #
 #   bench/ipopt_compare.sh [ARGS...]     (default: --check, then N = 256 … 4096)
 #   bench/ipopt_compare.sh --window      the gap-filling windows of shared/data/mocap/Vicon.c3d
-#                                        (docs/benchmarks.md, "Issue 11, session 6")
+#                                        (docs/benchmarks.md, "IPOPT on a gap-filling window")
 #
 # ARGS go to build/release/ipopt_bench (--check, --steps N,N,..., --tol T, --obj-scaling S,
 # --verbose; --window [--recording FILE] [--ipopt-seconds S]). Environment: BUILD (the build folder, default build/release). The bench runs in a

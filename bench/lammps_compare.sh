@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# moreau's particle engine side by side with LAMMPS on the same 2D disks (issue 11; results in
+# moreau's particle engine side by side with LAMMPS on the same 2D disks (results in
 # docs/benchmarks.md, "moreau against LAMMPS"). LAMMPS is a benchmark-only dependency: without
 # `lmp` on PATH the script says so and exits 0.
 #

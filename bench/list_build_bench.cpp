@@ -1,11 +1,11 @@
-// The neighbour-list build's phases at 10^6 disks, each timed on its own (issue 11): the cell sort
+// The neighbour-list build's phases at 10^6 disks, each timed on its own: the cell sort
 // (CellList::FitAndSort), the storage reorder (ParticleStore::Reorder) and the list fill with its
 // concatenation (NeighbourList::Build), on examples/disks_1e6.toml's start (random sequential
 // addition, seed 1, packing fraction 1/4, radius 0.5, the engine's default skin 0.5). Between
 // builds the positions contract by 10^−3 about the centre and every particle moves by up to 0.06
-// (deterministic). About half the slots then change cell between builds (counted in session 10),
+// (deterministic). About half the slots then change cell between builds,
 // against about 8 % between the example's builds: the sort and the reorder do more scattered work
-// here than in the example (kept so, for comparison with the earlier sessions' figures).
+// here than in the example (kept so, for comparison with the figures in docs/benchmarks.md).
 //
 // Counters: per phase the mean and the fastest ms over the iterations, wall-clock and process CPU
 // time (the fastest is the one to compare on a noisy machine; on one thread the CPU time leaves out

@@ -348,7 +348,7 @@ BurstTimes InterleavedBursts(benchmark::State& state, std::vector<Engine>& engin
   return t;
 }
 
-// Brownian noise against none (issue 11): the noiseless and the noisy engine (√(2Dh) = 0.005)
+// Brownian noise against none: the noiseless and the noisy engine (√(2Dh) = 0.005)
 // interleaved. Counters: ms per step (wall and CPU) of each, their ratios, and the noisy engine's
 // share of prediction (drift + noise), list builds and sweeps.
 void BM_NoiseInterleaved(benchmark::State& state) {
@@ -377,11 +377,11 @@ void BM_NoiseInterleaved(benchmark::State& state) {
   state.counters["plain_builds"] = static_cast<double>(p.neighbour_list_builds);
 }
 
-// The overlap monitor's cost (issue 11), noiseless and noisy: an engine without the monitor, one
-// with it, and one without it followed by the pass over every pair after each step (the monitor
-// before issue 11), interleaved. Counters: ms per step of each, the monitor's share of the
-// monitored step, the full pass's cost per step, and the check that the monitor's value equals the
-// full pass's at every step (mismatches, must be 0).
+// The overlap monitor's cost, noiseless and noisy: an engine without the monitor, one
+// with it, and one without it followed by the pass over every pair after each step (what a monitor
+// without the sweep's near-contact rows would do), interleaved. Counters: ms per step of each, the
+// monitor's share of the monitored step, the full pass's cost per step, and the check that the
+// monitor's value equals the full pass's at every step (mismatches, must be 0).
 void BM_MonitorInterleaved(benchmark::State& state) {
   const Workload w = MakeWorkload(SideFor(state.range(0)));
   const int threads = static_cast<int>(state.range(1));
@@ -496,7 +496,7 @@ BENCHMARK(BM_ParallelControl)
 int main(int argc, char** argv) {
   moreau::RestartWithBoundedOpenMpSpin(argv);
   // --hash_steps=S: no timing; runs the 10^6-disk workload (2 threads) for S steps and prints the
-  // hash of the final positions (the regression check on bits recorded in docs/benchmarks.md).
+  // hash of the final positions (a regression check on bits: two builds must print the same hash).
   if (argc == 2 && std::strncmp(argv[1], "--hash_steps=", 13) == 0) {
     const std::int64_t steps = std::atoll(argv[1] + 13);
     const Workload w = MakeWorkload(SideFor(1000000));

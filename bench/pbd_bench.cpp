@@ -1,4 +1,4 @@
-// PBD on the disks run of issue 2: 40 disks of radius 0.2, f(x) = −x, h = 1e−4, T = 1 (10^4
+// PBD on the paper's disks run: 40 disks of radius 0.2, f(x) = −x, h = 1e−4, T = 1 (10^4
 // steps), one sweep of pair projections per step (pairs i < j in lexicographic order).
 //
 //   BM_PlainLoop            the baseline: a plain all-pairs double loop over a flat

@@ -10,7 +10,7 @@
 //               N ∈ [N_max/2, N_max] (the last doubling), per particle-step (Σ N over those steps);
 //   fixed       the plain Engine on the final state (same radii, forces, options) for 500 steps,
 //               per particle-step;
-//   ratio       growth / fixed (the target: ≤ 1.5).
+//   ratio       growth / fixed (1: a changing population costs no more than a fixed one).
 // Times are process CPU seconds (meaningful for threads = 1 on a shared machine).
 // One iteration (the growth is the measurement). MOREAU_BENCH_ABM_CELLS overrides N_max,
 // MOREAU_BENCH_ABM_INTERVAL the rule interval (20; 5 and 1 are the worst cadences). Counters of

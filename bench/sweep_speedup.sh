@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The sweep benchmark of docs/benchmarks.md (issue 13): 64 short runs on 1 MPI rank against 2,
+# The sweep benchmark of docs/benchmarks.md: 64 short runs on 1 MPI rank against 2,
 # measured interleaved (1, 2, 1, 2, …) so that both see the same machine, then the per-run
 # overhead of the sweep machinery (the same sweep with runs of 2 steps, one process).
 #

@@ -1,4 +1,4 @@
-// HDF5 trajectory size and write time for each storage setting (issue 11, docs/io.md).
+// HDF5 trajectory size and write time for each storage setting (docs/io.md).
 //
 // Workload: the frames of examples/disks_1e5.toml: 11 frames of N = 10^5 disks of radius 0.5,
 // 2D, ids 0 … N−1, positions uniform in that example's square [−280.25, 280.25]² (seeded; its

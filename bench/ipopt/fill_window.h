@@ -1,5 +1,5 @@
 // The gap-filling windows of a real recording as the optimal-control fill builds them (benchmark
-// only; docs/benchmarks.md, "Issue 11, session 6: IPOPT on a gap-filling window").
+// only; docs/benchmarks.md, "IPOPT on a gap-filling window").
 #pragma once
 
 #include <filesystem>

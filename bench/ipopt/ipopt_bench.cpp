@@ -1,4 +1,4 @@
-// moreau against IPOPT on the arm model (thesis 9.2, examples/control/arm_2d.toml), issue 11.
+// moreau against IPOPT on the arm model (thesis 9.2, examples/control/arm_2d.toml).
 // IPOPT solves the primal problem of tracking_nlp.h (exact first and second derivatives, MUMPS);
 // moreau solves the Symplectic Pontryagin system of the same discretisation, whose KKT system
 // it is. Both run at the target parameters; the controls, the value and the duals are compared.

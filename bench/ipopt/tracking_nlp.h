@@ -1,5 +1,5 @@
 // The primal counterpart of moreau's Symplectic Pontryagin system, as an Ipopt::TNLP
-// (benchmark only; docs/benchmarks.md, "Control: moreau against IPOPT").
+// (benchmark only; docs/benchmarks.md, "moreau against IPOPT").
 //
 //   minimise over z^1 … z^N (n_z each) and L^0 … L^{N−1} (one rest length per spring)
 //     J = Σ_{n=0}^{N−1} Δt [ h(z^n, t_n) + γ Σ_s ψ_s(L^n_s) ] + g(z^N)

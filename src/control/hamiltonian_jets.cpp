@@ -1,5 +1,5 @@
-// The forward-mode-jet evaluation of the spring terms: the original implementation, kept to
-// cross-check the closed form of spring_term.h in the tests.
+// The forward-mode-jet evaluation of the spring terms: an independent implementation that
+// cross-checks the closed form of spring_term.h in the tests.
 #include <cmath>
 
 #include "control/hamiltonian_internal.h"

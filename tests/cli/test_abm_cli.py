@@ -1,4 +1,4 @@
-"""End-to-end tests of `moreau run` on agent-based scenarios (issue 14, docs/abm.md): a small
+"""End-to-end tests of `moreau run` on agent-based scenarios (docs/abm.md): a small
 growing colony writes its observables, agents and frames; the same seed gives the same bits; the
 crowd leaves through the exit; bad input (negative rates, a division size below the radius, an
 unknown type name) gets one line naming the file, the key and the reason, exit code 2, nothing

@@ -1,4 +1,4 @@
-"""`moreau run --checkpoint-every K` and `--resume DIR` (issue 12, item 4): a run killed after a
+"""`moreau run --checkpoint-every K` and `--resume DIR` (docs/reliability.md): a run killed after a
 checkpoint and resumed from it writes the same bits (positions hash, counters, trajectory
 datasets) as a run that never stopped, with noise, on 1 and 2 threads; a corrupt checkpoint or
 one made for another scenario is refused with one line and exit code 2."""

@@ -1,4 +1,4 @@
-"""End-to-end tests of `moreau control` (issue 3): outputs, the study, and bad input.
+"""End-to-end tests of `moreau control` (docs/control.md): outputs, the study, and bad input.
 
 The CLI is found through MOREAU_CLI, the repository through MOREAU_ROOT.
 """
@@ -102,7 +102,7 @@ BASE = (EXAMPLES / "network_2d.toml").read_text()
 
 
 def bad_case(name):
-    """(scenario text, expected key, expected reason fragment) for each bad input of issue 3."""
+    """(scenario text, expected key, expected reason fragment) for each bad input of the model."""
     if name == "disconnected":
         text = BASE.replace("  { mass = 1.0, position = [0.5, -0.8] },",
                             "  { mass = 1.0, position = [0.5, -0.8] },\n"

@@ -1,4 +1,4 @@
-"""Checked limits (issue 12, "Why" point 4): step and frame counts, integer ranges, memory
+"""Checked limits (docs/reliability.md): step and frame counts, integer ranges, memory
 estimates that respect `ulimit -v`, thread counts capped at the hardware. Each bad input is one
 stderr line naming the key and the user's own number, exit code 2, nothing written."""
 import json

@@ -1,4 +1,4 @@
-"""End-to-end tests of how `moreau` writes its output folders (issue 12, docs/reliability.md):
+"""End-to-end tests of how `moreau` writes its output folders (docs/reliability.md):
 no shell ever sees a path, a folder always holds exactly one complete run, a second run into the
 same folder is refused, staging folders of dead processes are removed, nothing is created for
 bad input, and an installed tool finds its figure scripts."""

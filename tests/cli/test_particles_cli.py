@@ -1,4 +1,4 @@
-"""End-to-end tests of `moreau run` on particle scenarios (issue 4): the crowd evacuation, outputs,
+"""End-to-end tests of `moreau run` on particle scenarios (docs/particles.md): the crowd evacuation, outputs,
 and every bad input: one line naming the file, the key and the reason, exit code 2, nothing
 written; a non-finite force stops with exit code 3 and keeps the last good frame."""
 import csv

@@ -1,4 +1,4 @@
-"""SIGINT and SIGTERM (issue 12, docs/reliability.md): a time loop finishes its current step,
+"""SIGINT and SIGTERM (docs/reliability.md): a time loop finishes its current step,
 the completed part is published marked "interrupted" (summary, readable HDF5 trajectory), no
 staging folder stays, and the exit code is 128 + the signal. Outside a time loop nothing is
 published and the folder keeps what it held."""

@@ -1,4 +1,4 @@
-"""`[output]` precision and compression of trajectory.h5 (issue 11, docs/io.md): single precision
+"""`[output]` precision and compression of trajectory.h5 (docs/io.md): single precision
 stores the same run's positions rounded to float32, compression is lossless, the sidecar declares
 the precision, the settings are echoed, and bad values are one line naming the key."""
 import json

@@ -1,4 +1,4 @@
-"""Validation, messages and summaries (issue 12, "Why" points 5 and 6): unknown keys in arrays of
+"""Validation, messages and summaries (docs/reliability.md): unknown keys in arrays of
 tables, booleans, the room's geometry, a directory as scenario file, a start that cannot be made
 feasible; messages that name each key once as the user writes it; summaries that give null and a
 reason, never a number, for what failed."""

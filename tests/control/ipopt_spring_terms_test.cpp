@@ -1,5 +1,5 @@
 // The closed-form spring derivatives and the control entropy of the IPOPT benchmark
-// (bench/ipopt/spring_terms.h, issue 11): the force Jacobian against central differences of the
+// (bench/ipopt/spring_terms.h): the force Jacobian against central differences of the
 // library's dynamics, the Hessian against central differences of the Jacobian, and the entropy
 // penalty as the Legendre partner of the regularised minimum S^γ of hamiltonian.h.
 #include "../../bench/ipopt/spring_terms.h"

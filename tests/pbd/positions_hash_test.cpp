@@ -1,6 +1,6 @@
 // Regression check on bits: the final positions of `moreau run examples/disks.toml` (40 disks,
-// PBD, h = 0.001, T = 1) hash to the value recorded before the particle core was refactored
-// (issue 7; the last frame of trajectory.csv, hashed with moreau::HashDoubles).
+// PBD, h = 0.001, T = 1) hash to a recorded value (the last frame of trajectory.csv, hashed with
+// moreau::HashDoubles).
 #include <gtest/gtest.h>
 
 #include "moreau/common/hash.h"
@@ -21,7 +21,8 @@ TEST(PositionsHash, DisksExampleKeepsItsBits) {
   StepperOptions o;
   o.h = 0.001;
   Vector x;
-  const SimulationSummary s = Simulate(*c.MakeDrift(), constraints, o, c.InitialState(), c.T, {}, &x);
+  const SimulationSummary s =
+      Simulate(*c.MakeDrift(), constraints, o, c.InitialState(), c.T, {}, &x);
   ASSERT_TRUE(s.ok()) << s.message;
   EXPECT_EQ(HashDoublesHex({x.data(), static_cast<std::size_t>(x.size())}), "28cc547bd51648cc");
   EXPECT_EQ(constraints.neighbour_stats().neighbour_list_builds, 29);  // as summary.json said
