@@ -132,7 +132,11 @@ GapFillMethod ParseGapFillMethod(std::string_view name) {
 
 std::vector<GapFillMethod> AllGapFillMethods() {
   std::vector<GapFillMethod> methods;
-  for (FillMethod m : AllFillMethods()) methods.push_back(static_cast<GapFillMethod>(m));
+  for (FillMethod m : AllFillMethods()) {
+    // GapFillMethod lists every FillMethod before kOcp.
+    MOREAU_ASSERT(static_cast<int>(m) < static_cast<int>(GapFillMethod::kOcp));
+    methods.push_back(static_cast<GapFillMethod>(m));
+  }
   methods.push_back(GapFillMethod::kOcp);
   return methods;
 }

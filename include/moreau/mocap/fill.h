@@ -37,8 +37,8 @@
 // receives candidate fills and calls nothing here; gap_fill.h chooses a fill by name and, for
 // ocp, computes the candidates with FillGapsMeetingEnds (below) before handing them over.
 //
-// Adding a method: one FillMethod entry, one row in the name table (fill.cpp) and one FillGapX
-// function with the signature below.
+// Adding a method: one FillMethod entry, one row in the name table (fill.cpp), one FillGapX
+// function with the signature below, and the same entry in GapFillMethod (gap_fill.h).
 #pragma once
 
 #include <cstdint>
