@@ -1,5 +1,5 @@
-// Wall-clock time of the ocp fill through FillGaps (FillMethod::kOcp: the candidate fills, the
-// network, the prior and, in the *OptimalControl variants, the windows' optimal control; all
+// Wall-clock time of the ocp fill through FillGaps (gap_fill.h, method ocp: the candidate fills,
+// the network, the prior and, in the *OptimalControl variants, the windows' optimal control; all
 // threads) on synthetic recordings of rigid bodies with 4 markers each (smooth rotation and
 // translation, mm):
 //   Qualisys-sized: 56 markers, 340 frames at 200 Hz, 10 gaps of 0.2–0.5 s;
@@ -14,7 +14,7 @@
 #include <numbers>
 
 #include "moreau/common/random.h"
-#include "moreau/mocap/fill.h"
+#include "moreau/mocap/gap_fill.h"
 
 namespace {
 
@@ -70,8 +70,8 @@ void Run(benchmark::State& state, int bodies, std::int64_t frames, double rate, 
          bool optimal_control) {
   Recording rec = Bodies(bodies, frames, rate);
   const std::vector<Gap> gaps = MakeGaps(rec, count, 7);
-  FillOptions options;
-  options.method = FillMethod::kOcp;
+  GapFillOptions options;
+  options.method = GapFillMethod::kOcp;
   options.ocp.optimal_control = optimal_control;
   Recording out;
   FillSummary summary;

@@ -70,7 +70,7 @@ FieldTable<mocap::FillOptions> FillOptionFields() {
 
 std::string FillMethodNames() {
   std::string names;
-  for (mocap::FillMethod m : mocap::AllFillMethods()) {
+  for (mocap::GapFillMethod m : mocap::AllGapFillMethods()) {
     names += (names.empty() ? "" : ", ") + std::string(mocap::ToString(m));
   }
   return names;

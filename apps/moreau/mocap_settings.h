@@ -11,7 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "field_table.h"
-#include "moreau/mocap/fill.h"
+#include "moreau/mocap/gap_fill.h"
 #include "moreau/mocap/recording.h"
 #include "moreau/mocap/recording_io.h"
 #include "scenario.h"
@@ -20,7 +20,7 @@ namespace moreau::cli {
 
 // The method fill-gaps uses when none is named (fill.method): ocp, the optimal-control fill, the
 // best on both ground-truth recordings at every gap length (docs/mocap.md).
-inline constexpr mocap::FillMethod kDefaultFillMethod = mocap::FillMethod::kOcp;
+inline constexpr mocap::GapFillMethod kDefaultFillMethod = mocap::GapFillMethod::kOcp;
 
 // read.zero_is_missing, read.allow_truncated, read.units_if_unstated (ReadOptions).
 FieldTable<mocap::ReadOptions> ReadFields();
@@ -30,7 +30,7 @@ FieldTable<mocap::ReadOptions> ReadFields();
 // own adds one Mount line here.
 FieldTable<mocap::FillOptions> FillOptionFields();
 
-// "linear, spline, pchip, rigid, pca".
+// "linear, spline, pchip, rigid, pca, ocp".
 std::string FillMethodNames();
 
 // The arguments of fill-gaps and evaluate-gaps: IN [--scenario FILE] [--set key=value …]

@@ -4,36 +4,32 @@
 
 #include <algorithm>
 
-#include "mocap/ocp_method.h"
 #include "moreau/mocap/ocp_fill.h"
 #include "moreau/mocap/recording_io.h"
 
 namespace moreau::bench {
 
-FillWindows MakeFillWindows(const std::filesystem::path& path, const mocap::FillOptions& options) {
+FillWindows MakeFillWindows(const std::filesystem::path& path,
+                            const mocap::GapFillOptions& options) {
   FillWindows fill;
   fill.in = mocap::ReadRecording(path);
   const std::vector<mocap::Gap> gaps = mocap::FindGaps(fill.in);
   // The priors, exactly as FillGapsOcp sets them into its `base`: with the optimal control off
   // the fill writes each solved gap's prior.
-  mocap::FillOptions prior = options;
+  mocap::GapFillOptions prior = options;
+  prior.method = mocap::GapFillMethod::kOcp;
   prior.ocp.optimal_control = false;
-  const std::vector<mocap::GapFill> fills = mocap::internal::FillGapsByOcp(fill.in, gaps, prior);
-  fill.base = fill.in;
+  const mocap::FillSummary priors = mocap::FillGaps(fill.in, gaps, prior, &fill.base);
   std::vector<mocap::Gap> solved;
   for (std::size_t i = 0; i < gaps.size(); ++i) {
-    if (fills[i].status != mocap::GapStatus::kFilled) continue;
-    solved.push_back(gaps[i]);
-    for (std::int64_t f = gaps[i].first; f <= gaps[i].last; ++f) {
-      fill.base.SetPoint(f, gaps[i].marker, fills[i].points.col(f - gaps[i].first));
-    }
+    if (priors.gaps[i].filled()) solved.push_back(gaps[i]);
   }
   fill.gaps = static_cast<int>(solved.size());
   // The fill's windows: FillGapsOcp with the prior as its only candidate reports each gap's
   // window (grouping and padding are the fill's own).
   mocap::Recording out;
   const mocap::OcpFillSummary summary =
-      mocap::FillGapsOcp(fill.in, solved, prior.ocp, &out, {{"prior", &fill.base}});
+      mocap::FillGapsOcp(fill.in, solved, {{"prior", &fill.base}}, prior.ocp, &out);
   fill.network = summary.network;
   fill.windows.resize(static_cast<std::size_t>(summary.windows));
   for (std::size_t k = 0; k < solved.size(); ++k) {

@@ -7,12 +7,13 @@
 #include <vector>
 
 #include "mocap/ocp_window.h"
-#include "moreau/mocap/fill.h"
+#include "moreau/mocap/gap_fill.h"
 
 namespace moreau::bench {
 
 // A recording's gaps set up for the fill's windows: `base` is `in` with every gap that the fill
-// solves set to its prior (FillGaps with method "ocp" and the optimal control off), `windows`
+// solves set to its prior (FillGaps, gap_fill.h, with method ocp and the optimal control off),
+// `windows`
 // the fill's windows of those gaps (its grouping and padding), in the fill's order.
 struct FillWindows {
   mocap::Recording in;
@@ -22,8 +23,9 @@ struct FillWindows {
   int gaps = 0;  // gaps the fill solves
 };
 
-// Reads `path` and finds its gaps (FindGaps), with `options` (method "ocp" assumed).
-FillWindows MakeFillWindows(const std::filesystem::path& path, const mocap::FillOptions& options);
+// Reads `path` and finds its gaps (FindGaps), with `options` (options.method is not read: ocp).
+FillWindows MakeFillWindows(const std::filesystem::path& path,
+                            const mocap::GapFillOptions& options);
 
 // "frames a…b, free A, B" in the recording's labels.
 std::string Describe(const FillWindows& fill, std::size_t window);

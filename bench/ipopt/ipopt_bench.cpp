@@ -269,8 +269,8 @@ bool SolveWindow(const moreau::bench::FillWindows& fill, std::size_t index,
 }
 
 int RunWindows(const std::string& recording, double tol, bool scaling_given) {
-  mocap::FillOptions options;
-  options.method = mocap::FillMethod::kOcp;
+  mocap::GapFillOptions options;
+  options.method = mocap::GapFillMethod::kOcp;
   const moreau::bench::FillWindows fill = moreau::bench::MakeFillWindows(recording, options);
   std::printf("# %s: %d markers, %lld frames at %g Hz; %d gaps in %zu windows (fill defaults)\n",
               recording.c_str(), fill.in.markers(), static_cast<long long>(fill.in.frames()),

@@ -13,6 +13,7 @@
 #include "moreau/common/error.h"
 #include "moreau/mocap/evaluate.h"
 #include "moreau/mocap/fill.h"
+#include "moreau/mocap/gap_fill.h"
 #include "moreau/mocap/recording.h"
 #include "moreau/mocap/recording_io.h"
 
@@ -117,6 +118,29 @@ void BindRecording(py::module_& m) {
       py::arg("recording"), py::arg("path"), "Writes .c3d, .trc or .csv (by extension).");
 }
 
+// Names of methods to and from a list of them (ParseName throws for an unknown one).
+template <typename Method>
+std::vector<std::string> MethodNames(const std::vector<Method>& methods) {
+  std::vector<std::string> names;
+  for (Method method : methods) names.emplace_back(ToString(method));
+  return names;
+}
+
+template <typename Method, typename ParseName>
+std::vector<Method> ParseMethods(const std::vector<std::string>& names, ParseName parse) {
+  std::vector<Method> methods;
+  for (const std::string& name : names) methods.push_back(parse(name));
+  return methods;
+}
+
+// A field of GapFillOptions::baseline as an attribute of Python's FillOptions.
+template <typename T>
+void BindBaselineField(py::class_<GapFillOptions>& c, const char* name, T FillOptions::*field) {
+  c.def_property(
+      name, [field](GapFillOptions& o) -> T& { return o.baseline.*field; },
+      [field](GapFillOptions& o, const T& value) { o.baseline.*field = value; });
+}
+
 void BindFillOptions(py::module_& m) {
   py::class_<InterpolationFillOptions>(m, "InterpolationFillOptions")
       .def(py::init(&FromKwargs<InterpolationFillOptions>))
@@ -138,20 +162,26 @@ void BindFillOptions(py::module_& m) {
       .def(py::init(&FromKwargs<OcpFillOptions>))
       .def_readwrite("padding_seconds", &OcpFillOptions::padding_seconds)
       .def_readwrite("prior_weight", &OcpFillOptions::prior_weight)
-      .def_readwrite("candidates", &OcpFillOptions::candidates)
-      .def_readwrite("optimal_control", &OcpFillOptions::optimal_control);
-  py::class_<FillOptions>(m, "FillOptions", "Keys of [fill]: method, max_gap_seconds, …")
-      .def(py::init(&FromKwargs<FillOptions>))
       .def_property(
-          "method", [](const FillOptions& o) { return std::string(ToString(o.method)); },
-          [](FillOptions& o, const std::string& s) { o.method = ParseFillMethod(s); })
-      .def_readwrite("max_gap_seconds", &FillOptions::max_gap_seconds)
-      .def_readwrite("interpolation", &FillOptions::interpolation)
-      .def_readwrite("rigid", &FillOptions::rigid)
-      .def_readwrite("pca", &FillOptions::pca)
-      .def_readwrite("ocp", &FillOptions::ocp)
-      .def("validate", &FillOptions::Validate)
-      .def("to_dict", [](const FillOptions& o) { return JsonToPython(o.ToJson()); });
+          "candidates", [](const OcpFillOptions& o) { return MethodNames(o.candidates); },
+          [](OcpFillOptions& o, const std::vector<std::string>& names) {
+            o.candidates = ParseMethods<FillMethod>(names, ParseFillMethod);
+          })
+      .def_readwrite("optimal_control", &OcpFillOptions::optimal_control);
+  // Python's FillOptions are the settings of a fill by any method (gap_fill.h): the baseline
+  // fills' fields, the method (ocp included) and ocp.
+  py::class_<GapFillOptions> fill(m, "FillOptions", "Keys of [fill]: method, max_gap_seconds, …");
+  fill.def(py::init(&FromKwargs<GapFillOptions>))
+      .def_property(
+          "method", [](const GapFillOptions& o) { return std::string(ToString(o.method)); },
+          [](GapFillOptions& o, const std::string& s) { o.method = ParseGapFillMethod(s); });
+  BindBaselineField(fill, "max_gap_seconds", &FillOptions::max_gap_seconds);
+  BindBaselineField(fill, "interpolation", &FillOptions::interpolation);
+  BindBaselineField(fill, "rigid", &FillOptions::rigid);
+  BindBaselineField(fill, "pca", &FillOptions::pca);
+  fill.def_readwrite("ocp", &GapFillOptions::ocp)
+      .def("validate", &GapFillOptions::Validate)
+      .def("to_dict", [](const GapFillOptions& o) { return JsonToPython(o.ToJson()); });
   BindSummary<FillSummary>(m, "FillSummary", "The gaps filled and why the others were not.");
 }
 
@@ -159,8 +189,8 @@ void BindFillAndEvaluate(py::module_& m) {
   m.def(
       "fill_gaps",
       [](const Recording& in, std::optional<std::vector<Gap>> gaps,
-         std::optional<FillOptions> options, const py::kwargs& kw) {
-        FillOptions o = WithKwargs(options, kw);
+         std::optional<GapFillOptions> options, const py::kwargs& kw) {
+        GapFillOptions o = WithKwargs(options, kw);
         Recording out;
         FillSummary summary;
         {
@@ -175,15 +205,9 @@ void BindFillAndEvaluate(py::module_& m) {
   py::class_<EvaluationOptions>(m, "EvaluationOptions", "Keys of [evaluation].")
       .def(py::init(&FromKwargs<EvaluationOptions>))
       .def_property(
-          "methods",
-          [](const EvaluationOptions& o) {
-            std::vector<std::string> names;
-            for (FillMethod f : o.methods) names.emplace_back(ToString(f));
-            return names;
-          },
+          "methods", [](const EvaluationOptions& o) { return MethodNames(o.methods); },
           [](EvaluationOptions& o, const std::vector<std::string>& names) {
-            o.methods.clear();
-            for (const std::string& n : names) o.methods.push_back(ParseFillMethod(n));
+            o.methods = ParseMethods<GapFillMethod>(names, ParseGapFillMethod);
           })
       .def_readwrite("gap_seconds", &EvaluationOptions::gap_seconds)
       .def_readwrite("trials", &EvaluationOptions::trials)

@@ -41,7 +41,7 @@ void CheckComplete(const Recording& truth) {
 
 std::vector<Trial> DrawTrials(const Recording& truth, const EvaluationOptions& options,
                               std::vector<std::int64_t>* lengths) {
-  const std::int64_t margin = options.fill.interpolation.samples_per_side;
+  const std::int64_t margin = options.fill.baseline.interpolation.samples_per_side;
   SplitMix64 rng(options.seed);
   std::vector<Trial> trials;
   for (std::size_t g = 0; g < options.gap_seconds.size(); ++g) {
@@ -66,8 +66,8 @@ std::vector<Trial> DrawTrials(const Recording& truth, const EvaluationOptions& o
 }
 
 EvaluationRow Evaluate(const Recording& truth, const Recording& gapped, const Trial& trial,
-                       const EvaluationOptions& options, FillMethod method) {
-  FillOptions fill_options = options.fill;
+                       const EvaluationOptions& options, GapFillMethod method) {
+  GapFillOptions fill_options = options.fill;
   fill_options.method = method;
   const GapFill fill = FillGap(gapped, trial.gap, fill_options);
   EvaluationRow row{method,
@@ -112,7 +112,7 @@ void EvaluationOptions::Validate() const {
 
 nlohmann::json EvaluationOptions::ToJson() const {
   nlohmann::json names = nlohmann::json::array();
-  for (FillMethod m : methods) names.push_back(std::string(ToString(m)));
+  for (GapFillMethod m : methods) names.push_back(std::string(ToString(m)));
   nlohmann::json fill_json = fill.ToJson();
   fill_json.erase("method");
   return {{"methods", names}, {"gap_seconds", gap_seconds}, {"trials", trials},
@@ -163,7 +163,7 @@ EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOp
   }
 
   for (std::size_t g = 0; g < lengths.size(); ++g) {
-    for (FillMethod method : options.methods) {
+    for (GapFillMethod method : options.methods) {
       EvaluationStatistics stats{method, options.gap_seconds[g], lengths[g], 0, 0, 0, 0, 0};
       std::vector<double> errors;
       for (const EvaluationRow& row : summary.rows) {

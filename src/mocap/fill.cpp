@@ -7,7 +7,7 @@
 #include <map>
 #include <utility>
 
-#include "mocap/ocp_method.h"
+#include "mocap/fill_internal.h"
 #include "moreau/common/enum_names.h"
 #include "moreau/common/error.h"
 #include "moreau/common/stopwatch.h"
@@ -26,13 +26,12 @@ struct MethodEntry {
 };
 
 // The one place that lists the methods: enum, name, function.
-constexpr std::array<MethodEntry, 6> kMethods{{
+constexpr std::array<MethodEntry, 5> kMethods{{
     {FillMethod::kLinear, "linear", &FillGapLinear},
     {FillMethod::kSpline, "spline", &FillGapSpline},
     {FillMethod::kPchip, "pchip", &FillGapPchip},
     {FillMethod::kRigid, "rigid", &FillGapRigid},
     {FillMethod::kPca, "pca", &FillGapPca},
-    {FillMethod::kOcp, "ocp", &FillGapOcp},
 }};
 
 constexpr EnumNames<GapStatus, 6> kStatuses{{
@@ -49,26 +48,6 @@ const MethodEntry& Entry(FillMethod method) {
     if (entry.method == method) return entry;
   }
   MOREAU_ASSERT(false);
-}
-
-void CheckGap(const Recording& in, const Gap& gap, std::size_t index) {
-  const auto where = [&] {
-    return fmt::format("gaps[{}] (marker {}, frames {}…{})", index, gap.marker, gap.first,
-                       gap.last);
-  };
-  if (gap.marker < 0 || gap.marker >= in.markers()) {
-    throw InputError(fmt::format("{}: marker out of range (the recording has {} markers)", where(),
-                                 in.markers()));
-  }
-  if (gap.first < 0 || gap.last < gap.first || gap.last >= in.frames()) {
-    throw InputError(
-        fmt::format("{}: frames outside 0…{} or first > last", where(), in.frames() - 1));
-  }
-  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
-    if (in.observed(f, gap.marker)) {
-      throw InputError(fmt::format("{}: frame {} is observed, not missing", where(), f));
-    }
-  }
 }
 
 }  // namespace
@@ -127,24 +106,6 @@ void FillOptions::Validate() const {
   if (!(pca.tolerance > 0.0) || !std::isfinite(pca.tolerance)) {
     fail("pca.tolerance", pca.tolerance, "> 0");
   }
-  try {
-    ocp.Validate();
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("fill.{}", e.what()));
-  }
-  for (std::size_t i = 0; i < ocp.candidates.size(); ++i) {
-    const auto known = [&] {
-      try {
-        return ParseFillMethod(ocp.candidates[i]) != FillMethod::kOcp;
-      } catch (const InputError&) {
-        return false;
-      }
-    };
-    if (!known()) {
-      fail(fmt::format("ocp.candidates[{}]", i), ocp.candidates[i],
-           "a baseline method (linear, spline, pchip, rigid or pca)");
-    }
-  }
 }
 
 nlohmann::json FillOptions::ToJson() const {
@@ -159,8 +120,7 @@ nlohmann::json FillOptions::ToJson() const {
             {"distal_threshold", pca.distal_threshold},
             {"min_complete_frames", pca.min_complete_frames},
             {"max_iterations", pca.max_iterations},
-            {"tolerance", pca.tolerance}}},
-          {"ocp", ocp.ToJson()}};
+            {"tolerance", pca.tolerance}}}};
 }
 
 GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options) {
@@ -195,41 +155,33 @@ nlohmann::json FillSummary::ToJson() const {
                     {"first", gap.first},
                     {"last", gap.last},
                     {"frames", gap.last - gap.first + 1},
-                    {"method", std::string(ToString(gap.method))},
+                    {"method", method},
                     {"status", std::string(ToString(gap.status))},
                     {"message", gap.message},
                     {"seconds", gap.seconds}});
   }
   j["gaps"] = std::move(rows);
-  j["settings"] = settings.ToJson();
+  j["settings"] = settings;
   return j;
 }
 
-FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const FillOptions& options,
-                     Recording* out) {
-  MOREAU_ASSERT(out != nullptr);
-  const Stopwatch total;
-  options.Validate();
-  for (std::size_t i = 0; i < gaps.size(); ++i) CheckGap(in, gaps[i], i);
+namespace internal {
 
+FillSummary SummarizeFills(const Recording& in, const std::vector<Gap>& gaps,
+                           std::string_view method,
+                           const std::function<GapFill(std::size_t)>& fill_gap, Recording* out) {
+  MOREAU_ASSERT(out != nullptr);
   FillSummary summary;
-  summary.settings = options;
+  summary.method = method;
   Recording result = in;
   std::map<GapStatus, int> unfilled;
-  // ocp fills every gap at once (gaps that overlap in time are solved together).
-  std::vector<GapFill> joint;
-  if (options.method == FillMethod::kOcp) joint = internal::FillGapsByOcp(in, gaps, options);
   for (std::size_t i = 0; i < gaps.size(); ++i) {
     const Gap& gap = gaps[i];
     const Stopwatch watch;
-    GapFill fill = joint.empty() ? FillGap(in, gap, options) : std::move(joint[i]);
-    GapReport report{gap.marker,
-                     in.labels()[static_cast<std::size_t>(gap.marker)],
-                     gap.first,
-                     gap.last,
-                     options.method,
-                     fill.status,
-                     std::move(fill.message),
+    GapFill fill = fill_gap(i);
+    GapReport report{gap.marker,  in.labels()[static_cast<std::size_t>(gap.marker)],
+                     gap.first,   gap.last,
+                     fill.status, std::move(fill.message),
                      0.0};
     if (fill.status == GapStatus::kFilled) {
       for (std::int64_t f = gap.first; f <= gap.last; ++f) {
@@ -243,14 +195,69 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const Fi
     report.seconds = watch.Seconds();
     summary.gaps.push_back(std::move(report));
   }
-  summary.message = fmt::format("{} of {} gaps filled by {}", summary.gaps_filled, gaps.size(),
-                                ToString(options.method));
+  summary.message =
+      fmt::format("{} of {} gaps filled by {}", summary.gaps_filled, gaps.size(), method);
   for (const auto& [status, count] : unfilled) {
     summary.message += fmt::format("; {} {}", count, ToString(status));
   }
   *out = std::move(result);
+  return summary;
+}
+
+}  // namespace internal
+
+namespace {
+
+// FillGaps with fill_gap(gap) per gap.
+template <typename FillOneGap>
+FillSummary FillEachGap(const Recording& in, const std::vector<Gap>& gaps,
+                        const FillOptions& options, FillOneGap fill_gap, Recording* out) {
+  const Stopwatch total;
+  options.Validate();
+  CheckGaps(in, gaps);
+  FillSummary summary = internal::SummarizeFills(
+      in, gaps, ToString(options.method), [&](std::size_t i) { return fill_gap(gaps[i]); }, out);
+  summary.settings = options.ToJson();
   summary.total_seconds = total.Seconds();
   return summary;
+}
+
+// The fill of `gap` made to meet the observed samples that bound it (FillGapsMeetingEnds): the
+// samples at first − 1 and last + 1 are hidden in `work` while the widened gap is filled, then
+// restored.
+GapFill FillGapMeetingEnds(Recording& work, const Gap& gap, const FillOptions& options) {
+  const std::int64_t a = gap.first - 1, b = gap.last + 1;
+  if (a < 0 || b >= work.frames()) return FillGap(work, gap, options);
+  const Eigen::Vector3d xa = work.point(a, gap.marker), xb = work.point(b, gap.marker);
+  work.ClearPoint(a, gap.marker);
+  work.ClearPoint(b, gap.marker);
+  GapFill wide = FillGap(work, Gap{gap.marker, a, b}, options);
+  work.SetPoint(a, gap.marker, xa);
+  work.SetPoint(b, gap.marker, xb);
+  if (wide.status != GapStatus::kFilled) return FillGap(work, gap, options);
+  const Eigen::Vector3d ea = xa - wide.points.col(0), eb = xb - wide.points.col(b - a);
+  GapFill fill{GapStatus::kFilled, std::move(wide.message), Eigen::Matrix3Xd(3, gap.length())};
+  for (std::int64_t f = gap.first; f <= gap.last; ++f) {
+    const double w = static_cast<double>(f - a) / static_cast<double>(b - a);
+    fill.points.col(f - gap.first) = wide.points.col(f - a) + (1.0 - w) * ea + w * eb;
+  }
+  return fill;
+}
+
+}  // namespace
+
+FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const FillOptions& options,
+                     Recording* out) {
+  return FillEachGap(
+      in, gaps, options, [&](const Gap& gap) { return FillGap(in, gap, options); }, out);
+}
+
+FillSummary FillGapsMeetingEnds(const Recording& in, const std::vector<Gap>& gaps,
+                                const FillOptions& options, Recording* out) {
+  Recording work = in;  // FillGapMeetingEnds hides samples in it, then restores them
+  return FillEachGap(
+      in, gaps, options, [&](const Gap& gap) { return FillGapMeetingEnds(work, gap, options); },
+      out);
 }
 
 }  // namespace moreau::mocap

@@ -9,6 +9,7 @@
 
 #include "mocap/ocp_prior.h"
 #include "mocap/ocp_window.h"
+#include "moreau/common/enum_names.h"
 #include "moreau/common/error.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
@@ -18,25 +19,16 @@ namespace {
 
 using internal::GapTrack;
 
-void CheckGaps(const Recording& in, const std::vector<Gap>& gaps, const MarkerNetwork& net) {
+constexpr EnumNames<OcpOutcome, 3> kOcpOutcomes{{
+    {OcpOutcome::kSolved, "ocp"},
+    {OcpOutcome::kPrior, "prior"},
+    {OcpOutcome::kFallback, "fallback"},
+}};
+
+// Beyond CheckGaps: the network must carry every gap's marker.
+void CheckPartners(const Recording& in, const std::vector<Gap>& gaps, const MarkerNetwork& net) {
   for (std::size_t i = 0; i < gaps.size(); ++i) {
     const Gap& g = gaps[i];
-    if (g.marker < 0 || g.marker >= in.markers()) {
-      throw InputError(fmt::format("gaps[{}].marker: {} is not a marker index in [0, {})", i,
-                                   g.marker, in.markers()));
-    }
-    if (g.first < 0 || g.last < g.first || g.last >= in.frames()) {
-      throw InputError(
-          fmt::format("gaps[{}]: frames {}..{} are not inside the recording's {} frames", i,
-                      g.first, g.last, in.frames()));
-    }
-    for (std::int64_t f = g.first; f <= g.last; ++f) {
-      if (in.observed(f, g.marker)) {
-        throw InputError(
-            fmt::format("gaps[{}]: marker '{}' is observed at frame {}, inside the gap", i,
-                        in.labels()[static_cast<std::size_t>(g.marker)], f));
-      }
-    }
     if (net.springs_of[static_cast<std::size_t>(g.marker)].empty()) {
       throw InputError(
           fmt::format("gaps[{}]: marker '{}' has no partners: no marker is seen with it in "
@@ -118,6 +110,12 @@ std::vector<std::vector<std::size_t>> GroupGaps(const std::vector<Gap>& gaps,
 
 }  // namespace
 
+std::string_view ToString(OcpOutcome outcome) { return EnumName(kOcpOutcomes, outcome); }
+
+OcpOutcome ParseOcpOutcome(std::string_view name) {
+  return ParseEnumName(kOcpOutcomes, name, "ocp outcome");
+}
+
 void OcpFillOptions::Validate() const {
   try {
     network.Validate();
@@ -164,6 +162,8 @@ void OcpFillOptions::Validate() const {
 }
 
 nlohmann::json OcpFillOptions::ToJson() const {
+  nlohmann::json names = nlohmann::json::array();
+  for (FillMethod m : candidates) names.push_back(std::string(ToString(m)));
   return {{"network", network.ToJson()},
           {"padding_seconds", padding_seconds},
           {"min_padding_frames", min_padding_frames},
@@ -176,7 +176,7 @@ nlohmann::json OcpFillOptions::ToJson() const {
           {"stiffness_start", stiffness_start},
           {"retry_gamma_start", retry_gamma_start},
           {"guard_ratio", guard_ratio},
-          {"candidates", candidates},
+          {"candidates", names},
           {"weight_exponent", weight_exponent},
           {"prior_bounds", prior_bounds},
           {"optimal_control", optimal_control},
@@ -201,8 +201,9 @@ nlohmann::json OcpGapReport::ToJson() const {
           {"disagreement", disagreement},
           {"seconds", seconds},
           {"termination", std::string(ToString(termination))},
-          {"status", status},
-          {"fallback_method", fallback_method},
+          {"status", std::string(ToString(outcome))},
+          {"fallback_method",
+           outcome == OcpOutcome::kFallback ? std::string(ToString(OcpOutcome::kPrior)) : ""},
           {"message", message},
           {"candidate_weights", candidate_weights}};
 }
@@ -270,10 +271,6 @@ void CheckCandidates(const Recording& in, const std::vector<CandidateFill>& cand
   }
 }
 
-}  // namespace
-
-namespace {
-
 std::int64_t PaddingFrames(const Recording& in, const OcpFillOptions& options) {
   const auto padding = std::max<std::int64_t>(options.min_padding_frames,
                                               std::llround(options.padding_seconds * in.rate()));
@@ -337,7 +334,7 @@ bool WriteGap(const Recording& in, const MarkerNetwork& net, const Gap& g, const
   rep.candidate_weights = prior.weights;
   rep.disagreement = prior.disagreement;
   if (!options.optimal_control) {
-    rep.status = "prior";
+    rep.outcome = OcpOutcome::kPrior;
     SetTrack(out, g, prior.track);
     return true;
   }
@@ -358,22 +355,20 @@ bool WriteGap(const Recording& in, const MarkerNetwork& net, const Gap& g, const
           rep.disagreement, prior.disagreement);
     }
   }
-  rep.status = use ? "ocp" : "fallback";
-  if (!use) {
-    rep.fallback_method = "prior";
-    SetTrack(out, g, prior.track);
-  }
+  rep.outcome = use ? OcpOutcome::kSolved : OcpOutcome::kFallback;
+  if (!use) SetTrack(out, g, prior.track);
   return use;
 }
 
 }  // namespace
 
 OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
-                           const OcpFillOptions& options, Recording* out,
-                           const std::vector<CandidateFill>& candidates) {
+                           const std::vector<CandidateFill>& candidates,
+                           const OcpFillOptions& options, Recording* out) {
   const Stopwatch total;
   options.Validate();
   MOREAU_ASSERT(out != nullptr);
+  CheckGaps(in, gaps);
   CheckCandidates(in, candidates);
   const std::int64_t padding = PaddingFrames(in, options);
   OcpFillSummary summary;
@@ -382,7 +377,7 @@ OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
   summary.network = BuildMarkerNetwork(in, options.network);
   const MarkerNetwork& net = summary.network;
   summary.network_seconds = phase.Seconds();
-  CheckGaps(in, gaps, net);
+  CheckPartners(in, gaps, net);
   for (const auto& c : candidates) summary.methods.push_back(c.method);
 
   phase.Restart();

@@ -88,4 +88,26 @@ std::vector<Gap> FindGaps(const Recording& recording) {
   return gaps;
 }
 
+void CheckGaps(const Recording& recording, const std::vector<Gap>& gaps) {
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    const Gap& gap = gaps[i];
+    const auto where = [&] {
+      return fmt::format("gaps[{}] (marker {}, frames {}…{})", i, gap.marker, gap.first, gap.last);
+    };
+    if (gap.marker < 0 || gap.marker >= recording.markers()) {
+      throw InputError(fmt::format("{}: marker out of range (the recording has {} markers)",
+                                   where(), recording.markers()));
+    }
+    if (gap.first < 0 || gap.last < gap.first || gap.last >= recording.frames()) {
+      throw InputError(
+          fmt::format("{}: frames outside 0…{} or first > last", where(), recording.frames() - 1));
+    }
+    for (std::int64_t f = gap.first; f <= gap.last; ++f) {
+      if (recording.observed(f, gap.marker)) {
+        throw InputError(fmt::format("{}: frame {} is observed, not missing", where(), f));
+      }
+    }
+  }
+}
+
 }  // namespace moreau::mocap

@@ -16,8 +16,8 @@ using testing::MakeRigidBodyRecording;
 
 EvaluationOptions SmallStudy() {
   EvaluationOptions options;
-  options.methods = {FillMethod::kLinear, FillMethod::kSpline, FillMethod::kPchip,
-                     FillMethod::kRigid};
+  options.methods = {GapFillMethod::kLinear, GapFillMethod::kSpline, GapFillMethod::kPchip,
+                     GapFillMethod::kRigid};
   options.gap_seconds = {0.05, 0.2};
   options.trials = 6;
   options.seed = 42;
@@ -42,7 +42,7 @@ void ExpectSameRows(const EvaluationSummary& a, const EvaluationSummary& b) {
 TEST(EvaluateFillMethods, ExactMethodsHaveZeroErrorOnTheirKnownAnswers) {
   const Recording line = MakeLineRecording(5, 150, 100.0);
   EvaluationOptions options = SmallStudy();
-  options.methods = {FillMethod::kLinear, FillMethod::kSpline, FillMethod::kPchip};
+  options.methods = {GapFillMethod::kLinear, GapFillMethod::kSpline, GapFillMethod::kPchip};
   const EvaluationSummary on_line = EvaluateFillMethods(line, options);
   ASSERT_EQ(on_line.rows.size(), 3u * 2u * 6u);
   for (const EvaluationRow& row : on_line.rows) {
@@ -51,13 +51,13 @@ TEST(EvaluateFillMethods, ExactMethodsHaveZeroErrorOnTheirKnownAnswers) {
     EXPECT_LE(row.mean_error, row.max_error);
   }
   const Recording body = MakeRigidBodyRecording(6, 150, 100.0, 1);
-  options.methods = {FillMethod::kRigid, FillMethod::kLinear};
+  options.methods = {GapFillMethod::kRigid, GapFillMethod::kLinear};
   const EvaluationSummary on_body = EvaluateFillMethods(body, options);
   for (const EvaluationStatistics& s : on_body.statistics) {
     EXPECT_EQ(s.trials, 6);
     EXPECT_EQ(s.failed, 0);
     EXPECT_LE(s.median, s.percentile_90);
-    if (s.method == FillMethod::kRigid) {
+    if (s.method == GapFillMethod::kRigid) {
       EXPECT_LT(s.percentile_90, 1e-8);
     }
   }
@@ -76,9 +76,10 @@ TEST(EvaluateFillMethods, EveryMethodSeesTheSameMarkerAndPositionAndGapLength) {
     }
     const std::int64_t frames = summary.rows[i].gap_frames;
     EXPECT_EQ(frames, std::llround(summary.rows[i].gap_seconds * 100.0));
-    EXPECT_GE(summary.rows[i].first_frame, options.fill.interpolation.samples_per_side);
-    EXPECT_LE(summary.rows[i].first_frame + frames + options.fill.interpolation.samples_per_side,
-              120);
+    EXPECT_GE(summary.rows[i].first_frame, options.fill.baseline.interpolation.samples_per_side);
+    EXPECT_LE(
+        summary.rows[i].first_frame + frames + options.fill.baseline.interpolation.samples_per_side,
+        120);
   }
 }
 
@@ -86,8 +87,8 @@ TEST(EvaluateFillMethods, ReproducibleFromTheSeedAndIndependentOfTheThreadCount)
   const Recording body = MakeRigidBodyRecording(6, 120, 100.0, 3);
   EvaluationOptions options = SmallStudy();
   // The established methods; ocp has its own thread-count test (MocapOcpFill.Evaluation...).
-  options.methods = {FillMethod::kLinear, FillMethod::kSpline, FillMethod::kPchip,
-                     FillMethod::kRigid, FillMethod::kPca};
+  options.methods = {GapFillMethod::kLinear, GapFillMethod::kSpline, GapFillMethod::kPchip,
+                     GapFillMethod::kRigid, GapFillMethod::kPca};
   options.threads = 1;
   const EvaluationSummary one = EvaluateFillMethods(body, options);
   options.threads = 3;
@@ -110,7 +111,7 @@ TEST(EvaluateFillMethods, PcaOnAFullSizeBodyIsIndependentOfTheThreadCount) {
   // 55 markers: products large enough for Eigen's own OpenMP paths, were they used.
   const Recording body = testing::MakeWalkingRecording(340, 200.0, 5);
   EvaluationOptions options;
-  options.methods = {FillMethod::kPca, FillMethod::kRigid};
+  options.methods = {GapFillMethod::kPca, GapFillMethod::kRigid};
   options.gap_seconds = {0.1, 0.5};
   options.trials = 4;
   options.threads = 1;
@@ -124,7 +125,7 @@ TEST(EvaluateFillMethods, FailedFillsAreCountedAndWrittenAsNull) {
   // Three markers: rigid never has three donors.
   const Recording line = MakeLineRecording(3, 100, 100.0);
   EvaluationOptions options = SmallStudy();
-  options.methods = {FillMethod::kRigid};
+  options.methods = {GapFillMethod::kRigid};
   const EvaluationSummary summary = EvaluateFillMethods(line, options);
   for (const EvaluationStatistics& s : summary.statistics) {
     EXPECT_EQ(s.failed, s.trials);
@@ -160,7 +161,7 @@ TEST(EvaluateFillMethods, BadInputIsAnInputErrorNamingTheField) {
   options.gap_seconds = {0.5};  // 50 frames do not fit in 40
   EXPECT_NE(message(options, line).find("evaluation.gap_seconds"), std::string::npos);
   options = SmallStudy();
-  options.fill.rigid.donors = 1;
+  options.fill.baseline.rigid.donors = 1;
   EXPECT_NE(message(options, line).find("fill.rigid.donors"), std::string::npos);
   Recording incomplete = line;
   incomplete.ClearPoint(3, 1);

@@ -242,52 +242,33 @@ TEST(FillGaps, OptionValidationNamesTheField) {
   EXPECT_NE(ValidationMessage(o).find("fill.pca.tolerance"), std::string::npos);
 }
 
-TEST(FillGaps, OcpGapThatNoCandidateFillsKeepsTheCandidatesStatus) {
-  // A gap at the start of the recording: spline and rigid skip it; with only those candidates
-  // the gap stays missing with the first candidate's status.
+TEST(FillGaps, MeetingEndsRemovesTheErrorsAtTheBoundingSamples) {
+  // linear through the gap widened by one frame, corrected to meet the two bounding samples, is
+  // the straight line between them again: FillGaps' own linear fill. A gap at the start of the
+  // recording is filled as FillGaps fills it (pca can).
   const Recording truth = MakeRigidBodyRecording(5, 60, 100.0, 3);
   Recording gapped = truth;
-  const Gap gap = Hide(gapped, 1, 0, 9);
-  FillOptions o = With(FillMethod::kOcp);
-  o.ocp.candidates = {"spline", "rigid"};
-  Recording out;
-  const FillSummary summary = FillGaps(gapped, {gap}, o, &out);
-  EXPECT_EQ(summary.gaps_filled, 0);
-  EXPECT_EQ(summary.gaps[0].status, GapStatus::kSkippedEdge);
-  EXPECT_FALSE(out.observed(0, 1));
-}
-
-std::string OcpFillError(const Recording& in, const Gap& gap, const FillOptions& options) {
-  Recording out;
-  try {
-    FillGaps(in, {gap}, options, &out);
-  } catch (const InputError& e) {
-    return e.what();
+  const std::vector<Gap> gaps = {Hide(gapped, 1, 20, 34), Hide(gapped, 2, 0, 9)};
+  for (FillMethod method : {FillMethod::kLinear, FillMethod::kPca}) {
+    Recording plain, meeting;
+    const FillSummary a = FillGaps(gapped, gaps, With(method), &plain);
+    const FillSummary b = FillGapsMeetingEnds(gapped, gaps, With(method), &meeting);
+    ASSERT_EQ(a.gaps.size(), b.gaps.size());
+    for (std::size_t i = 0; i < gaps.size(); ++i) {
+      EXPECT_EQ(a.gaps[i].status, b.gaps[i].status) << ToString(method) << " gap " << i;
+    }
+    EXPECT_EQ(b.method, ToString(method));
+    const Gap& edge = gaps[1];
+    for (std::int64_t f = edge.first; f <= edge.last && b.gaps[1].filled(); ++f) {
+      EXPECT_EQ(plain.point(f, edge.marker), meeting.point(f, edge.marker));
+    }
   }
-  return "no error";
-}
-
-TEST(FillGaps, OcpBadSettingsAreOneInputErrorNamingTheField) {
-  Recording gapped = MakeRigidBodyRecording(5, 40, 100.0, 5);
-  const Gap gap = Hide(gapped, 1, 10, 20);
-  FillOptions o = With(FillMethod::kOcp);
-  o.ocp.prior_weight = -0.5;
-  EXPECT_NE(OcpFillError(gapped, gap, o).find("fill.ocp.prior_weight"), std::string::npos);
-  o = With(FillMethod::kOcp);
-  o.ocp.padding_seconds = 1.0;  // a window of 100 padding frames in 40 frames
-  EXPECT_NE(OcpFillError(gapped, gap, o).find("ocp.padding_seconds"), std::string::npos);
-  o = With(FillMethod::kOcp);
-  o.ocp.candidates = {"rigid", "ocp"};
-  EXPECT_NE(OcpFillError(gapped, gap, o).find("fill.ocp.candidates[1]"), std::string::npos);
-  o = With(FillMethod::kOcp);
-  o.ocp.network.partners = 0;
-  EXPECT_NE(OcpFillError(gapped, gap, o).find("fill.ocp.network.partners"), std::string::npos);
-  // The gapped marker is seen with the others in 29 frames, fewer than the network asks for: it
-  // has no partners (the candidates fill the gap, the network cannot carry it).
-  o = With(FillMethod::kOcp);
-  o.ocp.network.min_common_frames = 35;
-  EXPECT_NE(OcpFillError(gapped, gap, o).find("no partners"), std::string::npos)
-      << OcpFillError(gapped, gap, o);
+  Recording plain, meeting;
+  FillGaps(gapped, gaps, With(FillMethod::kLinear), &plain);
+  FillGapsMeetingEnds(gapped, gaps, With(FillMethod::kLinear), &meeting);
+  for (std::int64_t f = gaps[0].first; f <= gaps[0].last; ++f) {
+    EXPECT_LT((plain.point(f, 1) - meeting.point(f, 1)).norm(), 1e-9) << "frame " << f;
+  }
 }
 
 TEST(FillGaps, AGapThatDoesNotMatchTheRecordingIsAnInputError) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mocap/synthetic.h"
+#include "moreau/common/error.h"
 #include "moreau/mocap/fill.h"
 #include "moreau/mocap/ocp_fill.h"
 #include "moreau/mocap/recording.h"
@@ -44,18 +45,29 @@ inline Recording RigidBodies(int bodies, int per_body, std::int64_t frames, doub
   return rec;
 }
 
+// The message of the InputError that fill() throws, or "no error".
+template <typename Fill>
+std::string InputErrorOf(const Fill& fill) {
+  try {
+    fill();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 // The baseline fills of `gaps` by each of `methods` (fill.h), as candidates of FillGapsOcp.
 struct Baselines {
   std::vector<Recording> recordings;
   std::vector<CandidateFill> candidates;
   Baselines(const Recording& in, const std::vector<Gap>& gaps,
-            const std::vector<std::string>& methods) {
+            const std::vector<FillMethod>& methods) {
     recordings.reserve(methods.size());
-    for (const std::string& m : methods) {
+    for (const FillMethod m : methods) {
       FillOptions o;
-      o.method = ParseFillMethod(m);
+      o.method = m;
       FillGaps(in, gaps, o, &recordings.emplace_back());
-      candidates.push_back({m, &recordings.back()});
+      candidates.push_back({std::string(ToString(m)), &recordings.back()});
     }
   }
 };

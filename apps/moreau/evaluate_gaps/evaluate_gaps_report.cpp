@@ -63,7 +63,7 @@ std::string EvaluationTable(const mocap::EvaluationSummary& summary) {
   for (std::size_t g = 0; g < o.gap_seconds.size(); ++g) {
     table += fmt::format(" {:>20}", fmt::format("mean / p90 ({})", summary.units));
   }
-  for (mocap::FillMethod method : o.methods) {
+  for (mocap::GapFillMethod method : o.methods) {
     table += fmt::format("\n{:<8}", mocap::ToString(method));
     for (const mocap::EvaluationStatistics& s : summary.statistics) {
       if (s.method != method) continue;

@@ -31,10 +31,10 @@ void ReadMethods(Scenario& sc, EG& s, const std::string& key) {
   } else {
     sc.Fail(key, "expected an array of method names or a comma-separated string");
   }
-  std::vector<mocap::FillMethod>& methods = s.evaluation.methods;
+  std::vector<mocap::GapFillMethod>& methods = s.evaluation.methods;
   methods.clear();
   for (const std::string& name : names) {
-    WithKey(sc, key, [&] { methods.push_back(mocap::ParseFillMethod(name)); });
+    WithKey(sc, key, [&] { methods.push_back(mocap::ParseGapFillMethod(name)); });
     if (std::count(methods.begin(), methods.end(), methods.back()) > 1) {
       sc.Fail(key, fmt::format("method '{}' is named twice", name));
     }
@@ -43,7 +43,7 @@ void ReadMethods(Scenario& sc, EG& s, const std::string& key) {
 
 nlohmann::json EchoMethods(const EG& s) {
   nlohmann::json names = nlohmann::json::array();
-  for (mocap::FillMethod m : s.evaluation.methods) names.push_back(mocap::ToString(m));
+  for (mocap::GapFillMethod m : s.evaluation.methods) names.push_back(mocap::ToString(m));
   return names;
 }
 
@@ -74,7 +74,7 @@ FieldTable<EvaluateGapsSettings> EvaluateGapsFields() {
           "evaluation.threads", [](auto& s) -> auto& { return s.evaluation.threads; },
           "OpenMP threads; 0: the default (results do not depend on it)")
       .Mount(
-          "", [](auto& s) -> auto& { return s.evaluation.fill; }, FillOptionFields())
+          "", [](auto& s) -> auto& { return s.evaluation.fill.baseline; }, FillOptionFields())
       .Mount("", &EG::read, ReadFields())
       .Check("evaluation", [](const EG& s) { s.evaluation.Validate(); });
   return t;

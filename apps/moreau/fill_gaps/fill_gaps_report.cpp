@@ -48,7 +48,7 @@ void PrintFillGapsReport(const FillGapsResult& result, const FillGapsInputs& inp
         fmt::format("{}{} {}", statuses.empty() ? "" : ", ", mocap::ToString(status), count);
   }
   fmt::print("{}: {} gaps, {} samples missing ({} deleted); method {}\n", inputs.recording,
-             s.gaps.size(), missing, result.samples_deleted, mocap::ToString(s.settings.method));
+             s.gaps.size(), missing, result.samples_deleted, s.method);
   fmt::print("  {}; {} samples filled in {:.3g} s\n", statuses.empty() ? "no gaps" : statuses,
              s.samples_filled, s.total_seconds);
   double mean = 0.0, max = 0.0;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "fill_gaps/fill_gaps_scenario.h"
-#include "moreau/mocap/fill.h"
+#include "moreau/mocap/gap_fill.h"
 #include "moreau/mocap/recording.h"
 
 namespace moreau::cli {

@@ -13,9 +13,11 @@ FieldTable<FillGapsSettings> FillGapsFields() {
   using FG = FillGapsSettings;
   FieldTable<FG> t;
   t.Choice(
-       "fill.method", [](auto& s) -> auto& { return s.fill.method; }, mocap::ParseFillMethod,
-       [](mocap::FillMethod m) { return mocap::ToString(m); }, FillMethodNames(), "the fill method")
-      .Mount("", &FG::fill, FillOptionFields())
+       "fill.method", [](auto& s) -> auto& { return s.fill.method; }, mocap::ParseGapFillMethod,
+       [](mocap::GapFillMethod m) { return mocap::ToString(m); }, FillMethodNames(),
+       "the fill method")
+      .Mount(
+          "", [](auto& s) -> auto& { return s.fill.baseline; }, FillOptionFields())
       .Mount("", &FG::read, ReadFields())
       .Check("fill", [](const FG& s) { s.fill.Validate(); });
   return t;

@@ -9,7 +9,7 @@
 
 #include "field_table.h"
 #include "mocap_settings.h"
-#include "moreau/mocap/fill.h"
+#include "moreau/mocap/gap_fill.h"
 #include "moreau/mocap/recording.h"
 #include "moreau/mocap/recording_io.h"
 #include "scenario.h"
@@ -18,10 +18,10 @@ namespace moreau::cli {
 
 struct FillGapsSettings {
   mocap::ReadOptions read;
-  mocap::FillOptions fill = DefaultFill();
+  mocap::GapFillOptions fill = DefaultFill();
 
-  static mocap::FillOptions DefaultFill() {
-    mocap::FillOptions options;
+  static mocap::GapFillOptions DefaultFill() {
+    mocap::GapFillOptions options;
     options.method = kDefaultFillMethod;
     return options;
   }

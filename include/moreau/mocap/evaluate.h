@@ -4,11 +4,11 @@
 // For each gap length L (gap_seconds × rate, rounded, ≥ 1 frame) and each trial t, one marker
 // and one gap position are drawn (moreau::SplitMix64 seeded with `seed`, in the order
 // (gap length, trial)); the gap's first frame is uniform in [margin, F − margin − L] with
-// margin = fill.interpolation.samples_per_side, so that every method has its samples on both
-// sides. The same marker and position are used for every method. The marker's samples are
-// cleared, the gap is filled by FillGap, and the error is the Euclidean distance between the
-// filled and the true positions over the hidden frames: its mean and its maximum (in the
-// recording's units). Trials run in parallel (OpenMP); the results do not depend on the number
+// margin = fill.baseline.interpolation.samples_per_side, so that every method has its samples on
+// both sides. The same marker and position are used for every method. The marker's samples are
+// cleared, the gap is filled by FillGap (gap_fill.h), and the error is the Euclidean distance
+// between the filled and the true positions over the hidden frames: its mean and its maximum (in
+// the recording's units). Trials run in parallel (OpenMP); the results do not depend on the number
 // of threads.
 #pragma once
 
@@ -19,18 +19,18 @@
 #include <nlohmann/json.hpp>
 
 #include "moreau/common/termination.h"
-#include "moreau/mocap/fill.h"
+#include "moreau/mocap/gap_fill.h"
 #include "moreau/mocap/recording.h"
 
 namespace moreau::mocap {
 
 struct EvaluationOptions {
-  std::vector<FillMethod> methods = AllFillMethods();      // methods compared (≥ 1)
-  std::vector<double> gap_seconds = {0.1, 0.2, 0.5, 1.0};  // gap durations, each > 0
-  int trials = 20;                                         // trials per gap length, ≥ 1
-  std::uint64_t seed = 1;                                  // SplitMix64 seed of the draws
-  int threads = 0;                                         // OpenMP threads; 0: the default
-  FillOptions fill;  // every method's settings (fill.method is ignored)
+  std::vector<GapFillMethod> methods = AllGapFillMethods();  // methods compared (≥ 1)
+  std::vector<double> gap_seconds = {0.1, 0.2, 0.5, 1.0};    // gap durations, each > 0
+  int trials = 20;                                           // trials per gap length, ≥ 1
+  std::uint64_t seed = 1;                                    // SplitMix64 seed of the draws
+  int threads = 0;                                           // OpenMP threads; 0: the default
+  GapFillOptions fill;  // every method's settings (fill.method is ignored)
 
   // Throws InputError("evaluation.<field> …") for a value out of range, or the fill options'.
   void Validate() const;
@@ -39,7 +39,7 @@ struct EvaluationOptions {
 
 // One method on one trial.
 struct EvaluationRow {
-  FillMethod method = FillMethod::kLinear;
+  GapFillMethod method = GapFillMethod::kLinear;
   double gap_seconds = 0.0;     // as asked
   std::int64_t gap_frames = 0;  // as used
   int trial = 0;
@@ -52,7 +52,7 @@ struct EvaluationRow {
 
 // One method at one gap length, over the trials it filled.
 struct EvaluationStatistics {
-  FillMethod method = FillMethod::kLinear;
+  GapFillMethod method = GapFillMethod::kLinear;
   double gap_seconds = 0.0;
   std::int64_t gap_frames = 0;
   int trials = 0;

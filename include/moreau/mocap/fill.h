@@ -32,16 +32,13 @@
 //           missing-marker weight); the fixed point is the least-squares fit of the retained
 //           components to the observed coordinates, exact for data of rank ≤ the components
 //           retained. Gaps at the start or end of the recording can be filled.
-//   ocp     optimal control of a spring network (ocp_fill.h, docs/mocap.md): the baseline
-//           fills named by ocp.candidates are computed for the same gaps, averaged with weights by
-//           their agreement with the partners' distance distributions (Tits et al. 2018), and the
-//           network, steered by its rest lengths, tracks that prior inside the gap and the
-//           observed samples around it. FillGaps solves gaps that overlap in time together
-//           (hidden neighbours are free nodes of one window); FillGap solves one gap. A gap no
-//           candidate fills keeps the first candidate's status.
 //
-// Adding a method: one FillMethod entry, one row in the name table (fill.cpp) and one FillGapX
-// function with the signature below.
+// These are the baseline fills. The optimal-control fill (ocp_fill.h) is a layer above them that
+// receives candidate fills and calls nothing here; gap_fill.h chooses a fill by name and, for
+// ocp, computes the candidates with FillGapsMeetingEnds (below) before handing them over.
+//
+// Adding a method: one FillMethod entry, one row in the name table (fill.cpp), one FillGapX
+// function with the signature below, and the same entry in GapFillMethod (gap_fill.h).
 #pragma once
 
 #include <cstdint>
@@ -53,14 +50,13 @@
 #include <nlohmann/json.hpp>
 
 #include "moreau/common/termination.h"
-#include "moreau/mocap/ocp_fill.h"
 #include "moreau/mocap/recording.h"
 
 namespace moreau::mocap {
 
-enum class FillMethod { kLinear, kSpline, kPchip, kRigid, kPca, kOcp };
+enum class FillMethod { kLinear, kSpline, kPchip, kRigid, kPca };
 
-// "linear", "spline", "pchip", "rigid", "pca", "ocp".
+// "linear", "spline", "pchip", "rigid", "pca".
 std::string_view ToString(FillMethod method);
 // Throws InputError naming the unknown method and the known ones.
 FillMethod ParseFillMethod(std::string_view name);
@@ -124,7 +120,6 @@ struct FillOptions {
   InterpolationFillOptions interpolation;
   RigidFillOptions rigid;
   PcaFillOptions pca;
-  OcpFillOptions ocp;  // the optimal-control fill (ocp_fill.h)
 
   // Throws InputError("fill.<field> must be … (got …)") for a value out of range.
   void Validate() const;
@@ -147,8 +142,6 @@ GapFill FillGapSpline(const Recording& in, const Gap& gap, const FillOptions& op
 GapFill FillGapPchip(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapRigid(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapPca(const Recording& in, const Gap& gap, const FillOptions& options);
-// Throws InputError when the gap's marker has no partner in the network (ocp_fill.h).
-GapFill FillGapOcp(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options);
 
 struct GapReport {
@@ -156,7 +149,6 @@ struct GapReport {
   std::string label;
   std::int64_t first = 0;  // 0-based, inclusive
   std::int64_t last = 0;
-  FillMethod method = FillMethod::kSpline;
   GapStatus status = GapStatus::kFilled;
   std::string message;
   double seconds = 0.0;  // wall-clock time spent on this gap
@@ -170,7 +162,10 @@ struct FillSummary {
   std::int64_t gaps_filled = 0;
   std::int64_t samples_filled = 0;  // marker samples written
   double total_seconds = 0.0;
-  FillOptions settings;
+  // The method tried on every gap, by the name users give it: a FillMethod's, or "ocp" when
+  // gap_fill.h ran the optimal-control fill.
+  std::string method;
+  nlohmann::json settings;  // the options used, as their ToJson() writes them
 
   bool ok() const { return IsSuccess(termination); }
   nlohmann::json ToJson() const;
@@ -178,8 +173,18 @@ struct FillSummary {
 
 // Fills `gaps` (normally FindGaps(in)) of `in` with options.method and writes the result to
 // *out (which may be &in): a copy of `in` with every filled sample set and marked observed.
-// Throws InputError for invalid options or a gap that does not match `in` ("gaps[i]: …").
+// Throws InputError for invalid options or a gap that does not match `in` (CheckGaps,
+// recording.h).
 FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const FillOptions& options,
                      Recording* out);
+
+// FillGaps, each gap filled so that it meets the observed samples that bound it: the gap widened
+// by one frame on each side (those two samples hidden) is filled by FillGap, and the fill's
+// errors at the two bounding frames, blended linearly across the gap, are removed. A gap at the
+// start or end of the recording is filled as FillGap does, and so is one whose widened fill
+// fails. These are the candidate fills a layer above combines (ocp_fill.h): a method that does
+// not reproduce the samples around a gap (pca) would otherwise jump there.
+FillSummary FillGapsMeetingEnds(const Recording& in, const std::vector<Gap>& gaps,
+                                const FillOptions& options, Recording* out);
 
 }  // namespace moreau::mocap

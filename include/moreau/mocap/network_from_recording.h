@@ -1,5 +1,5 @@
-// A mass–spring–damper network built from a recording (issue 9, item 1): the model the
-// optimal-control gap fill steers (include/moreau/mocap/ocp_fill.h).
+// A mass–spring–damper network built from a recording: the model the optimal-control gap fill
+// steers (include/moreau/mocap/ocp_fill.h).
 //
 // Nodes are markers. For every pair of markers seen together in at least `min_common_frames`
 // frames the distance d_ab(f) is measured over those frames: mean, spread (standard deviation),

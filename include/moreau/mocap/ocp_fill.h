@@ -1,13 +1,15 @@
-// Gap filling by candidate fills weighted by their agreement with the markers' distance
-// distributions (Tits et al. 2018: the prior), optionally refined by optimal control of a
-// mass–spring–damper network (issue 9; the thesis' regularised Hamiltonian, Symplectic
+// The optimal-control gap fill: a layer above the baseline fills (fill.h). It receives candidate
+// fills of the gaps (any recordings that hold them; gap_fill.h passes the baseline fills named by
+// `candidates`, computed by FillGapsMeetingEnds) and never calls a baseline fill itself. From
+// them it forms each gap's prior (Tits et al. 2018) and, optionally, refines it by optimal
+// control of a mass–spring–damper network (the thesis' regularised Hamiltonian, Symplectic
 // Pontryagin scheme, Newton and continuation, in include/moreau/control/).
 // docs/mocap.md explains the method, every default and the measurements behind them.
 //
 // The prior of a gap: the candidates' average with weights (E_c + 10⁻³)^(−weight_exponent),
 // E_c the mean squared z-score of the candidate's distances to the marker's spring partners seen
-// at the gap's frames, z = (d − mean) / max(spread, bound margin). With optimal_control off
-// (the default) the prior is the fill (status "prior"); with it on:
+// at the gap's frames, z = (d − mean) / max(spread, bound margin). With optimal_control off the
+// prior is the fill (outcome kPrior); with it on:
 //
 // Per group of gaps (gaps whose padded windows overlap in time and whose markers are the same
 // or joined by a spring are solved together) one window is solved:
@@ -15,28 +17,27 @@
 //     along their observed (or candidate-filled) trajectories (C¹ cubic Hermite in time);
 //   * springs: the network's springs of the free nodes, rest-length bounds from the observed
 //     distance range (network_from_recording.h), the rest lengths are the controls;
-//   * tracking: observed samples with weight `observed_weight`; inside a gap the prior (the
-//     candidate fills averaged with weights by their agreement with the partners' distance
-//     distributions, Tits et al. 2018) with weight `prior_weight`;
+//   * tracking: observed samples with weight `observed_weight`; inside a gap the prior with
+//     weight `prior_weight`;
 //   * the window spans the group's gaps plus `padding_seconds` on each side, so the cost grows
 //     with the gaps, not with the recording.
 // Units inside the solver: length in network.length_scale, time in frames, weights and γ per
 // frame (docs/mocap.md).
 // A window that fails to converge is retried with stiffness continuation from a smooth γ; if that
 // fails too, or a solved gap disagrees with the partners' distance distributions much more than
-// the prior (guard_ratio), the gap is filled by the prior and reported with status "fallback".
-// Through fill.h (FillMethod::kOcp, FillGaps / FillGap) the candidates are the baseline fills
-// named by `candidates`.
+// the prior (guard_ratio), the gap is filled by the prior (outcome kFallback).
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "moreau/common/termination.h"
 #include "moreau/control/newton.h"
+#include "moreau/mocap/fill.h"
 #include "moreau/mocap/network_from_recording.h"
 #include "moreau/mocap/recording.h"
 
@@ -57,9 +58,9 @@ struct OcpFillOptions {
   double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
   double guard_ratio = 1.5;        // keep the solved fill only if its distance disagreement E is
                                    // <= guard_ratio E_prior + 1 (E_prior: the prior's) (>= 1)
-  // Through FillGaps (method "ocp"): the baseline fills (fill.h) computed for the same gaps and
-  // used as candidates; names of methods other than "ocp", at least one.
-  std::vector<std::string> candidates = {"rigid", "pca"};
+  // The baseline fills (fill.h) that gap_fill.h computes for the gaps and passes to FillGapsOcp
+  // as candidates, at least one (FillGapsOcp itself takes the candidates it is given).
+  std::vector<FillMethod> candidates = {FillMethod::kRigid, FillMethod::kPca};
   // Exponent p of the candidate weights 1 / (E_c + 10⁻³)^p (>= 0; 0: plain average).
   double weight_exponent = 2.0;
   // Rest-length bounds of a window centred on the prior: the range of the spring's length along
@@ -67,7 +68,7 @@ struct OcpFillOptions {
   // observed over the recording (false: the recording's bounds).
   bool prior_bounds = false;
   // true: the network tracks the prior and the observed samples (the optimal control problem);
-  // false: the gaps are filled with the prior (the weighted candidate average), status "prior".
+  // false: the gaps are filled with the prior (the weighted candidate average), outcome kPrior.
   // On by default: "ocp" is the optimal-control fill. Off gives the Tits-weighted prior alone,
   // about as accurate on the measured recordings at a fraction of the time (docs/mocap.md).
   bool optimal_control = true;
@@ -81,9 +82,21 @@ struct OcpFillOptions {
 // A fill that the optimal control uses as prior, warm start and fallback: a recording with the
 // same markers and frames in which (at least) the gaps to fill hold finite positions.
 struct CandidateFill {
-  std::string method;  // e.g. "linear", "rigid"
+  std::string method;  // its name in the reports, e.g. "rigid"
   const Recording* recording = nullptr;
 };
+
+// How a gap was filled.
+enum class OcpOutcome {
+  kSolved,    // by the optimal control
+  kPrior,     // by the prior, the optimal control being off (optimal_control = false)
+  kFallback,  // by the prior, the optimal control having failed or been rejected by the guard
+};
+
+// "ocp", "prior", "fallback".
+std::string_view ToString(OcpOutcome outcome);
+// Throws InputError for an unknown name.
+OcpOutcome ParseOcpOutcome(std::string_view name);
 
 // What happened to one gap.
 struct OcpGapReport {
@@ -103,8 +116,8 @@ struct OcpGapReport {
   double disagreement = 0.0;  // mean squared z-score of the solved fill's partner distances
   double seconds = 0.0;       // wall-clock time of the window
   Termination termination = Termination::kConverged;
-  std::string status;           // "ocp", "prior" (optimal_control off, or the window kept its prior) or "fallback"
-  std::string fallback_method;  // candidate used when status is "fallback"
+  OcpOutcome outcome = OcpOutcome::kSolved;  // "status" in ToJson (and "fallback_method":
+                                             // "prior" for kFallback)
   std::string message;
   std::vector<double> candidate_weights;  // prior weight of each candidate (sum 1; 0 for one
                                           // that does not fill the gap)
@@ -118,7 +131,7 @@ struct OcpFillSummary {
   int windows = 0;
   int fallbacks = 0;
   double network_seconds = 0.0;  // building the network
-  double prior_seconds = 0.0;    // candidate fills and priors
+  double prior_seconds = 0.0;    // the candidates' tracks and the priors
   double solve_seconds = 0.0;    // all windows
   double total_seconds = 0.0;
   MarkerNetwork network;             // the network used
@@ -130,14 +143,13 @@ struct OcpFillSummary {
 };
 
 // Fills `gaps` of `in` into `out` (a copy of `in` whose gap samples are set; other samples are
-// untouched). `candidates` are the prior/fallback fills (at least one; FillGaps with method
-// "ocp" passes the baseline fills named by options.candidates); a candidate without finite
-// samples in a gap is not used for that gap. Throws InputError for invalid options, no
-// candidate, a gap outside the recording or over an observed sample, a padding longer than the
-// recording, a gap of a marker without springs, a candidate of another shape, or a gap that no
-// candidate fills.
+// untouched) from `candidates`, the prior/fallback fills (at least one); a candidate without
+// finite samples in a gap is not used for that gap. options.candidates is not read. Throws
+// InputError for invalid options, no candidate, a gap that does not match `in` (CheckGaps,
+// recording.h), a padding longer than the recording, a gap of a marker without springs, a
+// candidate of another shape, or a gap that no candidate fills.
 OcpFillSummary FillGapsOcp(const Recording& in, const std::vector<Gap>& gaps,
-                           const OcpFillOptions& options, Recording* out,
-                           const std::vector<CandidateFill>& candidates);
+                           const std::vector<CandidateFill>& candidates,
+                           const OcpFillOptions& options, Recording* out);
 
 }  // namespace moreau::mocap

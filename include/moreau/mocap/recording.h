@@ -103,4 +103,10 @@ struct Gap {
 // one gap over the whole recording.
 std::vector<Gap> FindGaps(const Recording& recording);
 
+// The one check of a list of gaps against `recording`, shared by every fill: throws InputError
+// "gaps[i] (marker m, frames first…last): why" when a gap's marker is not one of the
+// recording's, its frames are not inside the recording or first > last, or one of its samples
+// is observed.
+void CheckGaps(const Recording& recording, const std::vector<Gap>& gaps);
+
 }  // namespace moreau::mocap

@@ -1,0 +1,56 @@
+// Gap filling by a method the user names (moreau fill-gaps and evaluate-gaps, Python's fill_gaps
+// and evaluate): one of the baseline fills (fill.h) or ocp, the optimal-control fill (ocp_fill.h).
+// This is where the two layers meet. For a baseline method the fill is fill.h's; for ocp the
+// baseline fills named by ocp.candidates are computed for the gaps by FillGapsMeetingEnds and
+// handed to FillGapsOcp as its candidates. A gap that no candidate fills is left missing with the
+// first candidate's status that failed ("no candidate filled the gap; rigid: …"), and the others
+// are solved without it.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "moreau/mocap/fill.h"
+#include "moreau/mocap/ocp_fill.h"
+#include "moreau/mocap/recording.h"
+
+namespace moreau::mocap {
+
+// The baseline methods, in FillMethod's order, then ocp.
+enum class GapFillMethod { kLinear, kSpline, kPchip, kRigid, kPca, kOcp };
+
+// The FillMethod names ("linear", "spline", "pchip", "rigid", "pca") and "ocp".
+std::string_view ToString(GapFillMethod method);
+// Throws InputError "unknown fill method 'NAME' (expected one of linear, …, ocp)".
+GapFillMethod ParseGapFillMethod(std::string_view name);
+// Every method, in the order above.
+std::vector<GapFillMethod> AllGapFillMethods();
+
+// The settings of a fill by any method: the method, the baseline fills' settings and the
+// optimal-control fill's. A caller that needs both kinds of setting holds this one struct.
+struct GapFillOptions {
+  GapFillMethod method = GapFillMethod::kSpline;
+  // The baseline fills' settings: those of `method`, or of ocp's candidates. baseline.method is
+  // not read (`method` and ocp.candidates choose).
+  FillOptions baseline;
+  OcpFillOptions ocp;  // read when method is ocp
+
+  // Throws InputError from baseline.Validate() or ocp.Validate(), whatever the method.
+  void Validate() const;
+  // baseline.ToJson() with "method" from `method`, and "ocp": ocp.ToJson().
+  nlohmann::json ToJson() const;
+};
+
+// Fills `gaps` of `in` with options.method into *out (which may be &in), as FillGaps (fill.h)
+// does; for ocp each filled gap's message says how: "optimal control: window …; prior rigid
+// 0.71, pca 0.29", "prior: rigid 0.71, pca 0.29" (optimal control off) or "prior (rigid …): why"
+// (the optimal control failed or was rejected). Throws InputError as FillGaps and FillGapsOcp do.
+FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps,
+                     const GapFillOptions& options, Recording* out);
+
+// One gap: FillGap (fill.h) for a baseline method; for ocp the gap alone through FillGaps.
+GapFill FillGap(const Recording& in, const Gap& gap, const GapFillOptions& options);
+
+}  // namespace moreau::mocap

@@ -1,0 +1,181 @@
+#include "moreau/mocap/gap_fill.h"
+
+#include <fmt/format.h>
+
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "mocap/fill_internal.h"
+#include "moreau/common/error.h"
+#include "moreau/common/stopwatch.h"
+
+namespace moreau::mocap {
+namespace {
+
+// GapFillMethod's first values are FillMethod's, in the same order.
+static_assert(static_cast<int>(GapFillMethod::kLinear) == static_cast<int>(FillMethod::kLinear));
+static_assert(static_cast<int>(GapFillMethod::kSpline) == static_cast<int>(FillMethod::kSpline));
+static_assert(static_cast<int>(GapFillMethod::kPchip) == static_cast<int>(FillMethod::kPchip));
+static_assert(static_cast<int>(GapFillMethod::kRigid) == static_cast<int>(FillMethod::kRigid));
+static_assert(static_cast<int>(GapFillMethod::kPca) == static_cast<int>(FillMethod::kPca));
+
+constexpr std::string_view kOcpName = "ocp";
+
+// The baseline method, or none for ocp.
+std::optional<FillMethod> BaselineMethod(GapFillMethod method) {
+  if (method == GapFillMethod::kOcp) return std::nullopt;
+  return static_cast<FillMethod>(method);
+}
+
+// options.baseline with its method set to `method`.
+FillOptions BaselineWith(const GapFillOptions& options, FillMethod method) {
+  FillOptions baseline = options.baseline;
+  baseline.method = method;
+  return baseline;
+}
+
+// A filled gap's message: how the ocp layer filled it, and the prior's weights.
+std::string DescribeOcpGap(const OcpGapReport& r, const std::vector<std::string>& methods) {
+  std::string weights;
+  for (std::size_t c = 0; c < methods.size(); ++c) {
+    weights += fmt::format("{}{} {:.2f}", c == 0 ? "" : ", ", methods[c], r.candidate_weights[c]);
+  }
+  if (r.outcome == OcpOutcome::kPrior) return fmt::format("prior: {}", weights);
+  if (r.outcome != OcpOutcome::kSolved) return fmt::format("prior ({}): {}", weights, r.message);
+  return fmt::format(
+      "optimal control: window {}…{}, {} free, {} anchors, {} springs, {} steps, {} Newton "
+      "iterations, disagreement {:.3g}; prior {}",
+      r.window_first, r.window_last, r.free_nodes, r.anchors, r.springs, r.steps,
+      r.newton_iterations, r.disagreement, weights);
+}
+
+// The candidates of the ocp fill: the baseline fills named by options.ocp.candidates, each made
+// to meet the samples around the gaps. fillable[i]: some candidate fills gap i; unfilled[i]:
+// the status and message of the first candidate that did not, while none did.
+struct OcpCandidates {
+  std::vector<Recording> recordings;  // one per candidate
+  std::vector<CandidateFill> fills;   // naming `recordings`
+  std::vector<bool> fillable;
+  std::vector<GapFill> unfilled;
+};
+
+OcpCandidates ComputeCandidates(const Recording& in, const std::vector<Gap>& gaps,
+                                const GapFillOptions& options) {
+  const std::vector<FillMethod>& methods = options.ocp.candidates;
+  OcpCandidates out;
+  out.recordings.resize(methods.size());
+  out.fillable.assign(gaps.size(), false);
+  out.unfilled.resize(gaps.size());
+  for (std::size_t c = 0; c < methods.size(); ++c) {
+    const std::string name(ToString(methods[c]));
+    const FillSummary summary =
+        FillGapsMeetingEnds(in, gaps, BaselineWith(options, methods[c]), &out.recordings[c]);
+    for (std::size_t i = 0; i < gaps.size(); ++i) {
+      const GapReport& gap = summary.gaps[i];
+      if (gap.filled()) {
+        out.fillable[i] = true;
+      } else if (!out.fillable[i] && out.unfilled[i].message.empty()) {
+        out.unfilled[i] = {
+            gap.status, fmt::format("no candidate filled the gap; {}: {}", name, gap.message), {}};
+      }
+    }
+    out.fills.push_back({name, &out.recordings[c]});
+  }
+  return out;
+}
+
+// The ocp fill of every gap, one GapFill per gap in input order: the gaps some candidate fills
+// go to FillGapsOcp together; the others keep the first failing candidate's status.
+std::vector<GapFill> FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
+                                   const GapFillOptions& options) {
+  OcpCandidates candidates = ComputeCandidates(in, gaps, options);
+  std::vector<GapFill> fills = std::move(candidates.unfilled);
+  std::vector<Gap> solved;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    if (candidates.fillable[i]) {
+      solved.push_back(gaps[i]);
+      index.push_back(i);
+    }
+  }
+  if (solved.empty()) return fills;
+  Recording out;
+  const OcpFillSummary summary = FillGapsOcp(in, solved, candidates.fills, options.ocp, &out);
+  for (std::size_t k = 0; k < solved.size(); ++k) {
+    const Gap& g = solved[k];
+    GapFill& fill = fills[index[k]];
+    fill = {GapStatus::kFilled, DescribeOcpGap(summary.gaps[k], summary.methods),
+            Eigen::Matrix3Xd(3, g.length())};
+    for (std::int64_t f = g.first; f <= g.last; ++f) {
+      fill.points.col(f - g.first) = out.point(f, g.marker);
+    }
+  }
+  return fills;
+}
+
+}  // namespace
+
+std::string_view ToString(GapFillMethod method) {
+  const std::optional<FillMethod> baseline = BaselineMethod(method);
+  return baseline ? ToString(*baseline) : kOcpName;
+}
+
+GapFillMethod ParseGapFillMethod(std::string_view name) {
+  std::string known;
+  for (GapFillMethod method : AllGapFillMethods()) {
+    if (ToString(method) == name) return method;
+    known += (known.empty() ? "" : ", ") + std::string(ToString(method));
+  }
+  throw InputError(fmt::format("unknown fill method '{}' (expected one of {})", name, known));
+}
+
+std::vector<GapFillMethod> AllGapFillMethods() {
+  std::vector<GapFillMethod> methods;
+  for (FillMethod m : AllFillMethods()) {
+    // GapFillMethod lists every FillMethod before kOcp.
+    MOREAU_ASSERT(static_cast<int>(m) < static_cast<int>(GapFillMethod::kOcp));
+    methods.push_back(static_cast<GapFillMethod>(m));
+  }
+  methods.push_back(GapFillMethod::kOcp);
+  return methods;
+}
+
+void GapFillOptions::Validate() const {
+  baseline.Validate();
+  ocp.Validate();
+}
+
+nlohmann::json GapFillOptions::ToJson() const {
+  nlohmann::json j = baseline.ToJson();
+  j["method"] = std::string(ToString(method));
+  j["ocp"] = ocp.ToJson();
+  return j;
+}
+
+FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps,
+                     const GapFillOptions& options, Recording* out) {
+  const Stopwatch total;
+  options.Validate();
+  FillSummary summary;
+  if (const std::optional<FillMethod> baseline = BaselineMethod(options.method)) {
+    summary = FillGaps(in, gaps, BaselineWith(options, *baseline), out);
+  } else {
+    CheckGaps(in, gaps);
+    std::vector<GapFill> fills = FillGapsByOcp(in, gaps, options);
+    summary = internal::SummarizeFills(
+        in, gaps, kOcpName, [&](std::size_t i) { return std::move(fills[i]); }, out);
+  }
+  summary.settings = options.ToJson();
+  summary.total_seconds = total.Seconds();
+  return summary;
+}
+
+GapFill FillGap(const Recording& in, const Gap& gap, const GapFillOptions& options) {
+  if (const std::optional<FillMethod> baseline = BaselineMethod(options.method)) {
+    return FillGap(in, gap, BaselineWith(options, *baseline));
+  }
+  return std::move(FillGapsByOcp(in, {gap}, options).front());
+}
+
+}  // namespace moreau::mocap
