@@ -5,69 +5,6 @@
 
 namespace moreau::cli {
 
-FieldTable<mocap::ReadOptions> ReadFields() {
-  using O = mocap::ReadOptions;
-  FieldTable<O> t;
-  t.Flag("read.zero_is_missing", &O::zero_is_missing, "a sample at exactly (0, 0, 0) is missing")
-      .Flag("read.allow_truncated", &O::allow_truncated,
-            "read the frames present in a file shorter than it declares")
-      .Text("read.units_if_unstated", &O::units_if_unstated,
-            "units of a file that does not state them (CSV): mm, cm or m")
-      .Check("read", [](const O& o) { o.Validate(); });
-  return t;
-}
-
-namespace {
-
-FieldTable<mocap::InterpolationFillOptions> InterpolationFields() {
-  using O = mocap::InterpolationFillOptions;
-  FieldTable<O> t;
-  t.Integer("samples_per_side", &O::samples_per_side, Range::AtLeast(2),
-            "spline, pchip: observed samples used on each side of the gap");
-  return t;
-}
-
-FieldTable<mocap::RigidFillOptions> RigidFields() {
-  using O = mocap::RigidFillOptions;
-  FieldTable<O> t;
-  t.Integer("donors", &O::donors, Range::AtLeast(3), "markers carried rigidly with the gapped one")
-      .Integer("min_common_frames", &O::min_common_frames, Range::AtLeast(2),
-               "frames seen with the gapped marker to judge a donor");
-  return t;
-}
-
-FieldTable<mocap::PcaFillOptions> PcaFields() {
-  using O = mocap::PcaFillOptions;
-  FieldTable<O> t;
-  t.Number("explained_fraction", &O::explained_fraction, Range::LeftOpen(0, 1),
-           "keep the fewest components whose singular values reach this fraction")
-      .Number("weight_scale_m", &O::weight_scale_m, Range::Positive(),
-              "σ of the distance weights exp(−d²/2σ²), metres")
-      .Number("missing_marker_weight", &O::missing_marker_weight, Range::LeftOpen(0, 1),
-              "weight of the gapped marker's coordinates")
-      .Number("distal_threshold", &O::distal_threshold, Range::Positive(),
-              "leave out incomplete markers farther than this × the mean distance")
-      .Integer("min_complete_frames", &O::min_complete_frames, Range::AtLeast(2),
-               "frames where every used marker is observed")
-      .Integer("max_iterations", &O::max_iterations, Range::AtLeast(1), "reconstruction iterations")
-      .Number("tolerance", &O::tolerance, Range::Positive(),
-              "stop when the largest change is ≤ this (standard deviations)");
-  return t;
-}
-
-}  // namespace
-
-FieldTable<mocap::FillOptions> FillOptionFields() {
-  using O = mocap::FillOptions;
-  FieldTable<O> t;
-  t.Number("fill.max_gap_seconds", &O::max_gap_seconds, Range::NonNegative(),
-           "leave longer gaps missing (too_long); 0: no limit")
-      .Mount("interpolation", &O::interpolation, InterpolationFields())
-      .Mount("rigid", &O::rigid, RigidFields())
-      .Mount("pca", &O::pca, PcaFields());
-  return t;
-}
-
 std::string FillMethodNames() {
   std::string names;
   for (mocap::GapFillMethod m : mocap::AllGapFillMethods()) {

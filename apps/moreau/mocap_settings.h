@@ -1,6 +1,7 @@
 // What the motion-capture commands (inspect, fill-gaps, evaluate-gaps) share: their arguments,
-// how a recording is read (read.*), every fill method's option block (interpolation.*, rigid.*,
-// pca.*) and the default method.
+// the method names and the default method. Their keys (read.*, fill.*, interpolation.*, rigid.*,
+// pca.*, ocp.*) are the library's field lists (ReadOptions, GapFillOptions), mounted by each
+// command's scenario.
 #pragma once
 
 #include <functional>
@@ -21,14 +22,6 @@ namespace moreau::cli {
 // The method fill-gaps uses when none is named (fill.method): ocp, the optimal-control fill, the
 // best on both ground-truth recordings at every gap length (docs/mocap.md).
 inline constexpr mocap::GapFillMethod kDefaultFillMethod = mocap::GapFillMethod::kOcp;
-
-// read.zero_is_missing, read.allow_truncated, read.units_if_unstated (ReadOptions).
-FieldTable<mocap::ReadOptions> ReadFields();
-
-// Every FillOptions field but the method: fill.max_gap_seconds, then each method's option block
-// under the name of its member: interpolation.*, rigid.*, pca.*. A method with options of its
-// own adds one Mount line here.
-FieldTable<mocap::FillOptions> FillOptionFields();
 
 // "linear, spline, pchip, rigid, pca, ocp".
 std::string FillMethodNames();

@@ -102,13 +102,7 @@ void BindRecording(py::module_& m) {
       py::arg("path"),
       "(recording, warnings) from a .c3d, .trc or .csv file. Keyword arguments are ReadOptions "
       "fields (zero_is_missing, allow_truncated, units, units_if_unstated, rate_if_unstated).");
-  py::class_<ReadOptions>(m, "ReadOptions")
-      .def(py::init(&FromKwargs<ReadOptions>))
-      .def_readwrite("zero_is_missing", &ReadOptions::zero_is_missing)
-      .def_readwrite("allow_truncated", &ReadOptions::allow_truncated)
-      .def_readwrite("units", &ReadOptions::units)
-      .def_readwrite("units_if_unstated", &ReadOptions::units_if_unstated)
-      .def_readwrite("rate_if_unstated", &ReadOptions::rate_if_unstated);
+  BindOptionsClass<ReadOptions>(m, "ReadOptions", "Keys of read.*: how a recording is read.");
   m.def(
       "write_recording",
       [](const Recording& r, const std::filesystem::path& path) {
@@ -116,21 +110,6 @@ void BindRecording(py::module_& m) {
         WriteRecording(r, path);
       },
       py::arg("recording"), py::arg("path"), "Writes .c3d, .trc or .csv (by extension).");
-}
-
-// Names of methods to and from a list of them (ParseName throws for an unknown one).
-template <typename Method>
-std::vector<std::string> MethodNames(const std::vector<Method>& methods) {
-  std::vector<std::string> names;
-  for (Method method : methods) names.emplace_back(ToString(method));
-  return names;
-}
-
-template <typename Method, typename ParseName>
-std::vector<Method> ParseMethods(const std::vector<std::string>& names, ParseName parse) {
-  std::vector<Method> methods;
-  for (const std::string& name : names) methods.push_back(parse(name));
-  return methods;
 }
 
 // A field of GapFillOptions::baseline as an attribute of Python's FillOptions.
@@ -142,46 +121,25 @@ void BindBaselineField(py::class_<GapFillOptions>& c, const char* name, T FillOp
 }
 
 void BindFillOptions(py::module_& m) {
-  py::class_<InterpolationFillOptions>(m, "InterpolationFillOptions")
-      .def(py::init(&FromKwargs<InterpolationFillOptions>))
-      .def_readwrite("samples_per_side", &InterpolationFillOptions::samples_per_side);
-  py::class_<RigidFillOptions>(m, "RigidFillOptions")
-      .def(py::init(&FromKwargs<RigidFillOptions>))
-      .def_readwrite("donors", &RigidFillOptions::donors)
-      .def_readwrite("min_common_frames", &RigidFillOptions::min_common_frames);
-  py::class_<PcaFillOptions>(m, "PcaFillOptions")
-      .def(py::init(&FromKwargs<PcaFillOptions>))
-      .def_readwrite("explained_fraction", &PcaFillOptions::explained_fraction)
-      .def_readwrite("weight_scale_m", &PcaFillOptions::weight_scale_m)
-      .def_readwrite("missing_marker_weight", &PcaFillOptions::missing_marker_weight)
-      .def_readwrite("distal_threshold", &PcaFillOptions::distal_threshold)
-      .def_readwrite("min_complete_frames", &PcaFillOptions::min_complete_frames)
-      .def_readwrite("max_iterations", &PcaFillOptions::max_iterations)
-      .def_readwrite("tolerance", &PcaFillOptions::tolerance);
-  py::class_<OcpFillOptions>(m, "OcpFillOptions", "The optimal-control fill (ocp_fill.h).")
-      .def(py::init(&FromKwargs<OcpFillOptions>))
-      .def_readwrite("padding_seconds", &OcpFillOptions::padding_seconds)
-      .def_readwrite("prior_weight", &OcpFillOptions::prior_weight)
-      .def_property(
-          "candidates", [](const OcpFillOptions& o) { return MethodNames(o.candidates); },
-          [](OcpFillOptions& o, const std::vector<std::string>& names) {
-            o.candidates = ParseMethods<FillMethod>(names, ParseFillMethod);
-          })
-      .def_readwrite("optimal_control", &OcpFillOptions::optimal_control);
-  // Python's FillOptions are the settings of a fill by any method (gap_fill.h): the baseline
-  // fills' fields, the method (ocp included) and ocp.
-  py::class_<GapFillOptions> fill(m, "FillOptions", "Keys of [fill]: method, max_gap_seconds, …");
-  fill.def(py::init(&FromKwargs<GapFillOptions>))
-      .def_property(
-          "method", [](const GapFillOptions& o) { return std::string(ToString(o.method)); },
-          [](GapFillOptions& o, const std::string& s) { o.method = ParseGapFillMethod(s); });
-  BindBaselineField(fill, "max_gap_seconds", &FillOptions::max_gap_seconds);
+  BindOptionsClass<InterpolationFillOptions>(m, "InterpolationFillOptions",
+                                             "Keys of interpolation.* (spline, pchip).");
+  BindOptionsClass<RigidFillOptions>(m, "RigidFillOptions", "Keys of rigid.*.");
+  BindOptionsClass<PcaFillOptions>(m, "PcaFillOptions", "Keys of pca.*.");
+  BindOptionsClass<MarkerNetworkOptions>(m, "MarkerNetworkOptions",
+                                         "Keys of ocp.network.*: the network from a recording.")
+      .def_readwrite("springs", &MarkerNetworkOptions::springs);
+  BindOptionsClass<OcpFillOptions>(m, "OcpFillOptions", "Keys of ocp.*: the optimal-control fill.")
+      .def_readwrite("network", &OcpFillOptions::network)
+      .def_readwrite("newton", &OcpFillOptions::newton);
+  // Python's FillOptions are the settings of a fill by any method (gap_fill.h): the method (ocp
+  // included), the baseline fills' blocks and ocp.
+  auto fill = BindOptionsClass<GapFillOptions>(m, "FillOptions",
+                                               "Keys of fill-gaps: fill.method, fill.max_gap_seconds, "
+                                               "interpolation.*, rigid.*, pca.*, ocp.*.");
   BindBaselineField(fill, "interpolation", &FillOptions::interpolation);
   BindBaselineField(fill, "rigid", &FillOptions::rigid);
   BindBaselineField(fill, "pca", &FillOptions::pca);
-  fill.def_readwrite("ocp", &GapFillOptions::ocp)
-      .def("validate", &GapFillOptions::Validate)
-      .def("to_dict", [](const GapFillOptions& o) { return JsonToPython(o.ToJson()); });
+  fill.def_readwrite("ocp", &GapFillOptions::ocp);
   BindSummary<FillSummary>(m, "FillSummary", "The gaps filled and why the others were not.");
 }
 
@@ -202,17 +160,7 @@ void BindFillAndEvaluate(py::module_& m) {
       py::arg("recording"), py::arg("gaps") = py::none(), py::arg("options") = py::none(),
       "(filled copy, FillSummary); gaps default to find_gaps(recording). Keyword arguments are "
       "FillOptions fields (method=\"spline\", max_gap_seconds=…).");
-  py::class_<EvaluationOptions>(m, "EvaluationOptions", "Keys of [evaluation].")
-      .def(py::init(&FromKwargs<EvaluationOptions>))
-      .def_property(
-          "methods", [](const EvaluationOptions& o) { return MethodNames(o.methods); },
-          [](EvaluationOptions& o, const std::vector<std::string>& names) {
-            o.methods = ParseMethods<GapFillMethod>(names, ParseGapFillMethod);
-          })
-      .def_readwrite("gap_seconds", &EvaluationOptions::gap_seconds)
-      .def_readwrite("trials", &EvaluationOptions::trials)
-      .def_readwrite("seed", &EvaluationOptions::seed)
-      .def_readwrite("threads", &EvaluationOptions::threads)
+  BindOptionsClass<EvaluationOptions>(m, "EvaluationOptions", "Keys of evaluation.*.")
       .def_readwrite("fill", &EvaluationOptions::fill);
   BindSummary<EvaluationSummary>(m, "EvaluationSummary", "Errors per method and gap length.");
   m.def(

@@ -95,18 +95,23 @@ EvaluationRow Evaluate(const Recording& truth, const Recording& gapped, const Tr
 
 }  // namespace
 
+const FieldList<EvaluationOptions>& EvaluationOptions::Fields() {
+  using O = EvaluationOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Choices("methods", &O::methods, GapFillMethodNameTable(), 1, "the methods compared")
+        .Numbers("gap_seconds", &O::gap_seconds, Range::Positive(), 1, "s", "gap durations")
+        .Integer("trials", &O::trials, Range::AtLeast(1), "", "trials per gap length")
+        .Integer("seed", &O::seed, Range::Any(), "", "seed of the drawn gaps (SplitMix64)")
+        .Integer("threads", &O::threads, Range::NonNegative(), "",
+                 "OpenMP threads (0: the default); results do not depend on it");
+    return t;
+  }();
+  return list;
+}
+
 void EvaluationOptions::Validate() const {
-  if (methods.empty()) throw InputError("evaluation.methods must name at least one method");
-  if (gap_seconds.empty()) throw InputError("evaluation.gap_seconds must list at least one");
-  for (double s : gap_seconds) {
-    if (!(s > 0.0) || !std::isfinite(s)) {
-      throw InputError(fmt::format("evaluation.gap_seconds must be > 0 (got {})", s));
-    }
-  }
-  if (trials < 1) throw InputError(fmt::format("evaluation.trials must be ≥ 1 (got {})", trials));
-  if (threads < 0) {
-    throw InputError(fmt::format("evaluation.threads must be ≥ 0 (got {})", threads));
-  }
+  Fields().Validate(*this);
   fill.Validate();
 }
 

@@ -75,53 +75,77 @@ GapStatus ParseGapStatus(std::string_view name) {
   return ParseEnumName(kStatuses, name, "gap status");
 }
 
-void FillOptions::Validate() const {
-  const auto fail = [](std::string_view field, auto value, std::string_view reason) {
-    throw InputError(fmt::format("fill.{} must be {} (got {})", field, reason, value));
-  };
-  if (!(max_gap_seconds >= 0.0) || !std::isfinite(max_gap_seconds)) {
-    fail("max_gap_seconds", max_gap_seconds, "≥ 0 (0: no limit)");
-  }
-  if (interpolation.samples_per_side < 2) {
-    fail("interpolation.samples_per_side", interpolation.samples_per_side, "≥ 2");
-  }
-  if (rigid.donors < 3) fail("rigid.donors", rigid.donors, "≥ 3");
-  if (rigid.min_common_frames < 2) fail("rigid.min_common_frames", rigid.min_common_frames, "≥ 2");
-  if (!(pca.explained_fraction > 0.0 && pca.explained_fraction <= 1.0)) {
-    fail("pca.explained_fraction", pca.explained_fraction, "in (0, 1]");
-  }
-  if (!(pca.weight_scale_m > 0.0) || !std::isfinite(pca.weight_scale_m)) {
-    fail("pca.weight_scale_m", pca.weight_scale_m, "> 0");
-  }
-  if (!(pca.missing_marker_weight > 0.0 && pca.missing_marker_weight <= 1.0)) {
-    fail("pca.missing_marker_weight", pca.missing_marker_weight, "in (0, 1]");
-  }
-  if (!(pca.distal_threshold > 0.0) || !std::isfinite(pca.distal_threshold)) {
-    fail("pca.distal_threshold", pca.distal_threshold, "> 0");
-  }
-  if (pca.min_complete_frames < 2) {
-    fail("pca.min_complete_frames", pca.min_complete_frames, "≥ 2");
-  }
-  if (pca.max_iterations < 1) fail("pca.max_iterations", pca.max_iterations, "≥ 1");
-  if (!(pca.tolerance > 0.0) || !std::isfinite(pca.tolerance)) {
-    fail("pca.tolerance", pca.tolerance, "> 0");
-  }
+const FieldList<InterpolationFillOptions>& InterpolationFillOptions::Fields() {
+  using O = InterpolationFillOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Integer("samples_per_side", &O::samples_per_side, Range::AtLeast(2), "frames",
+              "spline, pchip: observed samples used on each side of the gap");
+    return t;
+  }();
+  return list;
 }
 
-nlohmann::json FillOptions::ToJson() const {
-  return {{"method", std::string(ToString(method))},
-          {"max_gap_seconds", max_gap_seconds},
-          {"interpolation", {{"samples_per_side", interpolation.samples_per_side}}},
-          {"rigid", {{"donors", rigid.donors}, {"min_common_frames", rigid.min_common_frames}}},
-          {"pca",
-           {{"explained_fraction", pca.explained_fraction},
-            {"weight_scale_m", pca.weight_scale_m},
-            {"missing_marker_weight", pca.missing_marker_weight},
-            {"distal_threshold", pca.distal_threshold},
-            {"min_complete_frames", pca.min_complete_frames},
-            {"max_iterations", pca.max_iterations},
-            {"tolerance", pca.tolerance}}}};
+const FieldList<RigidFillOptions>& RigidFillOptions::Fields() {
+  using O = RigidFillOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Integer("donors", &O::donors, Range::AtLeast(3), "",
+              "markers carried rigidly with the gapped one")
+        .Integer("min_common_frames", &O::min_common_frames, Range::AtLeast(2), "frames",
+                 "frames seen with the gapped marker to judge a donor");
+    return t;
+  }();
+  return list;
 }
+
+const FieldList<PcaFillOptions>& PcaFillOptions::Fields() {
+  using O = PcaFillOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Number("explained_fraction", &O::explained_fraction, Range::LeftOpen(0, 1), "",
+             "keep the fewest components whose singular values reach this fraction")
+        .Number("weight_scale_m", &O::weight_scale_m, Range::Positive(), "m",
+                "σ of the distance weights exp(−d²/2σ²)")
+        .Number("missing_marker_weight", &O::missing_marker_weight, Range::LeftOpen(0, 1), "",
+                "weight of the gapped marker's coordinates")
+        .Number("distal_threshold", &O::distal_threshold, Range::Positive(), "",
+                "leave out incomplete markers farther than this × the mean distance")
+        .Integer("min_complete_frames", &O::min_complete_frames, Range::AtLeast(2), "frames",
+                 "frames where every used marker is observed")
+        .Integer("max_iterations", &O::max_iterations, Range::AtLeast(1), "",
+                 "reconstruction iterations")
+        .Number("tolerance", &O::tolerance, Range::Positive(), "standard deviations",
+                "stop when the largest change is ≤ this");
+    return t;
+  }();
+  return list;
+}
+
+std::vector<std::pair<FillMethod, std::string_view>> FillMethodNameTable() {
+  std::vector<std::pair<FillMethod, std::string_view>> names;
+  for (const auto& entry : kMethods) names.emplace_back(entry.method, entry.name);
+  return names;
+}
+
+const FieldList<FillOptions>& FillOptions::Fields() {
+  using O = FillOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Choice("method", &O::method, FillMethodNameTable(), "the fill method")
+        .Number("max_gap_seconds", &O::max_gap_seconds, Range::NonNegative(), "s",
+                "leave longer gaps missing (too_long); 0: no limit")
+        .Mount("interpolation", &O::interpolation, InterpolationFillOptions::Fields())
+        .Mount("rigid", &O::rigid, RigidFillOptions::Fields())
+        .Mount("pca", &O::pca, PcaFillOptions::Fields());
+    return t;
+  }();
+  return list;
+}
+
+void FillOptions::Validate() const { Fields().Validate(*this); }
+
+nlohmann::json FillOptions::ToJson() const { return Fields().ToJson(*this); }
 
 GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options) {
   const double seconds = static_cast<double>(gap.length()) / in.rate();

@@ -141,10 +141,34 @@ std::vector<GapFillMethod> AllGapFillMethods() {
   return methods;
 }
 
-void GapFillOptions::Validate() const {
-  baseline.Validate();
-  ocp.Validate();
+std::vector<std::pair<GapFillMethod, std::string_view>> GapFillMethodNameTable() {
+  std::vector<std::pair<GapFillMethod, std::string_view>> names;
+  for (GapFillMethod m : AllGapFillMethods()) names.emplace_back(m, ToString(m));
+  return names;
 }
+
+const FieldList<GapFillOptions>& GapFillOptions::Fields() {
+  using O = GapFillOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Choice("method", &O::method, GapFillMethodNameTable(), "the fill method")
+        .Number(
+            "max_gap_seconds", [](auto& o) -> auto& { return o.baseline.max_gap_seconds; },
+            Range::NonNegative(), "s", "leave longer gaps missing (too_long); 0: no limit")
+        .Mount(
+            "interpolation", [](auto& o) -> auto& { return o.baseline.interpolation; },
+            InterpolationFillOptions::Fields())
+        .Mount(
+            "rigid", [](auto& o) -> auto& { return o.baseline.rigid; }, RigidFillOptions::Fields())
+        .Mount(
+            "pca", [](auto& o) -> auto& { return o.baseline.pca; }, PcaFillOptions::Fields())
+        .Mount("ocp", &O::ocp, OcpFillOptions::Fields());
+    return t;
+  }();
+  return list;
+}
+
+void GapFillOptions::Validate() const { Fields().Validate(*this); }
 
 nlohmann::json GapFillOptions::ToJson() const {
   nlohmann::json j = baseline.ToJson();

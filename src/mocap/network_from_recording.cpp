@@ -72,27 +72,28 @@ MarkerSpring MakeSpring(int a, int b, const PairStats& s, const MarkerNetworkOpt
 
 }  // namespace
 
-void MarkerNetworkOptions::Validate() const {
-  auto fail = [](const char* field, const std::string& reason) {
-    throw InputError(fmt::format("network.{}: {}", field, reason));
-  };
-  if (partners < 1) fail("partners", fmt::format("must be >= 1, got {}", partners));
-  if (min_common_frames < 2) {
-    fail("min_common_frames", fmt::format("must be >= 2, got {}", min_common_frames));
-  }
-  if (!(bound_margin >= 0.0) || !std::isfinite(bound_margin)) {
-    fail("bound_margin", fmt::format("must be >= 0 and finite, got {}", bound_margin));
-  }
-  if (!(bound_floor >= 0.0) || !std::isfinite(bound_floor)) {
-    fail("bound_floor", fmt::format("must be >= 0 and finite, got {}", bound_floor));
-  }
-  if (!(natural_period_seconds > 0.0) || !std::isfinite(natural_period_seconds)) {
-    fail("natural_period_seconds", fmt::format("must be > 0, got {}", natural_period_seconds));
-  }
-  if (!(damping_ratio >= 0.0) || !std::isfinite(damping_ratio)) {
-    fail("damping_ratio", fmt::format("must be >= 0, got {}", damping_ratio));
-  }
+const FieldList<MarkerNetworkOptions>& MarkerNetworkOptions::Fields() {
+  using O = MarkerNetworkOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Integer("partners", &O::partners, Range::AtLeast(1), "",
+              "springs each marker chooses to its most rigid partners")
+        .Integer("min_common_frames", &O::min_common_frames, Range::AtLeast(2), "frames",
+                 "a pair seen together in fewer frames is never a spring")
+        .Number("bound_margin", &O::bound_margin, Range::NonNegative(), "",
+                "rest-length bounds widened by bound_margin (d_max − d_min)")
+        .Number("bound_floor", &O::bound_floor, Range::NonNegative(), "",
+                "… plus bound_floor d_mean (keeps L− < L+)")
+        .Number("natural_period_seconds", &O::natural_period_seconds, Range::Positive(), "s",
+                "T_n: stiffness κ = (2π / T_n)²")
+        .Number("damping_ratio", &O::damping_ratio, Range::NonNegative(), "",
+                "ζ: damping ξ = 2 ζ √κ (1: critical for one spring)");
+    return t;
+  }();
+  return list;
 }
+
+void MarkerNetworkOptions::Validate() const { Fields().Validate(*this); }
 
 nlohmann::json MarkerNetworkOptions::ToJson() const {
   nlohmann::json pairs = nlohmann::json::array();

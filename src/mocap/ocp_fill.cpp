@@ -116,50 +116,55 @@ OcpOutcome ParseOcpOutcome(std::string_view name) {
   return ParseEnumName(kOcpOutcomes, name, "ocp outcome");
 }
 
-void OcpFillOptions::Validate() const {
-  try {
-    network.Validate();
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("ocp.{}", e.what()));
-  }
-  auto fail = [](const char* field, double value, const char* reason) {
-    throw InputError(fmt::format("ocp.{}: {}, got {}", field, reason, value));
-  };
-  if (!(padding_seconds >= 0.0) || !std::isfinite(padding_seconds)) {
-    fail("padding_seconds", padding_seconds, "must be >= 0 and finite");
-  }
-  if (min_padding_frames < 1) fail("min_padding_frames", min_padding_frames, "must be >= 1");
-  if (anchor_springs < 0) fail("anchor_springs", anchor_springs, "must be >= 0 (0: all)");
-  if (!(observed_weight > 0.0) || !std::isfinite(observed_weight)) {
-    fail("observed_weight", observed_weight, "must be > 0 and finite");
-  }
-  if (!(prior_weight >= 0.0) || !std::isfinite(prior_weight)) {
-    fail("prior_weight", prior_weight, "must be >= 0 and finite (a weight cannot be negative)");
-  }
-  if (!(gamma > 0.0) || !std::isfinite(gamma)) fail("gamma", gamma, "must be > 0");
-  if (!(gamma_start >= gamma) || !std::isfinite(gamma_start)) {
-    fail("gamma_start", gamma_start, "must be >= ocp.gamma and finite");
-  }
-  if (!(retry_gamma_start >= gamma_start) || !std::isfinite(retry_gamma_start)) {
-    fail("retry_gamma_start", retry_gamma_start, "must be >= ocp.gamma_start and finite");
-  }
-  if (!(guard_ratio >= 1.0) || !std::isfinite(guard_ratio)) {
-    fail("guard_ratio", guard_ratio, "must be >= 1 and finite");
-  }
-  if (!(max_step_frames > 0.0) || !std::isfinite(max_step_frames)) {
-    fail("max_step_frames", max_step_frames, "must be > 0");
-  }
-  if (!(stiffness_start > 0.0 && stiffness_start <= 1.0)) {
-    fail("stiffness_start", stiffness_start, "must be in (0, 1]");
-  }
-  if (candidates.empty()) {
-    throw InputError("ocp.candidates: must name at least one baseline fill method");
-  }
-  if (!(weight_exponent >= 0.0) || !std::isfinite(weight_exponent)) {
-    fail("weight_exponent", weight_exponent, "must be >= 0 and finite");
-  }
-  newton.Validate();
+const FieldList<OcpFillOptions>& OcpFillOptions::Fields() {
+  using O = OcpFillOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Mount("network", &O::network, MarkerNetworkOptions::Fields())
+        .Number("padding_seconds", &O::padding_seconds, Range::NonNegative(), "s",
+                "observed frames tracked on each side of a gap")
+        .Integer("min_padding_frames", &O::min_padding_frames, Range::AtLeast(1), "frames",
+                 "at least this many padding frames")
+        .Integer("anchor_springs", &O::anchor_springs, Range::NonNegative(), "",
+                 "per free node, springs to anchors: the most rigid ones (0: all)")
+        .Number("observed_weight", &O::observed_weight, Range::Positive(), "per frame",
+                "μ_x w on observed samples")
+        .Number("prior_weight", &O::prior_weight, Range::NonNegative(), "per frame",
+                "w on the prior inside a gap (0: no prior)")
+        .Number("gamma", &O::gamma, Range::Positive(), "per frame",
+                "target γ of the regularised Hamiltonian")
+        .Number("gamma_start", &O::gamma_start, Range::Positive(), "per frame",
+                "first solve at this γ (≥ gamma), then continuation")
+        .Number("max_step_frames", &O::max_step_frames, Range::Positive(), "frames",
+                "time step Δt ≤ this and ω Δt ≤ 0.5")
+        .Number("stiffness_start", &O::stiffness_start, Range::LeftOpen(0, 1), "",
+                "retry: continuation in κ, ξ from this scale")
+        .Number("retry_gamma_start", &O::retry_gamma_start, Range::Positive(), "per frame",
+                "retry: continuation in γ from here (≥ gamma_start)")
+        .Number("guard_ratio", &O::guard_ratio, Range::AtLeast(1), "",
+                "keep a solved fill only if its disagreement ≤ guard_ratio E_prior + 1")
+        .Choices("candidates", &O::candidates, FillMethodNameTable(), 1,
+                 "baseline fills averaged into the prior")
+        .Number("weight_exponent", &O::weight_exponent, Range::NonNegative(), "",
+                "p of the candidate weights 1 / (E_c + 10⁻³)^p (0: plain average)")
+        .Flag("prior_bounds", &O::prior_bounds,
+              "rest-length bounds centred on the prior (false: the recording's)")
+        .Flag("optimal_control", &O::optimal_control,
+              "solve the optimal control (false: the prior alone, much faster)")
+        .Mount("newton", &O::newton, control::NewtonOptions::Fields())
+        .Rule("gamma_start",
+              [](const O& o) {
+                return o.gamma_start >= o.gamma ? std::string() : "must be ≥ gamma";
+              })
+        .Rule("retry_gamma_start", [](const O& o) {
+          return o.retry_gamma_start >= o.gamma_start ? std::string() : "must be ≥ gamma_start";
+        });
+    return t;
+  }();
+  return list;
 }
+
+void OcpFillOptions::Validate() const { Fields().Validate(*this); }
 
 nlohmann::json OcpFillOptions::ToJson() const {
   nlohmann::json names = nlohmann::json::array();

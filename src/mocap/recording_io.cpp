@@ -22,19 +22,25 @@ std::string Extension(const std::filesystem::path& path) {
 
 }  // namespace
 
-void ReadOptions::Validate() const {
-  if (!units.empty() && !IsLengthUnit(units)) {
-    throw InputError(
-        fmt::format("units: '{}' is not mm, cm or m (or empty to keep the file's)", units));
-  }
-  if (!IsLengthUnit(units_if_unstated)) {
-    throw InputError(fmt::format("units_if_unstated: '{}' is not mm, cm or m", units_if_unstated));
-  }
-  if (!std::isfinite(rate_if_unstated) || rate_if_unstated < 0.0) {
-    throw InputError(
-        fmt::format("rate_if_unstated: {} is not a rate ≥ 0 (0: none)", rate_if_unstated));
-  }
+const FieldList<ReadOptions>& ReadOptions::Fields() {
+  using O = ReadOptions;
+  static const FieldList<O> list = [] {
+    FieldList<O> t;
+    t.Flag("zero_is_missing", &O::zero_is_missing, "a sample at exactly (0, 0, 0) is missing")
+        .Flag("allow_truncated", &O::allow_truncated,
+              "read the frames present in a file shorter than it declares")
+        .Text("units", &O::units, "convert positions to these units (\"\": the file's)",
+              {"", "mm", "cm", "m"})
+        .Text("units_if_unstated", &O::units_if_unstated,
+              "units of a file that does not state them (CSV)", {"mm", "cm", "m"})
+        .Number("rate_if_unstated", &O::rate_if_unstated, Range::NonNegative(), "Hz",
+                "rate of a CSV file with a single frame (0: none)");
+    return t;
+  }();
+  return list;
 }
+
+void ReadOptions::Validate() const { Fields().Validate(*this); }
 
 Recording ReadRecording(const std::filesystem::path& path, const ReadOptions& options,
                         std::vector<std::string>* warnings) {

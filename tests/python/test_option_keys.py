@@ -11,13 +11,15 @@ import subprocess
 import pytest
 
 import moreau
-from moreau import control, particles, pbd
+from moreau import control, mocap, particles, pbd
 from conftest import CLI, ROOT, MOCAP
 
 SLIDING = ROOT / "examples/sliding.toml"
 CROWD = ROOT / "examples/crowd.toml"
 MONOLAYER = ROOT / "examples/abm/monolayer.toml"
 OSCILLATOR = ROOT / "examples/control/oscillator_1d.toml"
+VICON = MOCAP / "Vicon.c3d"
+QUALISYS = MOCAP / "Qualisys.c3d"
 
 # (options class, the tool's command line before --set, the scenario key of the list's key).
 # A key a command sets from another one maps to None (the particle engine's seed is
@@ -33,6 +35,11 @@ MOUNTS = [
      lambda k: k if k.startswith(("newton.", "fixed_point.")) else "continuation." + k),
     (control.NewtonOptions, ["control", OSCILLATOR], lambda k: "newton." + k),
     (control.FixedPointOptions, ["control", OSCILLATOR], lambda k: "fixed_point." + k),
+    (mocap.FillOptions, ["fill-gaps", VICON],
+     lambda k: "fill." + k if k in ("method", "max_gap_seconds") else k),
+    (mocap.ReadOptions, ["fill-gaps", VICON], lambda k: "read." + k),
+    (mocap.EvaluationOptions, ["evaluate-gaps", QUALISYS],
+     lambda k: None if k == "methods" else "evaluation." + k),
 ]
 
 

@@ -53,30 +53,16 @@ FieldTable<EvaluateGapsSettings> EvaluateGapsFields() {
   FieldTable<EG> t;
   t.Custom("evaluation.methods", "method names", ReadMethods, EchoMethods,
            "methods compared: " + FillMethodNames())
-      .Custom(
-          "evaluation.gap_seconds", "array of numbers",
-          [](Scenario& sc, EG& s, const std::string& k) {
-            s.evaluation.gap_seconds = sc.GetDoubleArray(k, s.evaluation.gap_seconds);
-            if (s.evaluation.gap_seconds.empty()) sc.Fail(k, "must list at least one duration");
-            for (double d : s.evaluation.gap_seconds) {
-              if (!(d > 0.0)) sc.Fail(k, fmt::format("each duration must be > 0 (got {})", d));
-            }
-          },
-          [](const EG& s) { return nlohmann::json(s.evaluation.gap_seconds); },
-          "gap durations, each > 0 (length = duration × rate, rounded)")
-      .Integer(
-          "evaluation.trials", [](auto& s) -> auto& { return s.evaluation.trials; },
-          Range::AtLeast(1), "trials per gap length (one marker, one position each)")
-      .Integer(
-          "evaluation.seed", [](auto& s) -> auto& { return s.evaluation.seed; },
-          Range::NonNegative(), "SplitMix64 seed of the draws")
-      .Threads(
-          "evaluation.threads", [](auto& s) -> auto& { return s.evaluation.threads; },
-          "OpenMP threads; 0: the default (results do not depend on it)")
       .Mount(
-          "", [](auto& s) -> auto& { return s.evaluation.fill.baseline; }, FillOptionFields())
-      .Mount("", &EG::read, ReadFields())
-      .Check("evaluation", [](const EG& s) { s.evaluation.Validate(); });
+          "evaluation", [](auto& s) -> auto& { return s.evaluation; },
+          mocap::EvaluationOptions::Fields(), {{"methods", ""}})
+      .CapThreads("evaluation.threads")
+      // Every method's block as fill-gaps names it (the method is evaluation.methods).
+      .Mount(
+          "", [](auto& s) -> auto& { return s.evaluation.fill; }, mocap::GapFillOptions::Fields(),
+          {{"method", ""}, {"max_gap_seconds", "fill.max_gap_seconds"}})
+      .CapThreads("ocp.newton.threads")
+      .Mount("read", &EG::read, mocap::ReadOptions::Fields());
   return t;
 }
 

@@ -12,14 +12,12 @@ namespace moreau::cli {
 FieldTable<FillGapsSettings> FillGapsFields() {
   using FG = FillGapsSettings;
   FieldTable<FG> t;
-  t.Choice(
-       "fill.method", [](auto& s) -> auto& { return s.fill.method; }, mocap::ParseGapFillMethod,
-       [](mocap::GapFillMethod m) { return mocap::ToString(m); }, FillMethodNames(),
-       "the fill method")
-      .Mount(
-          "", [](auto& s) -> auto& { return s.fill.baseline; }, FillOptionFields())
-      .Mount("", &FG::read, ReadFields())
-      .Check("fill", [](const FG& s) { s.fill.Validate(); });
+  // fill.method and fill.max_gap_seconds are GapFillOptions' method and max_gap_seconds; the
+  // method blocks (interpolation.*, rigid.*, pca.*, ocp.*) keep their names.
+  t.Mount("", &FG::fill, mocap::GapFillOptions::Fields(),
+          {{"method", "fill.method"}, {"max_gap_seconds", "fill.max_gap_seconds"}})
+      .CapThreads("ocp.newton.threads")
+      .Mount("read", &FG::read, mocap::ReadOptions::Fields());
   return t;
 }
 

@@ -206,18 +206,91 @@ class FieldList {
                 nullptr});
   }
 
+  // A list of numbers (TOML [0.1, 0.5]), each finite and inside `range`, at least `min_size`.
+  template <class A>
+  FieldList& Numbers(std::string key, A ref, Range range, std::size_t min_size, std::string unit,
+                     std::string help) {
+    auto violation = [range, min_size](const std::vector<double>& v) -> std::string {
+      if (v.size() < min_size) return fmt::format("needs at least {} entries", min_size);
+      for (double x : v) {
+        std::string why = NumberViolation(range, x);
+        if (!why.empty()) return why;
+      }
+      return "";
+    };
+    return Add({std::move(key), "numbers", range.Describe(), std::move(unit), std::move(help),
+                Getter(ref),
+                [ref, violation](S& s, const nlohmann::json& j) -> std::string {
+                  if (!j.is_array()) return ExpectedType("an array of numbers", j);
+                  std::vector<double> v;
+                  for (const nlohmann::json& item : j) {
+                    if (!item.is_number()) return ExpectedType("an array of numbers", j);
+                    v.push_back(item.get<double>());
+                  }
+                  std::string why = violation(v);
+                  if (why.empty()) std::invoke(ref, s) = std::move(v);
+                  return why;
+                },
+                [ref, violation](const S& s) { return violation(std::invoke(ref, s)); }});
+  }
+
+  // A list of enum values written by name (TOML ["rigid", "pca"]), at least `min_size` of them.
+  template <class A, class Names>
+  FieldList& Choices(std::string key, A ref, const Names& names, std::size_t min_size,
+                     std::string help) {
+    using Enum = typename std::remove_cvref_t<std::invoke_result_t<A, S&>>::value_type;
+    std::vector<std::string> allowed;
+    for (const auto& entry : names) allowed.emplace_back(entry.second);
+    auto name_of = [names](Enum v) {
+      for (const auto& entry : names) {
+        if (entry.first == v) return std::string(entry.second);
+      }
+      return std::string();
+    };
+    return Add({std::move(key), "names, each one of " + Joined(allowed), "", "", std::move(help),
+                [ref, name_of](const S& s) {
+                  nlohmann::json j = nlohmann::json::array();
+                  for (Enum v : std::invoke(ref, s)) j.push_back(name_of(v));
+                  return j;
+                },
+                [ref, names, allowed, min_size](S& s, const nlohmann::json& j) -> std::string {
+                  if (!j.is_array()) return ExpectedType("an array of names", j);
+                  std::vector<Enum> v;
+                  for (const nlohmann::json& item : j) {
+                    if (!item.is_string()) return ExpectedType("an array of names", j);
+                    const std::size_t before = v.size();
+                    for (const auto& entry : names) {
+                      if (entry.second == item.get<std::string>()) v.push_back(entry.first);
+                    }
+                    if (v.size() == before) return OneOf(allowed, item.get<std::string>());
+                  }
+                  if (v.size() < min_size) return fmt::format("needs at least {} entries", min_size);
+                  std::invoke(ref, s) = std::move(v);
+                  return "";
+                },
+                [ref, min_size](const S& s) {
+                  return std::invoke(ref, s).size() < min_size
+                             ? fmt::format("needs at least {} entries", min_size)
+                             : std::string();
+                }});
+  }
+
   // A rule over several fields, run by Validate() after the fields' own ranges.
   FieldList& Rule(std::string key, std::function<std::string(const S&)> reason) {
     checks_.push_back({std::move(key), std::move(reason)});
     return *this;
   }
 
-  // Every field and rule of `sub` (the list of the member struct ref(s)) under "prefix.".
+  // Every field and rule of `sub` (the list of the member struct ref(s)) under "prefix." (an
+  // empty prefix keeps sub's keys).
   template <class T, class A>
   FieldList& Mount(const std::string& prefix, A ref, const FieldList<T>& sub) {
+    const auto under = [&prefix](const std::string& key) {
+      return prefix.empty() ? key : prefix + "." + key;
+    };
     for (const typename FieldList<T>::Field& f : sub.fields()) {
       Field g{
-          prefix + "." + f.key,
+          under(f.key),
           f.type,
           f.range,
           f.unit,
@@ -231,7 +304,7 @@ class FieldList {
       Add(std::move(g));
     }
     for (const typename FieldList<T>::Check& c : sub.checks()) {
-      Rule(prefix + "." + c.key,
+      Rule(under(c.key),
            [ref, reason = c.reason](const S& s) { return reason(std::invoke(ref, s)); });
     }
     return *this;
@@ -289,7 +362,9 @@ class FieldList {
 
   static std::string Joined(const std::vector<std::string>& items) {
     std::string out;
-    for (const std::string& item : items) out += (out.empty() ? "" : ", ") + item;
+    for (const std::string& item : items) {
+      out += (out.empty() ? "" : ", ") + (item.empty() ? std::string("\"\"") : item);
+    }
     return out;
   }
 

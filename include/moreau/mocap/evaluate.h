@@ -32,7 +32,9 @@ struct EvaluationOptions {
   int threads = 0;                                           // OpenMP threads; 0: the default
   GapFillOptions fill;  // every method's settings (fill.method is ignored)
 
-  // Throws InputError("evaluation.<field> …") for a value out of range, or the fill options'.
+  // methods, gap_seconds, trials, seed, threads (the fill options have their own list).
+  static const FieldList<EvaluationOptions>& Fields();
+  // Throws InputError(key, reason) for a value out of range, or the fill options'.
   void Validate() const;
   nlohmann::json ToJson() const;
 };

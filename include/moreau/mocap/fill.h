@@ -49,6 +49,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "moreau/common/field_list.h"
 #include "moreau/common/termination.h"
 #include "moreau/mocap/recording.h"
 
@@ -62,6 +63,8 @@ std::string_view ToString(FillMethod method);
 FillMethod ParseFillMethod(std::string_view name);
 // Every method, in the order above.
 std::vector<FillMethod> AllFillMethods();
+// The name table of FillMethod (for field lists).
+std::vector<std::pair<FillMethod, std::string_view>> FillMethodNameTable();
 
 // Why a gap was or was not filled.
 enum class GapStatus {
@@ -83,6 +86,7 @@ struct InterpolationFillOptions {
   // Observed samples taken on each side of the gap (the adjacent observed run, up to this many);
   // ≥ 2. Both methods need at least 2 on each side (else too_few_samples).
   int samples_per_side = 4;
+  static const FieldList<InterpolationFillOptions>& Fields();  // key, range, unit, help of every field
 };
 
 struct RigidFillOptions {
@@ -90,6 +94,7 @@ struct RigidFillOptions {
   // Frames where a candidate and the gapped marker are both observed, needed to judge how much
   // their distance varies; ≥ 2.
   int min_common_frames = 10;
+  static const FieldList<RigidFillOptions>& Fields();  // key, range, unit, help of every field
 };
 
 struct PcaFillOptions {
@@ -110,6 +115,7 @@ struct PcaFillOptions {
   // Stop when the largest change of a gapped coordinate, in standard deviations of that
   // coordinate, is ≤ this; > 0.
   double tolerance = 1e-10;
+  static const FieldList<PcaFillOptions>& Fields();  // key, range, unit, help of every field
 };
 
 struct FillOptions {
@@ -121,7 +127,9 @@ struct FillOptions {
   RigidFillOptions rigid;
   PcaFillOptions pca;
 
-  // Throws InputError("fill.<field> must be … (got …)") for a value out of range.
+  // method, max_gap_seconds, interpolation.*, rigid.*, pca.*.
+  static const FieldList<FillOptions>& Fields();
+  // Throws InputError(key, reason) for a value out of range.
   void Validate() const;
   nlohmann::json ToJson() const;
 };

@@ -27,6 +27,8 @@ std::string_view ToString(GapFillMethod method);
 GapFillMethod ParseGapFillMethod(std::string_view name);
 // Every method, in the order above.
 std::vector<GapFillMethod> AllGapFillMethods();
+// The name table of GapFillMethod (for field lists).
+std::vector<std::pair<GapFillMethod, std::string_view>> GapFillMethodNameTable();
 
 // The settings of a fill by any method: the method, the baseline fills' settings and the
 // optimal-control fill's. A caller that needs both kinds of setting holds this one struct.
@@ -37,7 +39,10 @@ struct GapFillOptions {
   FillOptions baseline;
   OcpFillOptions ocp;  // read when method is ocp
 
-  // Throws InputError from baseline.Validate() or ocp.Validate(), whatever the method.
+  // method, max_gap_seconds, interpolation.*, rigid.*, pca.* (baseline's, but its method) and
+  // ocp.*.
+  static const FieldList<GapFillOptions>& Fields();
+  // Throws InputError(key, reason) for any field out of range, whatever the method.
   void Validate() const;
   // baseline.ToJson() with "method" from `method`, and "ocp": ocp.ToJson().
   nlohmann::json ToJson() const;

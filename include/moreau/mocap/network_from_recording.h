@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "moreau/common/field_list.h"
 #include "moreau/mocap/recording.h"
 
 namespace moreau::mocap {
@@ -38,7 +39,9 @@ struct MarkerNetworkOptions {
   // statistics and bounds are still measured from the recording).
   std::vector<std::pair<std::string, std::string>> springs;
 
-  // Throws InputError("network.<field>: ...") for a value out of range.
+  // Every field but `springs` (a list of label pairs, set from C++ or Python).
+  static const FieldList<MarkerNetworkOptions>& Fields();
+  // Throws InputError(key, reason) for a value out of range.
   void Validate() const;
   nlohmann::json ToJson() const;
 };

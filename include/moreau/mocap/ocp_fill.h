@@ -74,7 +74,9 @@ struct OcpFillOptions {
   bool optimal_control = true;
   control::NewtonOptions newton;  // every Newton solve (tolerance in solver units)
 
-  // Throws InputError("ocp.<field>: ...") for a value out of range.
+  // Every field: network.* (but its springs), newton.*, the weights, candidates, ….
+  static const FieldList<OcpFillOptions>& Fields();
+  // Throws InputError(key, reason) for a value out of range.
   void Validate() const;
   nlohmann::json ToJson() const;
 };

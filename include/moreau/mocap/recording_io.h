@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "moreau/common/field_list.h"
 #include "moreau/mocap/recording.h"
 
 namespace moreau::mocap {
@@ -35,7 +36,8 @@ struct ReadOptions {
   // Frames per second of a CSV file with a single frame (its time column cannot give the rate).
   double rate_if_unstated = 0.0;
 
-  // Throws InputError naming the field, the value and the reason.
+  static const FieldList<ReadOptions>& Fields();  // key, range, unit, help of every field
+  // Throws InputError(key, reason).
   void Validate() const;
 };
 
