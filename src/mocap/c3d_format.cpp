@@ -144,6 +144,7 @@ ParameterSection ParseParameterSection(std::span<const std::uint8_t> file, std::
   std::map<int, std::string> groups;
   std::vector<std::pair<int, Item>> items;
   std::size_t pos = start + 4;
+  if (pos < file.size() && file[pos] == 0) return section;  // no parameters declared
   while (pos != 0) {
     if (pos < file.size() && file[pos] == 0) break;  // name length 0 ends the section
     std::string reason;

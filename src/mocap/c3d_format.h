@@ -73,8 +73,10 @@ class ParameterSection {
 };
 
 // Parses the parameter section starting at byte `start` of `file`. An item that runs outside the
-// file or points backwards ends the section with a warning (real writers leave such bytes);
-// a section without a single parameter is an InputError naming `path`.
+// file or points backwards ends the section with a warning (real writers leave such bytes).
+// A section that ends at once (its first item's name length is 0: the file declares no
+// parameters, as PhaseSpace writes) is returned without parameters, for the caller to read the
+// header alone; any other section without a single parameter is an InputError naming `path`.
 ParameterSection ParseParameterSection(std::span<const std::uint8_t> file, std::size_t start,
                                        const std::filesystem::path& path,
                                        std::vector<std::string>& warnings);

@@ -1,4 +1,5 @@
-// C3D reader: header, parameter section, 3D point data (analog data skipped).
+// C3D reader: header, parameter section, 3D point data (analog data skipped). A file that
+// declares no parameters is read from its header alone.
 #include <fmt/format.h>
 
 #include <cctype>
@@ -102,8 +103,10 @@ DataLayout ReadLayout(const std::filesystem::path& path, const Header& header,
                       const c3d::ParameterSection& p, std::vector<std::string>& warnings) {
   DataLayout layout;
   const auto fallback = [&](std::string_view field, double value) {
-    warnings.push_back(
-        fmt::format("{}: {}: missing; the header's value {} is used", path.string(), field, value));
+    if (!p.parameters.empty()) {  // a file without any parameter gets one warning (ReadC3d)
+      warnings.push_back(fmt::format("{}: {}: missing; the header's value {} is used",
+                                     path.string(), field, value));
+    }
     return value;
   };
   layout.points = p.Count("POINT", "USED").value_or(header.Word(2));
@@ -158,6 +161,23 @@ std::string ReadUnits(const std::filesystem::path& path, const c3d::ParameterSec
   warnings.push_back(fmt::format("{}: POINT:UNITS: '{}' is not mm, cm or m; read as mm",
                                  path.string(), strings[0]));
   return "mm";
+}
+
+// The labels of a file that declares no parameters: GeneratedLabel(0 … count − 1), with one
+// warning saying that the layout came from the header and the labels and units were supplied.
+std::vector<std::string> HeaderOnlyLabels(const std::filesystem::path& path, std::int64_t count,
+                                          std::vector<std::string>& warnings) {
+  std::vector<std::string> labels;
+  for (std::size_t m = 0; m < static_cast<std::size_t>(count); ++m) {
+    labels.push_back(internal::GeneratedLabel(m));
+  }
+  const std::string range =
+      labels.empty() ? "none" : fmt::format("{} … {}", labels.front(), labels.back());
+  warnings.push_back(
+      fmt::format("{}: parameter section: the file declares no parameters; the header gives the "
+                  "points, frames, scale and rate; labels generated ({}), units taken as mm",
+                  path.string(), range));
+  return labels;
 }
 
 // The frames that the file holds in full; InputError (or a warning with allow_truncated) when
@@ -236,7 +256,9 @@ Recording ReadC3d(const std::filesystem::path& path, const ReadOptions& options,
   DataLayout layout = ReadLayout(path, header, section, warnings);
   layout.frames = FramesPresent(path, bytes.size(), layout, options, warnings);
 
-  std::vector<std::string> labels = ReadNames(section, "LABELS", layout.points);
+  std::vector<std::string> labels = section.parameters.empty()
+                                        ? HeaderOnlyLabels(path, layout.points, warnings)
+                                        : ReadNames(section, "LABELS", layout.points);
   internal::MakeLabelsUnique(labels, path, "POINT:LABELS", warnings);
   Recording recording(std::move(labels), layout.frames, layout.rate,
                       ReadUnits(path, section, warnings));

@@ -19,8 +19,11 @@ std::string ReadWholeFile(const std::filesystem::path& file);
 // `file` is complete or untouched. InputError naming the file on any failure.
 void WriteFileAtomically(const std::filesystem::path& file, std::string_view content);
 
-// Replaces empty labels by "M<n>" (n 1-based) and repeated ones by "LABEL_2", "LABEL_3", …,
-// appending one warning naming the file and `field` when anything changed.
+// The label given to marker `index` (0-based) when the file names none: "M<index + 1>".
+std::string GeneratedLabel(std::size_t index);
+
+// Replaces empty labels by GeneratedLabel(their index) and repeated ones by "LABEL_2",
+// "LABEL_3", …, appending one warning naming the file and `field` when anything changed.
 void MakeLabelsUnique(std::vector<std::string>& labels, const std::filesystem::path& file,
                       std::string_view field, std::vector<std::string>& warnings);
 
@@ -38,7 +41,6 @@ bool ParseNumber(std::string_view text, double& value);
 
 // `text` in lower case (ASCII).
 std::string ToLower(std::string_view text);
-
 
 // Shortest decimal text that reads back to the same double.
 std::string FormatNumber(double value);

@@ -24,6 +24,18 @@ def test_inspect_text_names_the_file_and_reports_warnings_on_stderr():
     assert "RKNE_2" in r.stderr
 
 
+def test_inspect_file_without_parameters_reads_the_header_and_warns():
+    r = run_cli("inspect", DATA / "phasespace_sample.c3d", "--json")
+    assert r.returncode == 0, r.stderr
+    inv = json.loads(r.stdout)
+    assert (inv["markers"], inv["frames"], inv["rate"], inv["units"]) == (40, 701, 30.0, "mm")
+    assert inv["labels"][:2] == ["M1", "M2"] and len(set(inv["labels"])) == 40
+    assert inv["missing_samples"] > 0
+    warned = [w for w in inv["warnings"] if "no parameters" in w]
+    assert len(warned) == 1 and "phasespace_sample.c3d" in warned[0], inv["warnings"]
+    assert warned[0] in r.stderr
+
+
 def test_inspect_truncated_file_exits_2_with_one_line_unless_allowed():
     r = run_cli("inspect", DATA / "Optotrak.c3d")
     assert r.returncode == 2

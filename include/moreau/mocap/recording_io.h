@@ -47,7 +47,10 @@ struct ReadOptions {
 Recording ReadRecording(const std::filesystem::path& path, const ReadOptions& options = {},
                         std::vector<std::string>* warnings = nullptr);
 
-// The same for one format, whatever the extension.
+// The same for one format, whatever the extension. A C3D file that declares no parameters (its
+// parameter section ends at once, as PhaseSpace writes it) is read from its header alone: point
+// count, frame range, scale, rate and data start; the markers are labelled "M1", "M2", … (as an
+// empty label is anywhere else) and the units are mm, with one warning saying so.
 Recording ReadC3d(const std::filesystem::path& path, const ReadOptions& options = {},
                   std::vector<std::string>* warnings = nullptr);
 Recording ReadTrc(const std::filesystem::path& path, const ReadOptions& options = {},
