@@ -195,21 +195,30 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
   return SolveNewton(disc, options, y, workspace);
 }
 
+namespace {
+
+// The workspace's linear solver of `type`, made on first use or when the type changes.
+NewtonLinearSolver* LinearSolverOf(NewtonWorkspace& workspace, LinearSolverType type) {
+  if (!workspace.solver || workspace.solver_type != type) {
+    if (type == LinearSolverType::kRiccati) {
+      workspace.solver = std::make_unique<RiccatiSolver>();
+    } else {
+      workspace.solver = std::make_unique<SparseLuSolver>();
+    }
+    workspace.solver_type = type;
+  }
+  return workspace.solver.get();
+}
+
+}  // namespace
+
 NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
                           Eigen::VectorXd& y, NewtonWorkspace& workspace) {
   options.Validate();
   const Stopwatch total;
   NewtonSummary summary;
   summary.options = options;
-  if (!workspace.solver || workspace.solver_type != options.linear_solver) {
-    if (options.linear_solver == LinearSolverType::kRiccati) {
-      workspace.solver = std::make_unique<RiccatiSolver>();
-    } else {
-      workspace.solver = std::make_unique<SparseLuSolver>();
-    }
-    workspace.solver_type = options.linear_solver;
-  }
-  NewtonLinearSolver* solver = workspace.solver.get();
+  NewtonLinearSolver* solver = LinearSolverOf(workspace, options.linear_solver);
   PontryaginWorkspace& ws = workspace.pontryagin;
   ws.threads = options.threads;
   Eigen::VectorXd& residual = workspace.residual;

@@ -101,7 +101,13 @@ std::vector<GapFill> FillGapsByOcp(const Recording& in, const std::vector<Gap>& 
   }
   if (solved.empty()) return fills;
   Recording out;
-  const OcpFillSummary summary = FillGapsOcp(in, solved, candidates.fills, options.ocp, &out);
+  const OcpFillSummary summary = [&] {
+    try {
+      return FillGapsOcp(in, solved, candidates.fills, options.ocp, &out);
+    } catch (const InputError& e) {
+      throw e.Under("ocp");  // a setting's key as GapFillOptions names it
+    }
+  }();
   for (std::size_t k = 0; k < solved.size(); ++k) {
     const Gap& g = solved[k];
     GapFill& fill = fills[index[k]];

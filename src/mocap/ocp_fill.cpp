@@ -152,10 +152,9 @@ const FieldList<OcpFillOptions>& OcpFillOptions::Fields() {
         .Flag("optimal_control", &O::optimal_control,
               "solve the optimal control (false: the prior alone, much faster)")
         .Mount("newton", &O::newton, control::NewtonOptions::Fields())
-        .Rule("gamma_start",
-              [](const O& o) {
-                return o.gamma_start >= o.gamma ? std::string() : "must be ≥ gamma";
-              })
+        .Rule(
+            "gamma_start",
+            [](const O& o) { return o.gamma_start >= o.gamma ? std::string() : "must be ≥ gamma"; })
         .Rule("retry_gamma_start", [](const O& o) {
           return o.retry_gamma_start >= o.gamma_start ? std::string() : "must be ≥ gamma_start";
         });
@@ -280,10 +279,10 @@ std::int64_t PaddingFrames(const Recording& in, const OcpFillOptions& options) {
   const auto padding = std::max<std::int64_t>(options.min_padding_frames,
                                               std::llround(options.padding_seconds * in.rate()));
   if (padding >= in.frames()) {
-    throw InputError(
-        fmt::format("ocp.padding_seconds: the window padding of {} frames is not "
-                    "shorter than the recording ({} frames)",
-                    padding, in.frames()));
+    throw InputError("padding_seconds",
+                     fmt::format("the window padding of {} frames is not shorter than the "
+                                 "recording ({} frames)",
+                                 padding, in.frames()));
   }
   return padding;
 }

@@ -156,13 +156,13 @@ TEST(EvaluateFillMethods, BadInputIsAnInputErrorNamingTheField) {
   };
   EvaluationOptions options = SmallStudy();
   options.trials = 0;
-  EXPECT_NE(message(options, line).find("evaluation.trials"), std::string::npos);
+  EXPECT_NE(message(options, line).find("trials: must be ≥ 1 (got 0)"), std::string::npos);
   options = SmallStudy();
   options.gap_seconds = {0.5};  // 50 frames do not fit in 40
   EXPECT_NE(message(options, line).find("evaluation.gap_seconds"), std::string::npos);
   options = SmallStudy();
   options.fill.baseline.rigid.donors = 1;
-  EXPECT_NE(message(options, line).find("fill.rigid.donors"), std::string::npos);
+  EXPECT_NE(message(options, line).find("rigid.donors: must be ≥ 3 (got 1)"), std::string::npos);
   Recording incomplete = line;
   incomplete.ClearPoint(3, 1);
   EXPECT_NE(message(SmallStudy(), incomplete).find("complete"), std::string::npos);

@@ -224,22 +224,25 @@ TEST(FillGaps, OptionValidationNamesTheField) {
   EXPECT_EQ(ValidationMessage(FillOptions{}), "");
   FillOptions o;
   o.interpolation.samples_per_side = 1;
-  EXPECT_NE(ValidationMessage(o).find("fill.interpolation.samples_per_side"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("interpolation.samples_per_side: must be ≥ 2 (got 1)"),
+            std::string::npos);
   o = {};
   o.rigid.donors = 2;
-  EXPECT_NE(ValidationMessage(o).find("fill.rigid.donors"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("rigid.donors: must be ≥ 3 (got 2)"), std::string::npos);
   o = {};
   o.max_gap_seconds = -1.0;
-  EXPECT_NE(ValidationMessage(o).find("fill.max_gap_seconds"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("max_gap_seconds: must be ≥ 0 (got -1)"), std::string::npos);
   o = {};
   o.pca.explained_fraction = 1.5;
-  EXPECT_NE(ValidationMessage(o).find("fill.pca.explained_fraction"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("pca.explained_fraction: must be in (0, 1] (got 1.5)"),
+            std::string::npos);
   o = {};
   o.pca.missing_marker_weight = 0.0;
-  EXPECT_NE(ValidationMessage(o).find("fill.pca.missing_marker_weight"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("pca.missing_marker_weight: must be in (0, 1] (got 0)"),
+            std::string::npos);
   o = {};
   o.pca.tolerance = 0.0;
-  EXPECT_NE(ValidationMessage(o).find("fill.pca.tolerance"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("pca.tolerance: must be > 0 (got 0)"), std::string::npos);
 }
 
 TEST(FillGaps, MeetingEndsRemovesTheErrorsAtTheBoundingSamples) {

@@ -100,7 +100,7 @@ TEST(GapFill, BadSettingsAreOneInputErrorNamingTheField) {
   EXPECT_EQ(error(o).find("ocp.prior_weight"), 0u) << error(o);
   o = ocp;
   o.baseline.rigid.donors = 2;
-  EXPECT_EQ(error(o).find("fill.rigid.donors"), 0u) << error(o);
+  EXPECT_EQ(error(o).find("rigid.donors: must be ≥ 3 (got 2)"), 0u) << error(o);
   o = ocp;
   o.ocp.padding_seconds = 1.0;  // a window of 100 padding frames in 40 frames
   EXPECT_EQ(error(o).find("ocp.padding_seconds"), 0u) << error(o);

@@ -92,16 +92,16 @@ TEST(MocapNetwork, BadOptionsNameTheField) {
   };
   MarkerNetworkOptions o;
   o.partners = 0;
-  EXPECT_NE(message(o).find("network.partners"), std::string::npos) << message(o);
+  EXPECT_NE(message(o).find("partners: must be ≥ 1 (got 0)"), std::string::npos) << message(o);
   o = {};
   o.bound_margin = -1.0;
-  EXPECT_NE(message(o).find("network.bound_margin"), std::string::npos);
+  EXPECT_NE(message(o).find("bound_margin: must be ≥ 0 (got -1)"), std::string::npos);
   o = {};
   o.natural_period_seconds = 0.0;
-  EXPECT_NE(message(o).find("network.natural_period_seconds"), std::string::npos);
+  EXPECT_NE(message(o).find("natural_period_seconds: must be > 0 (got 0)"), std::string::npos);
   o = {};
   o.min_common_frames = 1;
-  EXPECT_NE(message(o).find("network.min_common_frames"), std::string::npos);
+  EXPECT_NE(message(o).find("min_common_frames: must be ≥ 2 (got 1)"), std::string::npos);
 }
 
 }  // namespace

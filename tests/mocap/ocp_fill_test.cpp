@@ -197,13 +197,13 @@ TEST(MocapOcpFill, BadSettingsAreOneInputError) {
   const Gap gap = testing::Hide(in, 1, 10, 20);
   OcpFillOptions o;
   o.prior_weight = -1.0;
-  EXPECT_NE(FillError(in, {gap}, o).find("ocp.prior_weight"), std::string::npos);
+  EXPECT_NE(FillError(in, {gap}, o).find("prior_weight: must be ≥ 0 (got -1)"), std::string::npos);
   o = {};
   o.padding_seconds = 1.0;  // 100 frames of padding, 40 frames of recording
-  EXPECT_NE(FillError(in, {gap}, o).find("ocp.padding_seconds"), std::string::npos);
+  EXPECT_NE(FillError(in, {gap}, o).find("padding_seconds: the window padding"), std::string::npos);
   o = {};
   o.gamma = 0.0;
-  EXPECT_NE(FillError(in, {gap}, o).find("ocp.gamma"), std::string::npos);
+  EXPECT_NE(FillError(in, {gap}, o).find("gamma: must be > 0 (got 0)"), std::string::npos);
   // A marker never seen has no partners.
   Recording lonely = truth;
   const Gap all = testing::Hide(lonely, 3, 0, 39);

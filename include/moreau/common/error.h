@@ -25,9 +25,10 @@ class InputError : public std::runtime_error {
   const std::string& key() const { return key_; }        // "" when the error names no key
   const std::string& reason() const { return reason_; }  // what() without the key
 
-  // The same error with its key under `prefix` ("newton" + "armijo": "newton.armijo").
+  // The same error with its key under `prefix` ("newton" + "armijo": "newton.armijo"); an error
+  // that names no key is returned as it is.
   InputError Under(const std::string& prefix) const {
-    return key_.empty() ? InputError(prefix, reason_) : InputError(prefix + "." + key_, reason_);
+    return key_.empty() ? *this : InputError(prefix + "." + key_, reason_);
   }
 
  private:
