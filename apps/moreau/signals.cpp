@@ -61,4 +61,13 @@ int ReportInterrupted(const std::string& message) {
   return 128 + (signal != 0 ? signal : SIGINT);
 }
 
+int RunExitCode(Termination termination, const std::string& message) {
+  if (termination == Termination::kInterrupted) return ReportInterrupted(message);
+  if (!IsSuccess(termination)) {
+    std::fprintf(stderr, "moreau: numerical failure: %s\n", message.c_str());
+    return 3;
+  }
+  return 0;
+}
+
 }  // namespace moreau::cli

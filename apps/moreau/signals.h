@@ -48,4 +48,8 @@ Summary InterruptedSummary(Summary summary, long long step, double t) {
 // and returns the exit code, 128 + the signal (130 when no signal is recorded).
 int ReportInterrupted(const std::string& message);
 
+// The exit code of a run that ended with `termination`: 0 on success, ReportInterrupted's when
+// interrupted, 3 after a numerical failure (printed on stderr with `message`).
+int RunExitCode(Termination termination, const std::string& message);
+
 }  // namespace moreau::cli

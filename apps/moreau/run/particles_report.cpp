@@ -86,12 +86,7 @@ int ReportParticleRun(const ParticleScenario& scenario, const ParticleSetup& set
   std::printf("wrote %s/summary.json%s%s%s\n", out.dir().c_str(),
               result.hdf5 ? ", trajectory.h5 + .xdmf" : "", result.vtu ? ", vtu/frame.pvd" : "",
               WritesSnapshots(scenario) ? ", snapshots.png" : "");
-  if (summary.termination == Termination::kInterrupted) return ReportInterrupted(summary.message);
-  if (!summary.ok()) {
-    std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
-    return 3;
-  }
-  return 0;
+  return RunExitCode(summary.termination, summary.message);
 }
 
 }  // namespace moreau::cli

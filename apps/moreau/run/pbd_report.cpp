@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "output.h"
+#include "signals.h"
 
 namespace moreau::cli {
 
@@ -69,11 +70,7 @@ int ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
                 scenario.is_disks() ? "reference" : "exact", *result.error);
   }
   std::printf("wrote %s/summary.json, trajectory.csv, trajectory.png\n", out.dir().c_str());
-  if (!summary.ok()) {
-    std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
-    return 3;
-  }
-  return 0;
+  return RunExitCode(summary.termination, summary.message);
 }
 
 }  // namespace moreau::cli

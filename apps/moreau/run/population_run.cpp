@@ -155,12 +155,7 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
   std::printf("wrote %s/summary.json, population.csv, agents.csv%s%s\n", out.dir().c_str(),
               scenario.output.hdf5 ? ", trajectory.h5 + .xdmf" : "",
               scenario.output.vtu ? ", vtu/frame.pvd" : "");
-  if (summary.termination == Termination::kInterrupted) return ReportInterrupted(summary.message);
-  if (!summary.ok()) {
-    std::fprintf(stderr, "moreau: numerical failure: %s\n", summary.message.c_str());
-    return 3;
-  }
-  return 0;
+  return RunExitCode(summary.termination, summary.message);
 }
 
 }  // namespace moreau::cli
