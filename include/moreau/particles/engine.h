@@ -57,6 +57,7 @@
 
 #include "moreau/common/termination.h"
 #include "moreau/particles/forces.h"
+#include "moreau/particles/initial_state.h"  // CheckInitialState, RandomSequentialAddition
 #include "moreau/particles/model.h"
 
 namespace moreau::particles {
@@ -264,14 +265,5 @@ struct FixOverlapsOptions {
 // Throws InputError for a bad model, NumericalError when max_sweeps is reached.
 int FixOverlaps(const ParticleModel& model, std::span<double> positions,
                 const FixOverlapsOptions& options = {});
-
-// A random non-overlapping state by random sequential addition with a cell grid (O(N) expected
-// for packing fractions below ~0.5 in 2D, ~0.3 in 3D): centres uniform in the box [lo + r_i,
-// hi − r_i] on non-periodic axes and [lo, hi) on periodic ones (where lo, hi are the model's
-// domain), clear of walls and obstacles. Reproducible from the seed (SplitMix64). Throws
-// InputError when a particle cannot be placed in max_attempts tries.
-std::vector<double> RandomSequentialAddition(const ParticleModel& model, const Vec3& lo,
-                                             const Vec3& hi, std::uint64_t seed,
-                                             std::int64_t max_attempts = 1000000);
 
 }  // namespace moreau::particles
