@@ -10,6 +10,7 @@
 
 #include "moreau/common/error.h"
 #include "particles/noise.h"
+#include "particles/step_context.h"
 
 namespace moreau::particles::internal {
 
@@ -135,11 +136,11 @@ void Prediction::AttractionImpl(const double* x, const double* radius, const Nei
   ForEachBlockByColour(colouring, cells, rows);
 }
 
-void Prediction::Attraction(const double* x, const double* radius, const NeighbourList& list,
-                            const Colouring& colouring, const CellList& cells, bool lexicographic,
-                            int threads) {
+void Prediction::Attraction(const StepContext& context) {
+  const ParticleStore& store = *context.store;
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
-    AttractionImpl<k, p>(x, radius, list, colouring, cells, lexicographic, threads);
+    AttractionImpl<k, p>(store.current.data(), store.radius.data(), context.list, context.colouring,
+                         context.cells, context.lexicographic, context.threads);
   });
 }
 
@@ -179,11 +180,10 @@ void Prediction::LocalDensityImpl(const double* x, const NeighbourList& list,
   }
 }
 
-void Prediction::LocalDensity(const double* x, const NeighbourList& list,
-                              const Colouring& colouring, const CellList& cells, bool lexicographic,
-                              int threads) {
+void Prediction::LocalDensity(const StepContext& context) {
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
-    LocalDensityImpl<k, p>(x, list, colouring, cells, lexicographic, threads);
+    LocalDensityImpl<k, p>(context.store->current.data(), context.list, context.colouring,
+                           context.cells, context.lexicographic, context.threads);
   });
 }
 
@@ -337,26 +337,35 @@ void ReportPrediction(const PredictionTotals& totals, double* max_move, std::int
   }
 }
 
-void Prediction::Predict(const double* x, double* y, const int* id, const std::int64_t* key,
-                         const double* active, const double* mobility, std::int64_t step,
-                         int threads, double* max_move, std::int64_t* bad_id,
-                         double* max_coordinate, ExactBound* bound) const {
+PredictionOutcome Prediction::Predict(StepContext& context, std::int64_t step,
+                                      ExactBound* bound) const {
+  ParticleStore& store = *context.store;
+  const double* x = store.current.data();
+  double* y = store.predicted.data();
+  const int* id = store.id.data();
+  const std::int64_t* key = store.noise_key.empty() ? nullptr : store.noise_key.data();
+  const double* active = store.active.empty() ? nullptr : store.active.data();
+  const double* mobility = store.mobility.data();
+  const int threads = context.threads;
+  PredictionOutcome out;
   // Without noise the loop makes no call, so its running maximum stays in a register; with noise
   // the batch's draw comes before its drift loop.
   const bool noise = parameters_.sigma > 0.0;
   if (Plain(active)) {
-    PredictPlainDispatch(x, y, id, key, step, threads, max_move, bad_id, max_coordinate, bound);
-    return;
+    PredictPlainDispatch(x, y, id, key, step, threads, &out.max_move, &out.bad_id,
+                         &out.max_coordinate, bound);
+    return out;
   }
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
     if (noise) {
-      PredictImpl<k, p, true>(x, y, id, key, active, mobility, step, threads, max_move, bad_id,
-                              max_coordinate, bound);
+      PredictImpl<k, p, true>(x, y, id, key, active, mobility, step, threads, &out.max_move,
+                              &out.bad_id, &out.max_coordinate, bound);
     } else {
-      PredictImpl<k, p, false>(x, y, id, key, active, mobility, step, threads, max_move, bad_id,
-                               max_coordinate, bound);
+      PredictImpl<k, p, false>(x, y, id, key, active, mobility, step, threads, &out.max_move,
+                               &out.bad_id, &out.max_coordinate, bound);
     }
   });
+  return out;
 }
 
 }  // namespace moreau::particles::internal

@@ -35,7 +35,7 @@ void CheckColouring(const RandomConfiguration& c, int block_cells) {
   }
   NeighbourList list;
   list.Configure(box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
-  list.Build(x.data(), radius.data(), cells, nullptr, false, false, 0, 1);
+  list.Build(x.data(), radius.data(), cells, nullptr, ListRows::kAsVisited, 0, 1);
   Colouring colouring;
   colouring.Assign(cells);
   // Every block once; per colour, the block (by rank) that touches each slot.
