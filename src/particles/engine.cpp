@@ -345,7 +345,7 @@ int Engine::Relax(double tolerance, int max_sweeps) {
 
 EngineSummary Engine::Run(double T, const EngineObserver& observer) {
   const std::int64_t steps = StepCount(T, impl_->context.options.h);
-  if (observer) observer(*this);
+  if (observer && !observer(*this)) return Interrupted();
   return RunTo(impl_->step + steps, observer);
 }
 
@@ -364,9 +364,16 @@ EngineSummary Engine::RunTo(std::int64_t last_step, const EngineObserver& observ
       m.message = fmt::format("{}; the state of step {} is kept", e.what(), m.step);
       break;
     }
-    if (observer) observer(*this);
+    if (observer && !observer(*this)) return Interrupted();
   }
   return summary();
+}
+
+EngineSummary Engine::Interrupted() const {
+  EngineSummary s = summary();
+  s.termination = Termination::kInterrupted;
+  s.message = "stopped by the observer";
+  return s;
 }
 
 }  // namespace moreau::particles

@@ -1,4 +1,5 @@
-// The engine's run loop and queries: the stage profile times the parts of every step.
+// The engine's run loop: an observer that returns false stops the run and leaves the engine
+// usable; the stage profile times the parts of every step.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -30,6 +31,35 @@ NoisySoup NoisyPeriodicSoup(int n, double L, std::uint64_t seed) {
   s.options.seed = seed;
   s.x0 = RandomSequentialAddition(s.model, s.model.domain_lo, s.model.domain_hi, seed);
   return s;
+}
+
+TEST(EngineRun, AnObserverReturningFalseStopsTheRunAndTheEngineGoesOn) {
+  const NoisySoup s = NoisyPeriodicSoup(200, 16.0, 3);
+  Engine stopped(s.model, s.forces, s.options, s.x0);
+  std::vector<std::int64_t> seen;
+  const EngineSummary summary = stopped.Run(20 * s.options.h, [&](const Engine& e) {
+    seen.push_back(e.step());
+    return e.step() < 7;
+  });
+  EXPECT_EQ(summary.termination, Termination::kInterrupted);
+  EXPECT_EQ(summary.message, "stopped by the observer");
+  EXPECT_FALSE(summary.ok());
+  EXPECT_EQ(summary.stats.steps, 7);
+  EXPECT_EQ(seen, (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(stopped.step(), 7);
+  // The engine carries on from step 7 to the same bits as a run that was never stopped.
+  EXPECT_TRUE(stopped.Step());
+  const EngineSummary rest = stopped.Continue(20 * s.options.h, [](const Engine&) { return true; });
+  ASSERT_TRUE(rest.ok()) << rest.message;
+  Engine whole(s.model, s.forces, s.options, s.x0);
+  ASSERT_TRUE(whole.Run(20 * s.options.h).ok());
+  EXPECT_EQ(stopped.step(), 20);
+  EXPECT_TRUE(stopped.Positions() == whole.Positions());
+  // Stopped at step 0: no step is taken.
+  Engine first(s.model, s.forces, s.options, s.x0);
+  EXPECT_EQ(first.Run(1.0, [](const Engine&) { return false; }).termination,
+            Termination::kInterrupted);
+  EXPECT_EQ(first.step(), 0);
 }
 
 // Every stage of a step is timed, inside the steps' total; the setup's list build is the

@@ -40,6 +40,7 @@ TEST(PositionsHash, CrowdExampleKeepsItsBits) {
     const StoredPositions stored = e.Stored();
     out.Update(stored.ids, stored.positions);
     out_by_id.Update(e.Positions());
+    return true;
   });
   ASSERT_TRUE(summary.ok()) << summary.message;
   EXPECT_EQ(out.out(), 14);  // "people out at t = 4: 14 of 200"

@@ -145,10 +145,11 @@ struct EngineSummary {
 class Engine;
 struct EngineState;  // checkpoint.h
 
-// Called with the engine at step 0 (the initial state) and after every step taken. It reads
-// what it needs: step(), time(), Stored() (no copy) or CopyPositions / Positions (id order, a
-// copy of k·N values), so an observer that needs no positions costs nothing per step.
-using EngineObserver = std::function<void(const Engine& engine)>;
+// Called with the engine at step 0 (the initial state) and after every step taken; returns
+// whether to continue (false stops the run: kInterrupted). It reads what it needs: step(),
+// time(), Stored() (no copy) or CopyPositions / Positions (id order, a copy of k·N values), so an
+// observer that needs no positions costs nothing per step.
+using EngineObserver = std::function<bool(const Engine& engine)>;
 
 // The engine's positions as stored, without a copy: slot s holds particle ids[s] at
 // positions[k·s … k·s + k − 1]. The slots are in the engine's storage order (which changes at
@@ -196,7 +197,9 @@ class Engine {
   // Runs n = T/h steps (T/h a whole number to within 1e−9, else InputError), calling the
   // observer, if given, at step 0 and after every step. Stops early at a numerical failure (a
   // non-finite position, or Step's NumericalError) with termination kNonFinite, the message
-  // naming the step, and the last good state kept; never throws for it.
+  // naming the step, and the last good state kept; never throws for it. Stops when the observer
+  // returns false, right after the call, with termination kInterrupted and the message "stopped
+  // by the observer"; the engine stays usable (Step, Run and Continue go on from its step).
   EngineSummary Run(double T, const EngineObserver& observer = {});
   // Like Run, from the current step up to step T/h, calling the observer after every step only
   // (a resumed run: the current state was observed before the checkpoint).
@@ -239,6 +242,7 @@ class Engine {
 
  private:
   EngineSummary RunTo(std::int64_t last_step, const EngineObserver& observer);
+  EngineSummary Interrupted() const;  // the summary of a run its observer stopped
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
