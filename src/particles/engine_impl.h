@@ -78,6 +78,11 @@ struct Engine::Impl {
     return internal::MaxPairOverlap(c.list, c.store->current.data(), c.store->radius.data(), c.n,
                                     c.threads);
   }
+  // Calls f(s, t) for every pair of slots that touch at the current positions,
+  // ‖X_s − X_t‖ ≤ factor (r_s + r_t) with the pair's image on periodic axes: the engine's one
+  // definition of touching (engine_queries.cpp).
+  template <typename F>
+  void ForEachContact(double factor, F&& f) const;
 };
 
 }  // namespace moreau::particles

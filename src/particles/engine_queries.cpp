@@ -1,5 +1,5 @@
 // What the engine answers between steps: positions, the summary, overlaps and violations, the
-// candidate pairs and the contact counts, and FixOverlaps.
+// candidate pairs and the contacts (the engine's one definition of touching), and FixOverlaps.
 #include <algorithm>
 #include <utility>
 
@@ -26,7 +26,48 @@ std::pair<int, int> IdPair(const std::vector<int>& id, int s, int t) {
   return {std::min(a, b), std::max(a, b)};
 }
 
+// Calls f(s, t) for the pairs (s, t) of `list` with ‖x_s − x_t‖ ≤ factor (r_s + r_t), the
+// pair's image on periodic axes.
+template <typename F>
+void ForEachListContact(const internal::NeighbourList& list, const double* x, const double* r,
+                        int n, double factor, F&& f) {
+  const int* row_start = list.row_start();
+  const int* nbr = list.neighbours();
+  internal::DispatchDimensionPeriodic(list.box().k, list.box().any, [&](auto k, auto p) {
+    for (int s = 0; s < n; ++s) {
+      for (int q = row_start[s]; q < row_start[s + 1]; ++q) {
+        const int t = nbr[q];
+        double u[3];
+        list.template Displacement<k, p>(x, s, t, q, u);
+        double d2 = 0.0;
+        for (int a = 0; a < k; ++a) d2 += u[a] * u[a];
+        const double reach = factor * (r[s] + r[t]);
+        if (d2 <= reach * reach) f(s, t);
+      }
+    }
+  });
+}
+
 }  // namespace
+
+// The engine's list holds every touching pair while (factor − 1) 2 r_max stays below its
+// coverage beyond contact (NeighbourList::coverage); otherwise, or after a failed step, a list
+// of the pairs within that reach is built for the query at the current positions (wrapped).
+template <typename F>
+void Engine::Impl::ForEachContact(double factor, F&& f) const {
+  const internal::StepContext& c = context;
+  if (c.n == 0) return;
+  const double beyond = (factor - 1.0) * 2.0 * c.rmax;
+  if (termination == Termination::kCompleted && beyond < c.list.coverage()) {
+    ForEachListContact(c.list, c.store->current.data(), c.store->radius.data(), c.n, factor, f);
+    return;
+  }
+  std::vector<double> x = c.store->current;
+  c.box.WrapAll(x.data(), c.n);
+  internal::LexicographicPairList pairs(c.box, c.n, c.rmax, beyond * (1.0 + 1e-9) + 1e-9 * c.rmax);
+  pairs.Build(x.data(), c.store->radius.data());
+  ForEachListContact(pairs.list(), x.data(), c.store->radius.data(), c.n, factor, f);
+}
 
 void Engine::CopyPositions(std::span<double> out) const {
   impl_->context.store->CopyPositionsById(impl_->context.box, out, impl_->context.threads);
@@ -85,30 +126,22 @@ std::vector<std::pair<int, int>> Engine::CandidatePairs() const {
   return pairs;
 }
 
+std::vector<std::pair<int, int>> Engine::Contacts(double factor) const {
+  CheckContactFactor(factor);
+  const std::vector<int>& id = impl_->context.store->id;
+  std::vector<std::pair<int, int>> pairs;
+  impl_->ForEachContact(factor, [&](int s, int t) { pairs.push_back(IdPair(id, s, t)); });
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
 std::vector<int> Engine::ContactCounts(double factor) const {
   CheckContactFactor(factor);
-  const internal::StepContext& c = impl_->context;
-  std::vector<int> counts(static_cast<std::size_t>(c.n), 0);
-  const int* row_start = c.list.row_start();
-  const int* nbr = c.list.neighbours();
-  const double* x = c.store->current.data();
-  const double* r = c.store->radius.data();
-  const int* id = c.store->id.data();
-  internal::DispatchDimensionPeriodic(c.k, c.box.any, [&](auto k, auto p) {
-    for (int s = 0; s < c.n; ++s) {
-      for (int q = row_start[s]; q < row_start[s + 1]; ++q) {
-        const int t = nbr[q];
-        double u[3];
-        c.list.Displacement<k, p>(x, s, t, q, u);
-        double d2 = 0.0;
-        for (int a = 0; a < k; ++a) d2 += u[a] * u[a];
-        const double reach = factor * (r[s] + r[t]);
-        if (d2 <= reach * reach) {
-          ++counts[static_cast<std::size_t>(id[s])];
-          ++counts[static_cast<std::size_t>(id[t])];
-        }
-      }
-    }
+  const int* id = impl_->context.store->id.data();
+  std::vector<int> counts(static_cast<std::size_t>(impl_->context.n), 0);
+  impl_->ForEachContact(factor, [&](int s, int t) {
+    ++counts[static_cast<std::size_t>(id[s])];
+    ++counts[static_cast<std::size_t>(id[t])];
   });
   return counts;
 }

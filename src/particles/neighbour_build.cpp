@@ -435,6 +435,7 @@ void NeighbourList::Build(const double* x, const double* radius, const CellList&
   }
   last_build_step_ = step;
   built_here_ = true;
+  built_extra_ = extra();
   drift_bound_ = 0.0;
 }
 

@@ -139,6 +139,9 @@ class NeighbourList {
   const PeriodicBox& box() const { return box_; }
   double skin() const { return skin_; }
   double extra() const { return attraction_range_ + skin_; }
+  // How far beyond contact the list still holds every pair: each pair closer than
+  // r_s + r_t + coverage() now is in it (the build's reach less twice the drift bound since).
+  double coverage() const { return built_extra_ - 2.0 * drift_bound_; }
   const NeighbourListStats& stats() const { return stats_; }
   std::int64_t pairs() const { return static_cast<std::int64_t>(nbr_.size()); }
   const int* row_start() const { return row_start_.data(); }
@@ -203,6 +206,7 @@ class NeighbourList {
   double uniform_radius_ = 0.0;           // > 0: every radius (AssumeUniformRadius)
   bool built_here_ = false;               // built at the current predicted positions
   bool build_positions_written_ = false;  // BuildPositionsTarget was filled for the next Build
+  double built_extra_ = 0.0;              // extra() at the last build
   double drift_bound_ = 0.0;    // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
   std::int64_t far_slots_ = 0;  // slots beyond skin/4 at the last exact bound (else INT64_MAX)
   std::int64_t last_build_step_ = -1;

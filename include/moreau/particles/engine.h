@@ -233,9 +233,15 @@ class Engine {
   double MaxPairOverlap() const;
   // The largest violation of any set (pairs, walls, obstacles) at the current positions.
   double MaxViolation() const;
-  // For every particle (id order) the number of particles it touches, ‖X_i − X_j‖ ≤
-  // factor (r_i + r_j), at the current positions; factor in [1, 1.5] (InputError otherwise: the
-  // candidate pairs cover that reach). One pass over the list.
+  // The pairs that touch at the current positions: ‖X_i − X_j‖ ≤ factor (r_i + r_j), with the
+  // minimum image on periodic axes (a pair touches across a periodic boundary as it does
+  // mid-box), as (id_i, id_j), id_i < id_j, sorted; factor in [1, 1.5] (InputError otherwise).
+  // The engine's one definition of touching: ContactCounts and the population's rules use it.
+  // Exact: one pass over the candidate pairs while they provably hold every touching pair (the
+  // list's reach, less twice the distance moved since its build, exceeds (factor − 1) 2 max r),
+  // else over the pairs of a search made for the query.
+  std::vector<std::pair<int, int>> Contacts(double factor) const;
+  // For every particle (id order) the number of particles it touches (Contacts).
   std::vector<int> ContactCounts(double factor) const;
   // The candidate pairs of the current list as (id_i, id_j), id_i < id_j, sorted.
   std::vector<std::pair<int, int>> CandidatePairs() const;
