@@ -16,6 +16,50 @@ namespace {
 
 using testing::RandomConfiguration;
 
+// The dependency order (ForEachBlockInDependencyOrder): two blocks that touch one slot are
+// ordered, the one of larger colour listing the other; every dependency has a smaller colour.
+void CheckDependencyOrder(const Colouring& colouring, const CellList& cells,
+                          const NeighbourList& list, int n) {
+  std::vector<int> colour_of_entry(static_cast<std::size_t>(colouring.blocks()));
+  for (int colour = 0; colour < Colouring::kColours; ++colour) {
+    for (int q = colouring.colour_begin(colour); q < colouring.colour_begin(colour + 1); ++q)
+      colour_of_entry[static_cast<std::size_t>(q)] = colour;
+  }
+  auto depends = [&](int later, int earlier) {
+    const int* d = colouring.dependencies();
+    return std::find(d + colouring.dependency_begin(later),
+                     d + colouring.dependency_begin(later + 1),
+                     earlier) != d + colouring.dependency_begin(later + 1);
+  };
+  std::vector<std::vector<int>> touched_by(static_cast<std::size_t>(n));
+  for (int q = 0; q < colouring.blocks(); ++q) {
+    const int r = colouring.block_rank(q);
+    for (int d = colouring.dependency_begin(q); d < colouring.dependency_begin(q + 1); ++d) {
+      EXPECT_LT(colour_of_entry[static_cast<std::size_t>(colouring.dependencies()[d])],
+                colour_of_entry[static_cast<std::size_t>(q)]);
+    }
+    for (int s = cells.BlockSlotBegin(r); s < cells.BlockSlotBegin(r + 1); ++s) {
+      touched_by[static_cast<std::size_t>(s)].push_back(q);
+      for (int p = list.row_start()[s]; p < list.row_start()[s + 1]; ++p)
+        touched_by[static_cast<std::size_t>(list.neighbours()[p])].push_back(q);
+    }
+  }
+  std::int64_t ordered_pairs = 0;
+  for (const std::vector<int>& blocks : touched_by) {
+    for (const int q1 : blocks) {
+      for (const int q2 : blocks) {
+        if (colour_of_entry[static_cast<std::size_t>(q1)] >=
+            colour_of_entry[static_cast<std::size_t>(q2)]) {
+          continue;
+        }
+        EXPECT_TRUE(depends(q2, q1)) << "entry " << q2 << " does not wait for entry " << q1;
+        ++ordered_pairs;
+      }
+    }
+  }
+  EXPECT_GT(ordered_pairs, 0);
+}
+
 void CheckColouring(const RandomConfiguration& c, int block_cells) {
   const int n = c.model.count();
   const int k = c.model.dimension;
@@ -61,46 +105,7 @@ void CheckColouring(const RandomConfiguration& c, int block_cells) {
     }
   }
   for (const int count : seen) EXPECT_EQ(count, 1);
-  // The dependency order (ForEachBlockInDependencyOrder): two blocks that touch one slot are
-  // ordered, the one of larger colour listing the other; every dependency has a smaller colour.
-  std::vector<int> colour_of_entry(static_cast<std::size_t>(colouring.blocks()));
-  for (int colour = 0; colour < Colouring::kColours; ++colour) {
-    for (int q = colouring.colour_begin(colour); q < colouring.colour_begin(colour + 1); ++q)
-      colour_of_entry[static_cast<std::size_t>(q)] = colour;
-  }
-  auto depends = [&](int later, int earlier) {
-    const int* d = colouring.dependencies();
-    return std::find(d + colouring.dependency_begin(later),
-                     d + colouring.dependency_begin(later + 1),
-                     earlier) != d + colouring.dependency_begin(later + 1);
-  };
-  std::vector<std::vector<int>> touched_by(static_cast<std::size_t>(n));
-  for (int q = 0; q < colouring.blocks(); ++q) {
-    const int r = colouring.block_rank(q);
-    for (int d = colouring.dependency_begin(q); d < colouring.dependency_begin(q + 1); ++d) {
-      EXPECT_LT(colour_of_entry[static_cast<std::size_t>(colouring.dependencies()[d])],
-                colour_of_entry[static_cast<std::size_t>(q)]);
-    }
-    for (int s = cells.BlockSlotBegin(r); s < cells.BlockSlotBegin(r + 1); ++s) {
-      touched_by[static_cast<std::size_t>(s)].push_back(q);
-      for (int p = list.row_start()[s]; p < list.row_start()[s + 1]; ++p)
-        touched_by[static_cast<std::size_t>(list.neighbours()[p])].push_back(q);
-    }
-  }
-  std::int64_t ordered_pairs = 0;
-  for (const std::vector<int>& blocks : touched_by) {
-    for (const int q1 : blocks) {
-      for (const int q2 : blocks) {
-        if (colour_of_entry[static_cast<std::size_t>(q1)] >=
-            colour_of_entry[static_cast<std::size_t>(q2)]) {
-          continue;
-        }
-        EXPECT_TRUE(depends(q2, q1)) << "entry " << q2 << " does not wait for entry " << q1;
-        ++ordered_pairs;
-      }
-    }
-  }
-  EXPECT_GT(ordered_pairs, 0);
+  CheckDependencyOrder(colouring, cells, list, n);
   EXPECT_EQ(colours_used, k == 2 ? 9 : 27);
   EXPECT_GT(list.pairs(), n / 2);
 }
