@@ -74,8 +74,8 @@ void BM_ListBuildPhases(benchmark::State& state) {
                   list.BuildPositionsTarget());
     const auto t2 = Clock::now();
     const double c2 = CpuSeconds();
-    list.Build(store.predicted.data(), store.radius.data(), cells, nullptr, false, false, builds,
-               threads);
+    list.Build(store.predicted.data(), store.radius.data(), cells, nullptr,
+               internal::ListRows::kAsVisited, builds, threads);
     const auto t3 = Clock::now();
     const double c3 = CpuSeconds();
     ++builds;

@@ -50,10 +50,6 @@ StopScope::~StopScope() { g_scope_depth.fetch_sub(1); }
 
 bool StopRequested() { return g_signal.load(std::memory_order_relaxed) != 0; }
 
-void ThrowIfStopRequested() {
-  if (StopRequested()) throw StopAfterStep{};
-}
-
 int ReportInterrupted(const std::string& message) {
   const int signal = g_signal.load();
   std::fprintf(stderr, "moreau: interrupted by %s: %s\n", signal == SIGTERM ? "SIGTERM" : "SIGINT",

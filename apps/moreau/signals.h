@@ -28,15 +28,12 @@ class StopScope {
   StopScope& operator=(const StopScope&) = delete;
 };
 
-// True once SIGINT or SIGTERM arrived (inside a StopScope): the loops' "should stop" check.
+// True once SIGINT or SIGTERM arrived (inside a StopScope): the loops' "should stop" check; a
+// library loop's observer returns false then, and the loop ends after the step just taken.
 bool StopRequested();
 
-// Thrown by ThrowIfStopRequested() from a library loop's observer to end the loop after the step
-// just taken (the library's state is that step's); the loop's caller catches it.
-struct StopAfterStep {};
-void ThrowIfStopRequested();
-
-// SUMMARY (of a loop ended by StopAfterStep after STEP, at time T) marked kInterrupted.
+// SUMMARY (of a loop its observer stopped after STEP, at time T) marked kInterrupted, with the
+// message of a stop on request.
 template <class Summary>
 Summary InterruptedSummary(Summary summary, long long step, double t) {
   summary.termination = Termination::kInterrupted;

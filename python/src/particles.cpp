@@ -17,6 +17,28 @@
 #include "moreau/particles/room.h"
 
 namespace moreau::python {
+
+// Engine.run's observer: any Python object (None: no observer), typed in the signature (and so
+// in the stubs) as the callable it must be.
+struct EngineObserverArgument {
+  py::object callable;
+};
+
+}  // namespace moreau::python
+
+namespace pybind11::detail {
+template <>
+struct type_caster<moreau::python::EngineObserverArgument> {
+  PYBIND11_TYPE_CASTER(moreau::python::EngineObserverArgument,
+                       const_name("Optional[Callable[[Engine], Optional[bool]]]"));
+  bool load(handle source, bool) {
+    value.callable = reinterpret_borrow<object>(source);
+    return true;
+  }
+};
+}  // namespace pybind11::detail
+
+namespace moreau::python {
 namespace {
 
 using namespace moreau::particles;
@@ -211,8 +233,9 @@ void StepEngine(Engine& engine, std::int64_t n) {
   if (!ok) RaiseEngineFailure(engine);
 }
 
-EngineSummary RunEngine(py::object self, Engine& engine, double T, const py::object& observer,
-                        std::int64_t every) {
+EngineSummary RunEngine(py::object self, Engine& engine, double T,
+                        const EngineObserverArgument& argument, std::int64_t every) {
+  const py::object& observer = argument.callable;
   (void)StepCount(T, engine.options().h);  // InputError before anything runs
   if (every < 1) throw InputError("every must be ≥ 1 (got " + std::to_string(every) + ")");
   const bool has_observer = !observer.is_none();
@@ -222,12 +245,17 @@ EngineSummary RunEngine(py::object self, Engine& engine, double T, const py::obj
     InterruptCheck check;
     std::int64_t index = 0;  // observer calls so far: step 0, then one per step
     summary = engine.Run(T, [&](const Engine&) {
-      check.Tick(has_observer && index++ % every == 0, [&] { observer(self); });
+      bool go_on = true;  // False stops; anything else (None: no return value) continues
+      check.Tick(has_observer && index++ % every == 0,
+                 [&] { go_on = observer(self).ptr() != Py_False; });
+      return go_on;
     });
   } catch (const PythonErrorPending&) {
     throw py::error_already_set();
   }
-  if (!summary.ok()) RaiseEngineFailure(engine);
+  if (!summary.ok() && summary.termination != Termination::kInterrupted) {
+    RaiseEngineFailure(engine);
+  }
   return summary;
 }
 
@@ -252,12 +280,15 @@ void BindEngine(py::module_& m) {
           "KeyboardInterrupt between steps on Ctrl-C.")
       .def(
           "run",
-          [](py::object self, double T, const py::object& observer, std::int64_t every) {
+          [](py::object self, double T, const EngineObserverArgument& observer,
+             std::int64_t every) {
             return RunEngine(self, self.cast<Engine&>(), T, observer, every);
           },
           py::arg("T"), py::arg("observer") = py::none(), py::arg("every") = 1,
-          "T/h steps; observer(engine) at step 0 and every `every` steps. Ctrl-C raises "
-          "KeyboardInterrupt with the engine at its last completed step.")
+          "T/h steps; observer(engine) at step 0 and every `every` steps: returning False stops "
+          "the run (summary termination 'interrupted', the engine usable), any other value "
+          "(None) goes on. "
+          "Ctrl-C raises KeyboardInterrupt with the engine at its last completed step.")
       .def(
           "positions", [](const Engine& e) { return Matrix(e.Positions(), e.dimension()); },
           "(N, k) positions in id order, wrapped into the periodic domain: a copy.")

@@ -143,6 +143,7 @@ class CellList {
   }
 
  private:
+  struct SortTeam;  // cell_sort.cpp
   bool KeepsGeometry(const double* lo, const double* hi, double reach) const;
   bool RefitUnlessKept(double* lo, double* hi, int n, const PeriodicBox& box, double reach,
                        int block_cells);

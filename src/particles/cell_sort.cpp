@@ -16,53 +16,43 @@
 
 namespace moreau::particles::internal {
 
-// Counting sort by cell rank, then each cell's slots by id; the order (cell rank, then id) is
-// unique, so the permutation does not depend on the thread count, nor on the order in which a
-// cell's slots are scattered. Thread t has the contiguous chunk of slots [sb, se) and the cells
-// [bound[t], bound[t + 1]) from the cell of its chunk's first slot on: with storage in the previous
-// build's cell order most of a chunk's slots lie in its own cells. Each thread counts its chunk's
-// keys in its own cells (one count per cell in all: no threads × cells array to clear) and lists
-// the other (foreign) slots; then it adds the foreign slots of the other chunks in its cells,
-// turns counts into offsets, scatters its own and those foreign slots, and sorts its cells by id.
-void CellList::Sort(const double* x, const int* id, int n, int threads) {
-  const std::int64_t cells = this->cells();
-  const int k = grid_.k;
-  const int T = threads;
-  key_.resize(static_cast<std::size_t>(n));
-  perm_.resize(static_cast<std::size_t>(n));
-  sorted_rank_.resize(static_cast<std::size_t>(n));
-  if (foreign_.size() < static_cast<std::size_t>(T)) foreign_.resize(static_cast<std::size_t>(T));
-  std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1, cells);
-  std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
-  std::vector<double> range_lo(3 * static_cast<std::size_t>(T), 0.0);
-  std::vector<double> range_hi(3 * static_cast<std::size_t>(T), 0.0);
-  bound[0] = 0;
-  for (int t = 1; t < T; ++t) {
-    const std::int64_t sb = static_cast<std::int64_t>(t) * n / T;
-    const std::int64_t first = sb < n ? rank(grid_.CellOf(x + k * sb)) : cells;
-    bound[static_cast<std::size_t>(t)] = std::max(bound[static_cast<std::size_t>(t) - 1], first);
-  }
-  InTeam(T, [&] {
+// One thread's part of Sort, run by each thread of the team: the team's shared state by
+// reference (as a lambda capturing it would). cell_start_ holds each cell's count, then its end,
+// then (after the scatter) its start.
+struct CellList::SortTeam {
+  const int& T;
+  const int& n;
+  std::vector<std::int64_t>& bound;
+  CellList& list;
+  const int& k;
+  const double* const& x;
+  std::vector<double>& range_lo;
+  std::vector<double>& range_hi;
+  std::vector<std::int64_t>& partial;
+  const std::int64_t& cells;
+  const int* const& id;
+
+  void operator()() const {
     const int t = T > 1 ? omp_get_thread_num() : 0;
     const int sb = static_cast<int>(static_cast<std::int64_t>(t) * n / T);
     const int se = static_cast<int>(static_cast<std::int64_t>(t + 1) * n / T);
     const std::int64_t cb = bound[static_cast<std::size_t>(t)];
     const std::int64_t ce = bound[static_cast<std::size_t>(t) + 1];
-    // cell_start_ holds each cell's count, then its end, then (after the scatter) its start.
-    std::int32_t* cnt = cell_start_.data();
+    std::int32_t* cnt = list.cell_start_.data();
     std::fill(cnt + cb, cnt + ce, 0);
-    std::vector<int>& mine = foreign_[static_cast<std::size_t>(t)];
+    std::vector<int>& mine = list.foreign_[static_cast<std::size_t>(t)];
     mine.clear();
     std::int64_t total = DispatchDimension(k, [&](auto kk) {
-      return CountKeys<kk>(x, sb, se, cb, ce, &mine, &range_lo[3 * static_cast<std::size_t>(t)],
-                           &range_hi[3 * static_cast<std::size_t>(t)]);
+      return list.template CountKeys<kk>(x, sb, se, cb, ce, &mine,
+                                         &range_lo[3 * static_cast<std::size_t>(t)],
+                                         &range_hi[3 * static_cast<std::size_t>(t)]);
     });
 #pragma omp barrier
     auto for_foreign = [&](auto&& f) {  // the other chunks' slots in this thread's cells
       for (int u = 0; u < T; ++u) {
         if (u == t) continue;
-        for (const int s : foreign_[static_cast<std::size_t>(u)]) {
-          const int key = key_[static_cast<std::size_t>(s)];
+        for (const int s : list.foreign_[static_cast<std::size_t>(u)]) {
+          const int key = list.key_[static_cast<std::size_t>(s)];
           if (key >= cb && key < ce) f(s, key);
         }
       }
@@ -96,12 +86,12 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
       run += cnt[c];
       cnt[c] = static_cast<std::int32_t>(run);
     }
-    if (t == T - 1) cell_start_[static_cast<std::size_t>(cells)] = n;
+    if (t == T - 1) list.cell_start_[static_cast<std::size_t>(cells)] = n;
     // The scatter fills each cell from its end, in the reverse of the order own slots, then the
     // other chunks' (in chunk order): the cells' slots end up in that order and their ends turn
     // into their starts.
-    int* perm = perm_.data();
-    std::int32_t* sorted_rank = sorted_rank_.data();
+    int* perm = list.perm_.data();
+    std::int32_t* sorted_rank = list.sorted_rank_.data();
     auto place = [&](int s, int key) {
       const int at = --cnt[key];
       perm[at] = s;
@@ -109,19 +99,48 @@ void CellList::Sort(const double* x, const int* id, int n, int threads) {
     };
     for (int u = T - 1; u >= 0; --u) {
       if (u == t) continue;
-      const std::vector<int>& other = foreign_[static_cast<std::size_t>(u)];
+      const std::vector<int>& other = list.foreign_[static_cast<std::size_t>(u)];
       for (auto it = other.rbegin(); it != other.rend(); ++it) {
-        const int key = key_[static_cast<std::size_t>(*it)];
+        const int key = list.key_[static_cast<std::size_t>(*it)];
         if (key >= cb && key < ce) place(*it, key);
       }
     }
     for (int s = se - 1; s >= sb; --s) {
-      const int key = key_[static_cast<std::size_t>(s)];
+      const int key = list.key_[static_cast<std::size_t>(s)];
       if (key >= cb && key < ce) place(s, key);
     }
 #pragma omp barrier
-    SortCellsById(id, cb, ce);
-  });
+    list.SortCellsById(id, cb, ce);
+  }
+};
+
+// Counting sort by cell rank, then each cell's slots by id; the order (cell rank, then id) is
+// unique, so the permutation does not depend on the thread count, nor on the order in which a
+// cell's slots are scattered. Thread t has the contiguous chunk of slots [sb, se) and the cells
+// [bound[t], bound[t + 1]) from the cell of its chunk's first slot on: with storage in the previous
+// build's cell order most of a chunk's slots lie in its own cells. Each thread counts its chunk's
+// keys in its own cells (one count per cell in all: no threads × cells array to clear) and lists
+// the other (foreign) slots; then it adds the foreign slots of the other chunks in its cells,
+// turns counts into offsets, scatters its own and those foreign slots, and sorts its cells by id.
+void CellList::Sort(const double* x, const int* id, int n, int threads) {
+  const std::int64_t cells = this->cells();
+  const int k = grid_.k;
+  const int T = threads;
+  key_.resize(static_cast<std::size_t>(n));
+  perm_.resize(static_cast<std::size_t>(n));
+  sorted_rank_.resize(static_cast<std::size_t>(n));
+  if (foreign_.size() < static_cast<std::size_t>(T)) foreign_.resize(static_cast<std::size_t>(T));
+  std::vector<std::int64_t> bound(static_cast<std::size_t>(T) + 1, cells);
+  std::vector<std::int64_t> partial(static_cast<std::size_t>(T) + 1, 0);
+  std::vector<double> range_lo(3 * static_cast<std::size_t>(T), 0.0);
+  std::vector<double> range_hi(3 * static_cast<std::size_t>(T), 0.0);
+  bound[0] = 0;
+  for (int t = 1; t < T; ++t) {
+    const std::int64_t sb = static_cast<std::int64_t>(t) * n / T;
+    const std::int64_t first = sb < n ? rank(grid_.CellOf(x + k * sb)) : cells;
+    bound[static_cast<std::size_t>(t)] = std::max(bound[static_cast<std::size_t>(t) - 1], first);
+  }
+  InTeam(T, SortTeam{T, n, bound, *this, k, x, range_lo, range_hi, partial, cells, id});
   for (int a = 0; a < k; ++a) {  // the axis ranges, as Fit finds them (cell_list.cpp)
     sorted_lo_[a] = std::numeric_limits<double>::infinity();
     sorted_hi_[a] = -std::numeric_limits<double>::infinity();

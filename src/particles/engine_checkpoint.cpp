@@ -41,62 +41,63 @@ void CheckState(const EngineState& s, int k, int n) {
 }  // namespace
 
 void Engine::Impl::Restore(const EngineState& s) {
-  CheckState(s, k, n);
-  std::vector<int> perm(static_cast<std::size_t>(n));
-  const std::vector<int> slot_of = store->SlotsOf();
+  internal::StepContext& c = context;
+  CheckState(s, c.k, c.n);
+  std::vector<int> perm(static_cast<std::size_t>(c.n));
+  const std::vector<int> slot_of = c.store->SlotsOf();
   for (std::size_t q = 0; q < perm.size(); ++q) {
     perm[q] = slot_of[static_cast<std::size_t>(s.slot_ids[q])];
   }
-  store->Reorder(perm, threads);
-  prediction->Reorder(perm, threads);
+  c.store->Reorder(perm, c.threads);
+  prediction->Reorder(perm, c.threads);
   // The last build again: same positions, slots, skin and grid give the same list and order.
   internal::NeighbourListState ls{s.skin, s.drift_bound, s.last_build_step, {}};
   ls.stats = {s.stats.neighbour_list_builds, s.stats.candidate_pairs, s.shortest_rebuild_interval};
-  list.Restore(ls);
+  c.list.Restore(ls);
   internal::CellList::FitRecord fit;
   std::copy(s.grid_lo, s.grid_lo + 3, fit.lo);
   std::copy(s.grid_hi, s.grid_hi + 3, fit.hi);
   fit.reach = s.grid_reach;
-  cells.Refit(fit, n, box, options.block_cells);
-  colouring.Assign(cells);
+  c.cells.Refit(fit, c.n, c.box, c.options.block_cells);
+  c.colouring.Assign(c.cells);
   std::vector<double> at = s.reference;
-  cells.Sort(at.data(), store->id.data(), n, threads);
-  const std::vector<int>& order = cells.permutation();
-  if (!lexicographic) {
-    for (int q = 0; q < n; ++q) {
+  c.cells.Sort(at.data(), c.store->id.data(), c.n, c.threads);
+  const std::vector<int>& order = c.cells.permutation();
+  if (!c.lexicographic) {
+    for (int q = 0; q < c.n; ++q) {
       if (order[static_cast<std::size_t>(q)] != q) {
         throw InputError("checkpoint: the storage order does not match its neighbour-list build");
       }
     }
   }
-  list.Build(at.data(), store->radius.data(), cells, lexicographic ? order.data() : nullptr,
-             lexicographic || options.search == NeighbourSearch::kBruteForce,
-             options.search == NeighbourSearch::kBruteForce, s.last_build_step, threads);
-  list.Restore(ls);
-  store->current = s.current;
+  c.list.Build(c, at.data(), s.last_build_step);
+  c.list.Restore(ls);
+  c.store->current = s.current;
   step = s.step;
   stats = s.stats;
+  profile = internal::StageProfile::Of(s.stats);
 }
 
 EngineState Engine::SaveState() const {
   const Impl& m = *impl_;
+  const internal::StepContext& c = m.context;
   EngineState s;
-  s.dimension = m.k;
-  s.count = m.n;
+  s.dimension = c.k;
+  s.count = c.n;
   s.step = m.step;
-  s.slot_ids = m.store->id;
-  s.current = m.store->current;
-  s.reference = m.list.reference();
-  const internal::NeighbourListState ls = m.list.State();
+  s.slot_ids = c.store->id;
+  s.current = c.store->current;
+  s.reference = c.list.reference();
+  const internal::NeighbourListState ls = c.list.State();
   s.skin = ls.skin;
   s.drift_bound = ls.drift_bound;
   s.last_build_step = ls.last_build_step;
   s.shortest_rebuild_interval = ls.stats.shortest_rebuild_interval;
-  const internal::CellList::FitRecord& fit = m.cells.fit();
+  const internal::CellList::FitRecord& fit = c.cells.fit();
   std::copy(fit.lo, fit.lo + 3, s.grid_lo);
   std::copy(fit.hi, fit.hi + 3, s.grid_hi);
   s.grid_reach = fit.reach;
-  s.stats = m.stats;
+  s.stats = m.Stats();
   return s;
 }
 

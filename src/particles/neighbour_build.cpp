@@ -12,6 +12,7 @@
 #include "moreau/common/error.h"
 #include "particles/list_fill.h"
 #include "particles/parallel.h"
+#include "particles/step_context.h"
 
 namespace moreau::particles::internal {
 
@@ -67,7 +68,9 @@ void SortRow(std::vector<int>& buf, std::vector<std::uint8_t>& img, std::size_t 
 // buffers are concatenated in chunk order (the same list for any thread count).
 template <int K, bool P>
 void NeighbourList::BuildRows(const double* x, const double* radius, const CellList& cells,
-                              const int* members, bool sort_rows, bool brute_force, int threads) {
+                              const int* members, ListRows rows, int threads) {
+  const bool sort_rows = rows != ListRows::kAsVisited;
+  const bool brute_force = rows == ListRows::kBruteForce;
   const int n = n_;
   const double extra = this->extra();
   const int chunks = std::max(1, std::min(n, 16 * threads));
@@ -412,15 +415,14 @@ void NeighbourList::Concatenate(const double* x, int k, bool periodic, int chunk
 }
 
 void NeighbourList::Build(const double* x, const double* radius, const CellList& cells,
-                          const int* members, bool sort_rows, bool brute_force, std::int64_t step,
-                          int threads) {
+                          const int* members, ListRows rows, std::int64_t step, int threads) {
   if (box_.k == 1 && box_.any) {
-    BuildRows<1, true>(x, radius, cells, members, sort_rows, brute_force, threads);
+    BuildRows<1, true>(x, radius, cells, members, rows, threads);
   } else if (box_.k == 1) {
-    BuildRows<1, false>(x, radius, cells, members, sort_rows, brute_force, threads);
+    BuildRows<1, false>(x, radius, cells, members, rows, threads);
   } else {
     DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
-      BuildRows<k, p>(x, radius, cells, members, sort_rows, brute_force, threads);
+      BuildRows<k, p>(x, radius, cells, members, rows, threads);
     });
   }
   ++stats_.builds;
@@ -433,7 +435,13 @@ void NeighbourList::Build(const double* x, const double* radius, const CellList&
   }
   last_build_step_ = step;
   built_here_ = true;
+  built_extra_ = extra();
   drift_bound_ = 0.0;
+}
+
+void NeighbourList::Build(const StepContext& context, const double* at, std::int64_t step) {
+  Build(at, context.store->radius.data(), context.cells, context.members(), context.rows(), step,
+        context.threads);
 }
 
 }  // namespace moreau::particles::internal

@@ -172,7 +172,7 @@ void LexicographicPairList::Build(const double* x, const double* radius) {
   const int n = static_cast<int>(id_.size());
   cells_.Fit(x, n, box_, reach_, 0, 1);
   cells_.Sort(x, id_.data(), n, 1);
-  list_.Build(x, radius, cells_, cells_.permutation().data(), true, false, 0, 1);
+  list_.Build(x, radius, cells_, cells_.permutation().data(), ListRows::kSorted, 0, 1);
 }
 
 namespace {

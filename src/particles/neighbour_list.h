@@ -24,7 +24,13 @@
 
 namespace moreau::particles::internal {
 
-// Counters of one neighbour list; exact and independent of the thread count.
+struct StepContext;  // step_context.h
+
+// How a build makes each slot's row: the partners as the cells are visited, the same sorted by
+// increasing slot (the lexicographic order), or from an O(N²) loop over all pairs, sorted (the
+// brute-force search, for tests of the grid).
+enum class ListRows { kAsVisited, kSorted, kBruteForce };
+
 // The exact skin bound: max_i ‖Y_i − reference_i‖² (worst2) over the slots and the count of
 // slots with ‖Y_i − reference_i‖² > quarter2 (far), asked of a pass that reads Y anyway.
 struct ExactBound {
@@ -34,6 +40,7 @@ struct ExactBound {
   std::int64_t far = 0;
 };
 
+// Counters of one neighbour list; exact and independent of the thread count.
 struct NeighbourListStats {
   std::int64_t builds = 0;
   std::int64_t candidate_pairs = 0;  // at the last build
@@ -57,11 +64,13 @@ class NeighbourList {
                  double attraction_range);
 
   // Builds the list at x (slots in cell order when members is null, else the slots of cell rank
-  // c are members[cell_start(c) …]). sort_rows: each row by increasing t (the lexicographic
-  // order); brute_force: candidates from an O(N²) loop instead of the cells. Records x as the
-  // build positions and the build at `step`.
+  // c are members[cell_start(c) …]), its rows made as `rows` says. Records x as the build
+  // positions and the build at `step`.
   void Build(const double* x, const double* radius, const CellList& cells, const int* members,
-             bool sort_rows, bool brute_force, std::int64_t step, int threads);
+             ListRows rows, std::int64_t step, int threads);
+  // The engine's build at `at` (the store's current or predicted positions): the store's radii,
+  // the context's cell list, members, rows and threads.
+  void Build(const StepContext& context, const double* at, std::int64_t step);
 
   // The skin bound. BoundAfterPrediction: max_i ‖Y_i − X_i^build‖ from the bound of the last
   // accepted step plus step_move, or (when that reaches skin/4) exactly from y.
@@ -130,6 +139,9 @@ class NeighbourList {
   const PeriodicBox& box() const { return box_; }
   double skin() const { return skin_; }
   double extra() const { return attraction_range_ + skin_; }
+  // How far beyond contact the list still holds every pair: each pair closer than
+  // r_s + r_t + coverage() now is in it (the build's reach less twice the drift bound since).
+  double coverage() const { return built_extra_ - 2.0 * drift_bound_; }
   const NeighbourListStats& stats() const { return stats_; }
   std::int64_t pairs() const { return static_cast<std::int64_t>(nbr_.size()); }
   const int* row_start() const { return row_start_.data(); }
@@ -173,7 +185,7 @@ class NeighbourList {
  private:
   template <int K, bool P>
   void BuildRows(const double* x, const double* radius, const CellList& cells, const int* members,
-                 bool sort_rows, bool brute_force, int threads);
+                 ListRows rows, int threads);
   template <int K, bool P>
   void BuildCellRows(const double* x, const double* radius, const CellList& cells, int threads);
   template <int K, bool P, bool U>
@@ -194,6 +206,7 @@ class NeighbourList {
   double uniform_radius_ = 0.0;           // > 0: every radius (AssumeUniformRadius)
   bool built_here_ = false;               // built at the current predicted positions
   bool build_positions_written_ = false;  // BuildPositionsTarget was filled for the next Build
+  double built_extra_ = 0.0;              // extra() at the last build
   double drift_bound_ = 0.0;    // ≥ max_i ‖X_i − X_i^build‖ after the last accepted step
   std::int64_t far_slots_ = 0;  // slots beyond skin/4 at the last exact bound (else INT64_MAX)
   std::int64_t last_build_step_ = -1;

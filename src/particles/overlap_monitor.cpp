@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "particles/parallel.h"
+#include "particles/step_context.h"
 
 namespace moreau::particles::internal {
 
@@ -31,10 +32,13 @@ NearContactRows* OverlapMonitor::Prepare(int threads) {
   return &near_;
 }
 
-double OverlapMonitor::Measure(const NeighbourList& list, const double* x, const double* radius,
-                               int n, int threads, double max_coordinate, double rmax) {
+double OverlapMonitor::Measure(const StepContext& context, double max_coordinate) {
+  const NeighbourList& list = context.list;
+  const double* x = context.store->current.data();
+  const double* radius = context.store->radius.data();
+  const int threads = context.threads;
   const PeriodicBox& box = list.box();
-  double scale = max_coordinate + near_.max_path + 2.0 * rmax + list.skin();
+  double scale = max_coordinate + near_.max_path + 2.0 * context.rmax + list.skin();
   for (int a = 0; a < box.k; ++a) scale += box.len[a];
   const double slack = 0x1.0p-30 * scale;
   const double path = near_.max_path;
@@ -55,7 +59,7 @@ double OverlapMonitor::Measure(const NeighbourList& list, const double* x, const
     });
     ++screened_steps_;
   } else {
-    worst = MaxPairOverlap(list, x, radius, n, threads);
+    worst = MaxPairOverlap(list, x, radius, context.n, threads);
     ++full_steps_;
   }
   if (prepared_) margin_ = std::max(4.0 * path, 0.5 * margin_) + 2.0 * slack;

@@ -20,14 +20,15 @@
 
 namespace moreau::particles::internal {
 
+struct StepContext;  // step_context.h
+
 class OverlapMonitor {
  public:
   // Before the last sweep of a step: the record for the sweep (rows cleared, the margin set).
   NearContactRows* Prepare(int threads);
-  // After the step: the largest pair overlap at x (storage order, n slots). max_coordinate: a
-  // bound on |x_i,a| before the sweep (the prediction's); rmax: the largest radius.
-  double Measure(const NeighbourList& list, const double* x, const double* radius, int n,
-                 int threads, double max_coordinate, double rmax);
+  // After the step: the largest pair overlap at the store's current positions over the
+  // context's list. max_coordinate: a bound on |x_i,a| before the sweep (the prediction's).
+  double Measure(const StepContext& context, double max_coordinate);
   // Steps measured from the recorded rows only, and from every row.
   std::int64_t screened_steps() const { return screened_steps_; }
   std::int64_t full_steps() const { return full_steps_; }

@@ -124,19 +124,14 @@ std::vector<double> Population::ActiveVelocities() const {
   return v;
 }
 
-std::vector<double> Population::MeanNeighbourPolarity(std::span<const double> x) const {
+// Per agent the mean polarity of the agents touching it (the engine's contacts, periodic
+// images included), or its own polarity when none does.
+std::vector<double> Population::MeanNeighbourPolarity() const {
   const auto k = static_cast<std::size_t>(geometry_.dimension);
   std::vector<double> sum(k * agents_.size(), 0.0);
   std::vector<int> touching(agents_.size(), 0);
-  for (const auto& [i, j] : engine_.CandidatePairs()) {
+  for (const auto& [i, j] : engine_.Contacts(rules_.contact_factor)) {
     const auto ui = static_cast<std::size_t>(i), uj = static_cast<std::size_t>(j);
-    double d2 = 0.0;
-    for (std::size_t a = 0; a < k; ++a) {
-      const double d = x[k * ui + a] - x[k * uj + a];
-      d2 += d * d;
-    }
-    const double reach = rules_.contact_factor * (agents_[ui].radius + agents_[uj].radius);
-    if (d2 > reach * reach) continue;
     for (std::size_t a = 0; a < k; ++a) {
       sum[k * ui + a] += agents_[uj].polarity[a];
       sum[k * uj + a] += agents_[ui].polarity[a];
@@ -260,7 +255,7 @@ void Population::ApplyRules() {
     aligns = aligns || t.alignment > 0.0;
     inhibits = inhibits || t.max_contacts > 0.0;
   }
-  const std::vector<double> mean = aligns ? MeanNeighbourPolarity(x) : std::vector<double>{};
+  const std::vector<double> mean = aligns ? MeanNeighbourPolarity() : std::vector<double>{};
   const std::vector<int> contacts =
       inhibits ? engine_.ContactCounts(rules_.contact_factor) : std::vector<int>{};
   std::vector<Agent> next;

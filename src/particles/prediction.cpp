@@ -10,6 +10,7 @@
 
 #include "moreau/common/error.h"
 #include "particles/noise.h"
+#include "particles/step_context.h"
 
 namespace moreau::particles::internal {
 
@@ -135,11 +136,11 @@ void Prediction::AttractionImpl(const double* x, const double* radius, const Nei
   ForEachBlockByColour(colouring, cells, rows);
 }
 
-void Prediction::Attraction(const double* x, const double* radius, const NeighbourList& list,
-                            const Colouring& colouring, const CellList& cells, bool lexicographic,
-                            int threads) {
+void Prediction::Attraction(const StepContext& context) {
+  const ParticleStore& store = *context.store;
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
-    AttractionImpl<k, p>(x, radius, list, colouring, cells, lexicographic, threads);
+    AttractionImpl<k, p>(store.current.data(), store.radius.data(), context.list, context.colouring,
+                         context.cells, context.lexicographic, context.threads);
   });
 }
 
@@ -179,11 +180,10 @@ void Prediction::LocalDensityImpl(const double* x, const NeighbourList& list,
   }
 }
 
-void Prediction::LocalDensity(const double* x, const NeighbourList& list,
-                              const Colouring& colouring, const CellList& cells, bool lexicographic,
-                              int threads) {
+void Prediction::LocalDensity(const StepContext& context) {
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
-    LocalDensityImpl<k, p>(x, list, colouring, cells, lexicographic, threads);
+    LocalDensityImpl<k, p>(context.store->current.data(), context.list, context.colouring,
+                           context.cells, context.lexicographic, context.threads);
   });
 }
 
@@ -224,40 +224,41 @@ template <int K>
 
 }  // namespace
 
+// The rows of one noise batch of PredictImpl: the noise of a batch is drawn first, in one
+// vectorised loop (noise.h), then this drift loop adds it; the batch's totals are plain local
+// scalars until its end. The loop reads PredictImpl's local scalars through these references
+// (as a lambda capturing them would).
 template <int K, bool P, bool Noise>
-void Prediction::PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
-                             const double* active, const double* mobility, std::int64_t step,
-                             int threads, double* max_move, std::int64_t* bad_id,
-                             double* max_coordinate, ExactBound* bound) const {
-  // Plain local scalars, not members or a struct: they stay in registers or the loop's operands
-  // (a member or a struct copy could alias y or crowd out the running maximum).
-  const DriftParameters& d = parameters_;
-  const bool trap = d.trap, any_constant = d.any_constant, propulsion = d.propulsion;
-  const double gamma = d.gamma, sigma = d.sigma, h = h_;
-  double center[3], f0[3];
-  for (int a = 0; a < 3; ++a) {
-    center[a] = d.center[a];
-    f0[a] = d.f0[a];
-  }
-  bool wrap_axis[3] = {false, false, false};
-  double lo[3] = {0, 0, 0}, len[3] = {0, 0, 0};
-  for (int a = 0; a < 3; ++a) {
-    wrap_axis[a] = box_.periodic[a] && (trap || propulsion);
-    lo[a] = box_.lo[a];
-    len[a] = box_.len[a];
-  }
-  const std::uint64_t seed = seed_;
-  const bool uniform_mobility = uniform_mobility_;
-  const int n = n_;
-  const double* fa = force_.data();
-  const bool attract = !force_.empty();
-  const double* factor = speed_factor_.empty() ? nullptr : speed_factor_.data();
-  const bool crowd_speeds = d.speed_sd > 0.0 || factor != nullptr;
-  const double* ref = bound != nullptr ? bound->reference : nullptr;
-  const double quarter2 = bound != nullptr ? bound->quarter2 : 0.0;
-  // The noise of a batch is drawn first, in one vectorised loop (noise.h), then the drift loop
-  // adds it. The batch's totals are plain local scalars until its end.
-  auto rows = [&](int begin, int end, [[maybe_unused]] const double* xi, PredictionTotals* t) {
+struct PredictRows {
+  const double* const& x;
+  const bool (&wrap_axis)[3];
+  const double (&lo)[3];
+  const double (&len)[3];
+  const bool& trap;
+  const double& gamma;
+  const double (&center)[3];
+  const bool& any_constant;
+  const double (&f0)[3];
+  const bool& attract;
+  const double* const& fa;
+  const bool& uniform_mobility;
+  const double* const& mobility;
+  const bool& propulsion;
+  const DriftParameters& d;
+  const bool& crowd_speeds;
+  const std::uint64_t& seed;
+  const std::int64_t* const& key;
+  const int* const& id;
+  const double* const& factor;
+  const double* const& active;
+  const double& h;
+  const double& sigma;
+  double* const& y;
+  const double* const& ref;
+  const double& quarter2;
+
+  void operator()(int begin, int end, [[maybe_unused]] const double* xi,
+                  PredictionTotals* t) const {
     double worst = 0.0, extent = 0.0, worst2 = 0.0;
     std::int64_t bad = std::numeric_limits<std::int64_t>::max(), far_count = 0;
     for (int s = begin; s < end; ++s) {
@@ -321,7 +322,47 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
       }
     }
     *t = {worst, extent, worst2, bad, far_count};
-  };
+  }
+};
+
+template <int K, bool P, bool Noise>
+void Prediction::PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
+                             const double* active, const double* mobility, std::int64_t step,
+                             int threads, double* max_move, std::int64_t* bad_id,
+                             double* max_coordinate, ExactBound* bound) const {
+  // Plain local scalars, not members or a struct: they stay in registers or the loop's operands
+  // (a member or a struct copy could alias y or crowd out the running maximum).
+  const DriftParameters& d = parameters_;
+  const bool trap = d.trap, any_constant = d.any_constant, propulsion = d.propulsion;
+  const double gamma = d.gamma, sigma = d.sigma, h = h_;
+  double center[3], f0[3];
+  for (int a = 0; a < 3; ++a) {
+    center[a] = d.center[a];
+    f0[a] = d.f0[a];
+  }
+  bool wrap_axis[3] = {false, false, false};
+  double lo[3] = {0, 0, 0}, len[3] = {0, 0, 0};
+  for (int a = 0; a < 3; ++a) {
+    wrap_axis[a] = box_.periodic[a] && (trap || propulsion);
+    lo[a] = box_.lo[a];
+    len[a] = box_.len[a];
+  }
+  const std::uint64_t seed = seed_;
+  const bool uniform_mobility = uniform_mobility_;
+  const int n = n_;
+  const double* fa = force_.data();
+  const bool attract = !force_.empty();
+  const double* factor = speed_factor_.empty() ? nullptr : speed_factor_.data();
+  const bool crowd_speeds = d.speed_sd > 0.0 || factor != nullptr;
+  const double* ref = bound != nullptr ? bound->reference : nullptr;
+  const double quarter2 = bound != nullptr ? bound->quarter2 : 0.0;
+  const PredictRows<K, P, Noise> rows{x,        wrap_axis,  lo,     len,
+                                      trap,     gamma,      center, any_constant,
+                                      f0,       attract,    fa,     uniform_mobility,
+                                      mobility, propulsion, d,      crowd_speeds,
+                                      seed,     key,        id,     factor,
+                                      active,   h,          sigma,  y,
+                                      ref,      quarter2};
   ReportPrediction(OverNoiseBatches<K, Noise>(n, threads, seed, key, id, step, rows), max_move,
                    bad_id, max_coordinate, bound);
 }
@@ -337,26 +378,35 @@ void ReportPrediction(const PredictionTotals& totals, double* max_move, std::int
   }
 }
 
-void Prediction::Predict(const double* x, double* y, const int* id, const std::int64_t* key,
-                         const double* active, const double* mobility, std::int64_t step,
-                         int threads, double* max_move, std::int64_t* bad_id,
-                         double* max_coordinate, ExactBound* bound) const {
+PredictionOutcome Prediction::Predict(StepContext& context, std::int64_t step,
+                                      ExactBound* bound) const {
+  ParticleStore& store = *context.store;
+  const double* x = store.current.data();
+  double* y = store.predicted.data();
+  const int* id = store.id.data();
+  const std::int64_t* key = store.noise_key.empty() ? nullptr : store.noise_key.data();
+  const double* active = store.active.empty() ? nullptr : store.active.data();
+  const double* mobility = store.mobility.data();
+  const int threads = context.threads;
+  PredictionOutcome out;
   // Without noise the loop makes no call, so its running maximum stays in a register; with noise
   // the batch's draw comes before its drift loop.
   const bool noise = parameters_.sigma > 0.0;
   if (Plain(active)) {
-    PredictPlainDispatch(x, y, id, key, step, threads, max_move, bad_id, max_coordinate, bound);
-    return;
+    PredictPlainDispatch(x, y, id, key, step, threads, &out.max_move, &out.bad_id,
+                         &out.max_coordinate, bound);
+    return out;
   }
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
     if (noise) {
-      PredictImpl<k, p, true>(x, y, id, key, active, mobility, step, threads, max_move, bad_id,
-                              max_coordinate, bound);
+      PredictImpl<k, p, true>(x, y, id, key, active, mobility, step, threads, &out.max_move,
+                              &out.bad_id, &out.max_coordinate, bound);
     } else {
-      PredictImpl<k, p, false>(x, y, id, key, active, mobility, step, threads, max_move, bad_id,
-                               max_coordinate, bound);
+      PredictImpl<k, p, false>(x, y, id, key, active, mobility, step, threads, &out.max_move,
+                               &out.bad_id, &out.max_coordinate, bound);
     }
   });
+  return out;
 }
 
 }  // namespace moreau::particles::internal

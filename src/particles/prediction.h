@@ -38,6 +38,15 @@ struct DriftParameters {
   DriftParameters(const Forces& forces, int k, double h);
 };
 
+struct StepContext;  // step_context.h
+
+// What a prediction reports besides the positions.
+struct PredictionOutcome {
+  double max_move = 0.0;        // the largest ‖Y_i − X_i‖ over finite rows
+  std::int64_t bad_id = -1;     // the smallest id with a non-finite Y_i, or −1
+  double max_coordinate = 0.0;  // the largest |Y_i,a| over finite rows
+};
+
 class Prediction {
  public:
   // n slots; uniform_mobility: every μ_i = 1 (the mobility loads are skipped). Throws
@@ -47,27 +56,21 @@ class Prediction {
 
   bool attracts() const { return parameters_.attraction_range > 0.0; }
   bool measures_density() const { return parameters_.density; }
-  // Each slot's Weidmann factor φ(ρ_i) at x (storage order), ρ_i counted over the list's pairs
-  // closer than R (forces.h DensitySpeed): by colour in parallel, or (lexicographic) on one
-  // thread. Integer counts, so the factors do not depend on the thread count.
-  void LocalDensity(const double* x, const NeighbourList& list, const Colouring& colouring,
-                    const CellList& cells, bool lexicographic, int threads);
-  // The attraction at x (storage order) over the list's pairs into the force buffer: by colour
-  // in parallel, or (lexicographic) on one thread in row order.
-  void Attraction(const double* x, const double* radius, const NeighbourList& list,
-                  const Colouring& colouring, const CellList& cells, bool lexicographic,
-                  int threads);
-  // y = the predicted positions of x for the step from t_step to t_{step+1}. *max_move: the
-  // largest ‖Y_i − X_i‖ over finite rows; *bad_id: the smallest id with a non-finite Y_i, or −1;
-  // *max_coordinate (optional): the largest |Y_i,a| over finite rows. key: per slot the noise
-  // key (null: the id); active: k per slot, a velocity added to the drift (null: none). The noise
-  // is drawn in batches of kNoiseBatch slots (noise.h).
-  // bound (optional): also max_i ‖Y_i − reference_i‖² and the count of slots beyond
-  // √quarter2 (the neighbour list's exact skin bound, NeighbourList::ExactBound) in the same pass.
-  void Predict(const double* x, double* y, const int* id, const std::int64_t* key,
-               const double* active, const double* mobility, std::int64_t step, int threads,
-               double* max_move, std::int64_t* bad_id, double* max_coordinate = nullptr,
-               ExactBound* bound = nullptr) const;
+  // Each slot's Weidmann factor φ(ρ_i) at the store's current positions, ρ_i counted over the
+  // list's pairs closer than R (forces.h DensitySpeed): by colour in parallel, or
+  // (lexicographic) on one thread. Integer counts, so the factors do not depend on the thread
+  // count.
+  void LocalDensity(const StepContext& context);
+  // The attraction at the store's current positions over the list's pairs into the force
+  // buffer: by colour in parallel, or (lexicographic) on one thread in row order.
+  void Attraction(const StepContext& context);
+  // The store's predicted positions from its current ones for the step from t_step to
+  // t_{step+1}, per slot with its id (or noise key), mobility and active velocity; the noise is
+  // drawn in batches of kNoiseBatch slots (noise.h). bound (optional): also
+  // max_i ‖Y_i − reference_i‖² and the count of slots beyond √quarter2 (the neighbour list's
+  // exact skin bound, NeighbourList::ExactBound) in the same pass.
+  PredictionOutcome Predict(StepContext& context, std::int64_t step,
+                            ExactBound* bound = nullptr) const;
   // The force buffer follows a reordering of the slots (new slot s holds old slot perm[s]).
   void Reorder(const std::vector<int>& perm, int threads);
 

@@ -10,6 +10,7 @@
 #endif
 
 #include "particles/kernels.h"
+#include "particles/step_context.h"
 
 namespace moreau::particles::internal {
 
@@ -227,17 +228,18 @@ double ProjectionSweep::SweepImpl(double* x, const double* radius, const Neighbo
   return max_path;
 }
 
-double ProjectionSweep::Sweep(double* x, const double* radius, const NeighbourList& list,
-                              const Colouring& colouring, const CellList& cells, bool lexicographic,
-                              int threads, std::int64_t* projections, NearContactRows* near) {
+double ProjectionSweep::Sweep(StepContext& context, std::int64_t* projections,
+                              NearContactRows* near) {
   ++sweep_id_;
   if (sweep_id_ == 0) {  // wrapped around: clear the stamps
     std::fill(stamp_.begin(), stamp_.end(), 0);
     sweep_id_ = 1;
   }
-  return DispatchDimensionPeriodic(k_, list.box().any, [&](auto kk, auto p) {
-    return SweepImpl<kk, p>(x, radius, list, colouring, cells, lexicographic, threads, projections,
-                            near);
+  double* x = context.store->predicted.data();
+  const double* radius = context.store->radius.data();
+  return DispatchDimensionPeriodic(k_, context.list.box().any, [&](auto kk, auto p) {
+    return SweepImpl<kk, p>(x, radius, context.list, context.colouring, context.cells,
+                            context.lexicographic, context.threads, projections, near);
   });
 }
 

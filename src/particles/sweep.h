@@ -22,6 +22,8 @@
 
 namespace moreau::particles::internal {
 
+struct StepContext;  // step_context.h
+
 // What a sweep records for the overlap monitor (overlap_monitor.h): the rows with a pair closer
 // than r_s + r_t + margin when the sweep visited it (each thread its own list), and the sweep's
 // longest path.
@@ -37,12 +39,11 @@ class ProjectionSweep {
   // equal (the pair loop then skips the radius loads).
   ProjectionSweep(const ParticleModel& model, bool uniform_radius);
 
-  // One sweep over x (storage order); adds the number of projections that moved a particle to
+  // One sweep over the store's predicted positions with the context's list, colouring, cell
+  // list, order and threads; adds the number of projections that moved a particle to
   // *projections and returns the longest path. near (optional): the rows near contact are
   // appended to near->rows[thread] (sized ≥ threads) and near->max_path is set.
-  double Sweep(double* x, const double* radius, const NeighbourList& list,
-               const Colouring& colouring, const CellList& cells, bool lexicographic, int threads,
-               std::int64_t* projections, NearContactRows* near = nullptr);
+  double Sweep(StepContext& context, std::int64_t* projections, NearContactRows* near = nullptr);
 
   // The length of the projection moves applied to slot s in the last sweep.
   double PathOf(int s) const {

@@ -77,7 +77,10 @@ void ExpectResumeBitIdentical(const Case& c, EngineOptions o, int stop, int tota
   second.RestoreState(state);
   EXPECT_EQ(second.step(), stop);
   int observed = 0;
-  const EngineSummary s = second.Continue(T, [&](const Engine&) { ++observed; });
+  const EngineSummary s = second.Continue(T, [&](const Engine&) {
+    ++observed;
+    return true;
+  });
   ASSERT_TRUE(s.ok()) << s.message;
   EXPECT_EQ(observed, total - stop);
   EXPECT_EQ(second.step(), total);

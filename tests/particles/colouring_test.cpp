@@ -16,53 +16,10 @@ namespace {
 
 using testing::RandomConfiguration;
 
-void CheckColouring(const RandomConfiguration& c, int block_cells) {
-  const int n = c.model.count();
-  const int k = c.model.dimension;
-  const PeriodicBox box = PeriodicBox::Of(c.model);
-  const double skin = 0.5 * c.model.max_radius();
-  CellList cells;
-  cells.Fit(c.x.data(), n, box, 2.0 * c.model.max_radius() + skin, block_cells, 1);
-  std::vector<int> id(static_cast<std::size_t>(n));
-  std::iota(id.begin(), id.end(), 0);
-  cells.Sort(c.x.data(), id.data(), n, 1);
-  std::vector<double> x(c.x.size()), radius(static_cast<std::size_t>(n));
-  for (int s = 0; s < n; ++s) {
-    const int o = cells.permutation()[static_cast<std::size_t>(s)];
-    for (int a = 0; a < k; ++a)
-      x[static_cast<std::size_t>(k * s + a)] = c.x[static_cast<std::size_t>(k * o + a)];
-    radius[static_cast<std::size_t>(s)] = c.model.radius[static_cast<std::size_t>(o)];
-  }
-  NeighbourList list;
-  list.Configure(box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
-  list.Build(x.data(), radius.data(), cells, nullptr, false, false, 0, 1);
-  Colouring colouring;
-  colouring.Assign(cells);
-  // Every block once; per colour, the block (by rank) that touches each slot.
-  std::vector<int> seen(static_cast<std::size_t>(cells.blocks()), 0);
-  int colours_used = 0;
-  for (int colour = 0; colour < Colouring::kColours; ++colour) {
-    if (colouring.colour_begin(colour) < colouring.colour_begin(colour + 1)) ++colours_used;
-    std::vector<int> owner(static_cast<std::size_t>(n), -1);
-    auto touch = [&](int slot, int block) {
-      int& o = owner[static_cast<std::size_t>(slot)];
-      EXPECT_TRUE(o < 0 || o == block) << "slot " << slot << " touched by blocks " << o << " and "
-                                       << block << " of colour " << colour;
-      o = block;
-    };
-    for (int q = colouring.colour_begin(colour); q < colouring.colour_begin(colour + 1); ++q) {
-      const int r = colouring.block_rank(q);
-      ++seen[static_cast<std::size_t>(r)];
-      for (int s = cells.BlockSlotBegin(r); s < cells.BlockSlotBegin(r + 1); ++s) {
-        touch(s, r);
-        for (int p = list.row_start()[s]; p < list.row_start()[s + 1]; ++p)
-          touch(list.neighbours()[p], r);
-      }
-    }
-  }
-  for (const int count : seen) EXPECT_EQ(count, 1);
-  // The dependency order (ForEachBlockInDependencyOrder): two blocks that touch one slot are
-  // ordered, the one of larger colour listing the other; every dependency has a smaller colour.
+// The dependency order (ForEachBlockInDependencyOrder): two blocks that touch one slot are
+// ordered, the one of larger colour listing the other; every dependency has a smaller colour.
+void CheckDependencyOrder(const Colouring& colouring, const CellList& cells,
+                          const NeighbourList& list, int n) {
   std::vector<int> colour_of_entry(static_cast<std::size_t>(colouring.blocks()));
   for (int colour = 0; colour < Colouring::kColours; ++colour) {
     for (int q = colouring.colour_begin(colour); q < colouring.colour_begin(colour + 1); ++q)
@@ -101,6 +58,54 @@ void CheckColouring(const RandomConfiguration& c, int block_cells) {
     }
   }
   EXPECT_GT(ordered_pairs, 0);
+}
+
+void CheckColouring(const RandomConfiguration& c, int block_cells) {
+  const int n = c.model.count();
+  const int k = c.model.dimension;
+  const PeriodicBox box = PeriodicBox::Of(c.model);
+  const double skin = 0.5 * c.model.max_radius();
+  CellList cells;
+  cells.Fit(c.x.data(), n, box, 2.0 * c.model.max_radius() + skin, block_cells, 1);
+  std::vector<int> id(static_cast<std::size_t>(n));
+  std::iota(id.begin(), id.end(), 0);
+  cells.Sort(c.x.data(), id.data(), n, 1);
+  std::vector<double> x(c.x.size()), radius(static_cast<std::size_t>(n));
+  for (int s = 0; s < n; ++s) {
+    const int o = cells.permutation()[static_cast<std::size_t>(s)];
+    for (int a = 0; a < k; ++a)
+      x[static_cast<std::size_t>(k * s + a)] = c.x[static_cast<std::size_t>(k * o + a)];
+    radius[static_cast<std::size_t>(s)] = c.model.radius[static_cast<std::size_t>(o)];
+  }
+  NeighbourList list;
+  list.Configure(box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
+  list.Build(x.data(), radius.data(), cells, nullptr, ListRows::kAsVisited, 0, 1);
+  Colouring colouring;
+  colouring.Assign(cells);
+  // Every block once; per colour, the block (by rank) that touches each slot.
+  std::vector<int> seen(static_cast<std::size_t>(cells.blocks()), 0);
+  int colours_used = 0;
+  for (int colour = 0; colour < Colouring::kColours; ++colour) {
+    if (colouring.colour_begin(colour) < colouring.colour_begin(colour + 1)) ++colours_used;
+    std::vector<int> owner(static_cast<std::size_t>(n), -1);
+    auto touch = [&](int slot, int block) {
+      int& o = owner[static_cast<std::size_t>(slot)];
+      EXPECT_TRUE(o < 0 || o == block) << "slot " << slot << " touched by blocks " << o << " and "
+                                       << block << " of colour " << colour;
+      o = block;
+    };
+    for (int q = colouring.colour_begin(colour); q < colouring.colour_begin(colour + 1); ++q) {
+      const int r = colouring.block_rank(q);
+      ++seen[static_cast<std::size_t>(r)];
+      for (int s = cells.BlockSlotBegin(r); s < cells.BlockSlotBegin(r + 1); ++s) {
+        touch(s, r);
+        for (int p = list.row_start()[s]; p < list.row_start()[s + 1]; ++p)
+          touch(list.neighbours()[p], r);
+      }
+    }
+  }
+  for (const int count : seen) EXPECT_EQ(count, 1);
+  CheckDependencyOrder(colouring, cells, list, n);
   EXPECT_EQ(colours_used, k == 2 ? 9 : 27);
   EXPECT_GT(list.pairs(), n / 2);
 }

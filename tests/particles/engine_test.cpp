@@ -42,6 +42,7 @@ std::vector<double> RunEngine(const DisksSetup& s, EngineOptions o, double T,
   if (after) {
     observer = [&](const Engine& engine) {
       if (engine.step() > 0) after(engine);
+      return true;
     };
   }
   const EngineSummary summary = e.Run(T, observer);

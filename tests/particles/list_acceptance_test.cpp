@@ -32,8 +32,8 @@ struct BuiltList {
     std::iota(id.begin(), id.end(), 0);
     cells.Sort(x0.data(), id.data(), n, 1);
     list.Configure(box, n, kSkin, std::numeric_limits<double>::infinity(), 0.0);
-    list.Build(x0.data(), model.radius.data(), cells, cells.permutation().data(), true, false, 0,
-               1);
+    list.Build(x0.data(), model.radius.data(), cells, cells.permutation().data(), ListRows::kSorted,
+               0, 1);
   }
   bool Listed(int s, int t) const {
     for (int p = list.row_start()[s]; p < list.row_start()[s + 1]; ++p) {

@@ -107,7 +107,7 @@ void CheckAgainstBruteForce(const RandomConfiguration& c, double skin) {
   const CellOrdered o(c, skin, 2);
   NeighbourList ordered;
   ordered.Configure(o.box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
-  ordered.Build(o.x.data(), o.radius.data(), o.cells, nullptr, false, false, 0, 2);
+  ordered.Build(o.x.data(), o.radius.data(), o.cells, nullptr, ListRows::kAsVisited, 0, 2);
   EXPECT_EQ(ListPairs(ordered, o.slot_id), expected);
   EXPECT_EQ(ordered.stats().candidate_pairs, static_cast<std::int64_t>(expected.size()));
 }
@@ -131,8 +131,8 @@ TEST(ParticleNeighbourList, SkinBoundAndStatistics) {
   NeighbourList list;
   list.Configure(box, n, 0.4, 0.5, 0.0);
   EXPECT_EQ(list.stats().shortest_rebuild_interval, -1);
-  list.Build(c.x.data(), c.model.radius.data(), cells, cells.permutation().data(), true, false, 0,
-             1);
+  list.Build(c.x.data(), c.model.radius.data(), cells, cells.permutation().data(),
+             ListRows::kSorted, 0, 1);
   // Moves below skin/4 need no build; the bound adds up.
   EXPECT_DOUBLE_EQ(list.BoundAfterPrediction(0.05, c.x.data(), 1), 0.05);
   EXPECT_FALSE(list.NeedsBuild(0.05));
@@ -146,15 +146,15 @@ TEST(ParticleNeighbourList, SkinBoundAndStatistics) {
   list.MarkPredicted();
   EXPECT_TRUE(list.PrepareRedo());
   EXPECT_EQ(list.skin(), 0.4);  // not fresh: the skin stays
-  list.Build(c.x.data(), c.model.radius.data(), cells, cells.permutation().data(), true, false, 7,
-             1);
+  list.Build(c.x.data(), c.model.radius.data(), cells, cells.permutation().data(),
+             ListRows::kSorted, 7, 1);
   EXPECT_TRUE(list.PrepareRedo());
   EXPECT_EQ(list.skin(), 0.5);
   EXPECT_FALSE(list.PrepareRedo());
   list.RelaxSkin();
   EXPECT_EQ(list.skin(), 0.4);
-  list.Build(c.x.data(), c.model.radius.data(), cells, cells.permutation().data(), true, false, 9,
-             1);
+  list.Build(c.x.data(), c.model.radius.data(), cells, cells.permutation().data(),
+             ListRows::kSorted, 9, 1);
   EXPECT_EQ(list.stats().builds, 3);
   EXPECT_EQ(list.stats().shortest_rebuild_interval, 2);
 }
@@ -189,7 +189,7 @@ TEST(ParticleNeighbourList, ParallelBuildEqualsSerialBuildEntryByEntry) {
         NeighbourList list;
         list.Configure(o.box, n, skin, std::numeric_limits<double>::infinity(), 0.0);
         if (members == nullptr && uniform) list.AssumeUniformRadius(o.radius.front());
-        list.Build(o.x.data(), o.radius.data(), o.cells, members, false, false, 0, threads);
+        list.Build(o.x.data(), o.radius.data(), o.cells, members, ListRows::kAsVisited, 0, threads);
         return list;
       };
       const NeighbourList serial = build(identity.data(), 1);

@@ -13,6 +13,7 @@
 #include "particles/colouring.h"
 #include "particles/neighbour_list.h"
 #include "particles/overlap_monitor.h"
+#include "particles/part_fixtures.h"
 #include "particles/sweep.h"
 #include "particles/test_util.h"
 
@@ -30,25 +31,6 @@ ParticleModel Soup(int n, double side) {
   m.domain_hi = {side, side, 1.0};
   return m;
 }
-
-// The cell list (one thread), the neighbour list (skin 0.6, rows in id order) and the colouring
-// of the positions x of m, for sweeps in id order.
-struct SweepParts {
-  internal::CellList cells;
-  internal::NeighbourList list;
-  internal::Colouring colouring;
-  SweepParts(const ParticleModel& m, const std::vector<double>& x, double reach, int block_cells) {
-    const internal::PeriodicBox box = internal::PeriodicBox::Of(m);
-    const int n = m.count();
-    cells.Fit(x.data(), n, box, reach, block_cells, 1);
-    std::vector<int> id(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) id[static_cast<std::size_t>(i)] = i;
-    cells.Sort(x.data(), id.data(), n, 1);
-    list.Configure(box, n, 0.6, 1e300, 0.0);
-    list.Build(x.data(), m.radius.data(), cells, cells.permutation().data(), true, false, 0, 1);
-    colouring.Assign(cells);
-  }
-};
 
 TEST(OverlapMonitor, EveryStepEqualsThePassOverAllPairs) {
   const ParticleModel m = Soup(1000, 44.0);
@@ -85,10 +67,12 @@ TEST(OverlapMonitor, EveryStepEqualsThePassOverAllPairs) {
 // whenever the margin covers twice the sweep's longest path, and agree with the full pass.
 TEST(OverlapMonitor, RecordedRowsGiveTheExactMaximum) {
   const ParticleModel m = Soup(800, 38.0);
-  std::vector<double> x = RandomSequentialAddition(m, m.domain_lo, m.domain_hi, 9);
+  const std::vector<double> x0 = RandomSequentialAddition(m, m.domain_lo, m.domain_hi, 9);
   const int n = m.count();
-  const SweepParts parts(m, x, 2.0 * 0.6 + 0.6, 2);
-  const internal::NeighbourList& list = parts.list;
+  internal::StepContext c;  // sweeps in id order, the list's skin 0.6
+  testing::LexicographicContext(m, x0, 2.0 * 0.6 + 0.6, 0.6, 2, &c);
+  c.rmax = 0.6;
+  std::vector<double>& x = c.store->predicted;
   internal::ProjectionSweep sweep(m, false);
   internal::OverlapMonitor monitor;
   SplitMix64 rng(4);
@@ -101,11 +85,11 @@ TEST(OverlapMonitor, RecordedRowsGiveTheExactMaximum) {
       extent = std::max({extent, std::abs(xi), std::abs(x[static_cast<std::size_t>(2 * i + 1)])});
     }
     std::int64_t projections = 0;
-    sweep.Sweep(x.data(), m.radius.data(), list, parts.colouring, parts.cells, true, 1,
-                &projections, monitor.Prepare(1));
+    sweep.Sweep(c, &projections, monitor.Prepare(1));
     ASSERT_GT(projections, 0);
-    const double monitored = monitor.Measure(list, x.data(), m.radius.data(), n, 1, extent, 0.6);
-    EXPECT_EQ(monitored, internal::MaxPairOverlap(list, x.data(), m.radius.data(), n, 1));
+    c.store->current = x;  // the step's end: the swept positions are the current ones
+    const double monitored = monitor.Measure(c, extent);
+    EXPECT_EQ(monitored, internal::MaxPairOverlap(c.list, x.data(), m.radius.data(), n, 1));
     EXPECT_GT(monitored, 0.0);
   }
   EXPECT_EQ(monitor.full_steps() + monitor.screened_steps(), 6);
@@ -122,18 +106,18 @@ TEST(OverlapMonitor, UniformDisksRecordExactlyTheRowsWithinTheMargin) {
   m.domain_lo = {0.0, 0.0, 0.0};
   m.domain_hi = {40.0, 40.0, 1.0};
   const std::vector<double> x0 = RandomSequentialAddition(m, m.domain_lo, m.domain_hi, 21);
-  std::vector<double> x = x0;
   const int n = m.count();
-  const SweepParts parts(m, x, 1.0 + 0.6, 0);
-  const internal::NeighbourList& list = parts.list;
+  internal::StepContext c;
+  testing::LexicographicContext(m, x0, 1.0 + 0.6, 0.6, 0, &c);
+  const internal::NeighbourList& list = c.list;
   internal::ProjectionSweep sweep(m, true);
   const double margin = 0.1;
   internal::NearContactRows near;
   near.margin = margin;
   near.rows.resize(1);
   std::int64_t projections = 0;
-  sweep.Sweep(x.data(), m.radius.data(), list, parts.colouring, parts.cells, true, 1, &projections,
-              &near);
+  sweep.Sweep(c, &projections, &near);
+  const std::vector<double>& x = c.store->predicted;
   EXPECT_EQ(projections, 0);
   EXPECT_EQ(x, x0);
   std::vector<int> expected;

@@ -51,6 +51,16 @@ Colony GrowingColony() {
   return c;
 }
 
+// A 2D colony of agents of one type, h = 0.01, without noise; the agents and positions to set.
+Colony OneTypeColony(const AgentType& type, int interval) {
+  Colony c;
+  c.geometry.dimension = 2;
+  c.options.h = 0.01;
+  c.rules.types = {type};
+  c.rules.interval = interval;
+  return c;
+}
+
 Population Make(const Colony& c) {
   return Population(c.geometry, c.forces, c.options, c.rules, c.types, c.x0);
 }
@@ -118,14 +128,10 @@ TEST(Population, PureBirthCountMatchesItsExpectedExponentialGrowthOverSeeds) {
   // Each agent divides with probability p = 1 − e^{−λΔt} per rule step, so the count is a
   // Galton–Watson process with offspring 1 or 2: E[N_n] = N0 μ^n, μ = 1 + p, and
   // Var[N_n] = N0 σ² μ^{n−1} (μ^n − 1)/(μ − 1), σ² = p(1 − p). (μ^n → e^{λt} as Δt → 0.)
-  Colony c;
-  c.geometry.dimension = 2;
-  c.options.h = 0.01;
   AgentType cell;
   cell.radius = 0.5;
   cell.division_rate = 1.0;
-  c.rules.types = {cell};
-  c.rules.interval = 10;
+  Colony c = OneTypeColony(cell, 10);
   c.types = {0, 0, 0, 0};
   c.x0 = {0.0, 0.0, 20.0, 0.0, 0.0, 20.0, 20.0, 20.0};
   const int rule_steps = 25;
@@ -239,6 +245,40 @@ TEST(Population, ContactInhibitionStopsGrowthOfTouchingAgents) {
   EXPECT_EQ(pop.agents()[1].radius, 0.5);
   EXPECT_NEAR(pop.agents()[2].radius, 0.6, 1e-12);
   EXPECT_EQ(pop.Observe().contacts, 1);
+}
+
+// Alignment reads the engine's contacts, periodic images included: a touching pair across a
+// periodic boundary (either axis) aligns exactly as the same pair mid-box, and a pair just out of
+// reach keeps its polarities.
+TEST(Population, AlignmentAcrossAPeriodicBoundaryEqualsAlignmentMidBox) {
+  AgentType cell;
+  cell.radius = 0.5;
+  cell.alignment = 2.0;
+  Colony c = OneTypeColony(cell, 1);
+  c.geometry.periodic = {true, true, false};
+  c.geometry.domain_lo = {0.0, 0.0, 0.0};
+  c.geometry.domain_hi = {10.0, 8.0, 1.0};
+  c.rules.seed = 8;  // initial polarities nearly perpendicular
+  c.types = {0, 0};
+  auto aligned = [&](std::vector<double> x0) {  // the polarities after one rule step
+    c.x0 = std::move(x0);
+    Population pop = Make(c);
+    EXPECT_TRUE(pop.Step());
+    return std::vector<Vec3>{pop.agents()[0].polarity, pop.agents()[1].polarity};
+  };
+  const std::vector<Vec3> apart = aligned({2.0, 4.0, 3.1, 4.0});      // 1.1 apart: not touching
+  const std::vector<Vec3> mid_box = aligned({4.49, 4.0, 5.51, 4.0});  // 1.02 apart
+  EXPECT_EQ(aligned({9.49, 4.0, 0.51, 4.0}), mid_box);
+  EXPECT_EQ(aligned({3.0, 0.31, 3.0, 7.29}), mid_box);
+  // Alignment turned the two polarities toward each other; apart they stayed as drawn.
+  auto cosine = [](const std::vector<Vec3>& p) { return p[0][0] * p[1][0] + p[0][1] * p[1][1]; };
+  EXPECT_GT(cosine(mid_box), cosine(apart) + 0.02);
+  const Population fresh = Make(c);
+  for (std::size_t i = 0; i < 2; ++i) {
+    for (std::size_t a = 0; a < 2; ++a) {
+      EXPECT_NEAR(apart[i][a], fresh.agents()[i].polarity[a], 1e-15);
+    }
+  }
 }
 
 TEST(Population, AllAgentsGoneEndsTheRunCompleted) {

@@ -13,11 +13,21 @@
 #include <fmt/format.h>
 
 #include "moreau/common/random.h"
-
+#include "particles/part_fixtures.h"
 #include "particles/sweep.h"
 
 namespace moreau::particles::internal {
 namespace {
+
+// *c: a context holding the store of m at x with the given active velocities (the prediction
+// reads nothing else), on `threads` threads.
+void StoreContext(const ParticleModel& m, const std::vector<double>& x,
+                  const std::vector<double>& active, int threads, StepContext* c) {
+  c->k = m.dimension;
+  c->n = m.count();
+  c->threads = threads;
+  c->store.emplace(m, x, active);
+}
 
 // One particle per case, far from everything; Y against u = μ F + v_prop by hand.
 TEST(ParticlePrediction, DriftMatchesTheFormulas) {
@@ -37,14 +47,14 @@ TEST(ParticlePrediction, DriftMatchesTheFormulas) {
   const Prediction prediction(f, PeriodicBox::Of(m), 3, h, 1, false);
   // Particle 0 heads for the segment's nearest point (10, 2); particle 1 for its end (10, 4);
   // particle 2 is past the door line and walks along e_0.
-  const double x[6] = {4.0, 2.0, 7.0, 8.0, 11.0, 1.0};
-  const int id[3] = {0, 1, 2};
-  const double mobility[3] = {1.0, 0.5, 2.0};
-  double y[6];
-  double max_move = 0.0;
-  std::int64_t bad = 0;
-  prediction.Predict(x, y, id, nullptr, nullptr, mobility, 0, 1, &max_move, &bad);
-  EXPECT_EQ(bad, -1);
+  m.mobility = {1.0, 0.5, 2.0};
+  const std::vector<double> x{4.0, 2.0, 7.0, 8.0, 11.0, 1.0};
+  StepContext c;
+  StoreContext(m, x, {}, 1, &c);
+  const PredictionOutcome out = prediction.Predict(c, 0);
+  const std::vector<double>& y = c.store->predicted;
+  const std::vector<double>& mobility = m.mobility;
+  EXPECT_EQ(out.bad_id, -1);
   const double towards[3][2] = {{1.0, 0.0}, {3.0 / 5.0, -4.0 / 5.0}, {1.0, 0.0}};
   double worst = 0.0;
   for (int i = 0; i < 3; ++i) {
@@ -57,7 +67,7 @@ TEST(ParticlePrediction, DriftMatchesTheFormulas) {
     }
     worst = std::max(worst, std::sqrt(d2));
   }
-  EXPECT_NEAR(max_move, worst, 1e-15);
+  EXPECT_NEAR(out.max_move, worst, 1e-15);
 }
 
 // With noise only: Y − X = √(2Dh) ξ(seed, id, step) exactly, whatever the slot; a non-finite
@@ -70,21 +80,22 @@ TEST(ParticlePrediction, NoiseIsKeyedByIdAndStep) {
   f.diffusion = 0.3;
   const double h = 0.02;
   const Prediction prediction(f, PeriodicBox::Of(m), 2, h, 99, true);
-  const double x[6] = {0, 0, 0, 5, 5, 5};
-  const int id[2] = {7, 3};  // slots hold ids 7 and 3
-  double y[6];
-  double max_move = 0.0;
-  std::int64_t bad = 0;
-  prediction.Predict(x, y, id, nullptr, nullptr, nullptr, 12, 1, &max_move, &bad);
+  const std::vector<double> x{0, 0, 0, 5, 5, 5};
+  StepContext c;
+  StoreContext(m, x, {}, 1, &c);
+  c.store->id = {7, 3};  // slots hold ids 7 and 3
+  prediction.Predict(c, 12);
   const double sigma = std::sqrt(2.0 * 0.3 * h);
   for (int s = 0; s < 2; ++s) {
     double xi[3];
-    GaussianNoise(99, id[s], 12, 3, xi);
-    for (int a = 0; a < 3; ++a) EXPECT_EQ(y[3 * s + a], x[3 * s + a] + sigma * xi[a]);
+    GaussianNoise(99, c.store->id[static_cast<std::size_t>(s)], 12, 3, xi);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(c.store->predicted[static_cast<std::size_t>(3 * s + a)],
+                x[static_cast<std::size_t>(3 * s + a)] + sigma * xi[a]);
+    }
   }
-  const double nan_x[6] = {0, 0, 0, std::numeric_limits<double>::quiet_NaN(), 5, 5};
-  prediction.Predict(nan_x, y, id, nullptr, nullptr, nullptr, 12, 1, &max_move, &bad);
-  EXPECT_EQ(bad, 3);
+  c.store->current[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(prediction.Predict(c, 12).bad_id, 3);
 }
 
 // The plain prediction (trap and noise only: a vectorised loop) gives the general loop's bits:
@@ -110,26 +121,28 @@ TEST(ParticlePrediction, PlainLoopMatchesTheGeneralLoopBitForBit) {
         std::vector<int> id(static_cast<std::size_t>(n));
         for (int s = 0; s < n; ++s) id[static_cast<std::size_t>(s)] = (7 * s + 3) % n;
         const std::vector<double> zero(x.size(), 0.0);
+        StepContext plain, general;
+        StoreContext(m, x, {}, 2, &plain);
+        StoreContext(m, x, zero, 2, &general);
+        plain.store->id = general.store->id = id;
         for (const bool poisoned : {false, true}) {
           if (poisoned) {  // two non-finite rows in different batches
             x[static_cast<std::size_t>(k * 300 + 1)] = std::numeric_limits<double>::infinity();
             x[static_cast<std::size_t>(k * 700)] = std::numeric_limits<double>::quiet_NaN();
           }
-          std::vector<double> y_plain(x.size()), y_general(x.size());
-          double move_plain = 0, move_general = 0, far_plain = 0, far_general = 0;
-          std::int64_t bad_plain = 0, bad_general = 0;
+          plain.store->current = general.store->current = x;
           ExactBound b_plain{ref.data(), 0.0025}, b_general{ref.data(), 0.0025};
-          prediction.Predict(x.data(), y_plain.data(), id.data(), nullptr, nullptr, nullptr, 4, 2,
-                             &move_plain, &bad_plain, &far_plain, &b_plain);
-          prediction.Predict(x.data(), y_general.data(), id.data(), nullptr, zero.data(), nullptr,
-                             4, 2, &move_general, &bad_general, &far_general, &b_general);
+          const PredictionOutcome o_plain = prediction.Predict(plain, 4, &b_plain);
+          const PredictionOutcome o_general = prediction.Predict(general, 4, &b_general);
+          const std::vector<double>& y_plain = plain.store->predicted;
+          const std::vector<double>& y_general = general.store->predicted;
           const std::string what =
               fmt::format("k {} trap {} noise {} poisoned {}", k, trap, noise, poisoned);
           EXPECT_EQ(std::memcmp(y_plain.data(), y_general.data(), 8 * x.size()), 0) << what;
-          EXPECT_EQ(move_plain, move_general) << what;
-          EXPECT_EQ(far_plain, far_general) << what;
-          EXPECT_EQ(bad_plain, bad_general) << what;
-          EXPECT_EQ(bad_plain, poisoned ? std::min(id[300], id[700]) : -1) << what;
+          EXPECT_EQ(o_plain.max_move, o_general.max_move) << what;
+          EXPECT_EQ(o_plain.max_coordinate, o_general.max_coordinate) << what;
+          EXPECT_EQ(o_plain.bad_id, o_general.bad_id) << what;
+          EXPECT_EQ(o_plain.bad_id, poisoned ? std::min(id[300], id[700]) : -1) << what;
           if (poisoned) continue;
           double worst2 = 0.0;
           std::int64_t count = 0;
@@ -163,28 +176,20 @@ TEST(ParticleSweep, PairThenWallWithPathBound) {
   m.radius = {1.0, 1.0};
   m.walls.push_back(Wall{{0.0, 1.0, 0.0}, 0.0});  // y ≥ r
   ProjectionSweep sweep(m, true);
-  const PeriodicBox box = PeriodicBox::Of(m);
-  double x[4] = {0.0, 0.5, 0.0, 2.0};  // distance 1.5, overlap 0.5; particle 0 is 0.5 deep
-  CellList cells;
-  cells.Fit(x, 2, box, 3.0, 0, 1);
-  const int id[2] = {0, 1};
-  cells.Sort(x, id, 2, 1);
-  NeighbourList list;
-  list.Configure(box, 2, 1.0, 1e300, 0.0);
-  list.Build(x, m.radius.data(), cells, cells.permutation().data(), true, false, 0, 1);
-  ASSERT_EQ(list.pairs(), 1);
-  Colouring colouring;
-  colouring.Assign(cells);
+  StepContext c;
+  // distance 1.5, overlap 0.5; particle 0 is 0.5 deep
+  testing::LexicographicContext(m, {0.0, 0.5, 0.0, 2.0}, 3.0, 1.0, 0, &c);
+  ASSERT_EQ(c.list.pairs(), 1);
   std::int64_t projections = 0;
-  const double path =
-      sweep.Sweep(x, m.radius.data(), list, colouring, cells, true, 1, &projections);
+  const double path = sweep.Sweep(c, &projections);
+  const std::vector<double>& x = c.store->predicted;
   EXPECT_NEAR(x[1], 1.0, 1e-15);  // 0.25 down by the pair, then 0.75 up by the wall
   EXPECT_NEAR(x[3], 2.25, 1e-15);
   EXPECT_EQ(x[0], 0.0);
   EXPECT_EQ(x[2], 0.0);
   EXPECT_EQ(projections, 2);
   EXPECT_NEAR(path, 1.0, 1e-15);
-  EXPECT_EQ(sweep.MaxFixedViolation(x, m.radius.data()), 0.0);
+  EXPECT_EQ(sweep.MaxFixedViolation(x.data(), m.radius.data()), 0.0);
 }
 
 }  // namespace

@@ -37,6 +37,24 @@ def test_engine_matches_a_second_engine_and_run_matches_step():
     assert summary.termination == "completed"
 
 
+def test_an_observer_returning_false_stops_the_run_and_the_engine_goes_on():
+    a, _ = disks(h=1e-3, seed=5)
+    b, _ = disks(h=1e-3, seed=5)
+    seen = []
+
+    def observer(engine):
+        seen.append(engine.step_count)
+        return engine.step_count < 6  # False at step 6 stops; True (and None) go on
+
+    summary = a.run(0.02, observer=observer)
+    assert summary.termination == "interrupted" and not summary.ok
+    assert summary.message == "stopped by the observer"
+    assert seen == list(range(7)) and a.step_count == 6 and summary.steps == 6
+    assert a.run(0.014).ok and a.step_count == 20  # usable: it goes on from step 6
+    assert b.run(0.02, observer=lambda engine: None).ok
+    assert np.array_equal(a.positions(), b.positions())
+
+
 def test_views_are_zero_copy_and_agree_with_the_copy():
     e, _ = disks()
     e.step(5)

@@ -176,6 +176,8 @@ ParticleRunResult RunParticles(const ParticleScenario& scenario, ParticleSetup& 
   if (checkpoints.resumed) recorder.Resume(*checkpoints.resumed);
   ProgressBar progress("run", setup.steps);
   const StopScope stop_on_signal;  // SIGINT/SIGTERM: stop after the current step
+  // Returns false (the run stops after this step) once a signal asked to stop, unless the run
+  // is complete.
   const auto observe = [&](const particles::Engine& e) {
     recorder.Observe(e);
     progress.Update(e.step());
@@ -183,14 +185,12 @@ ParticleRunResult RunParticles(const ParticleScenario& scenario, ParticleSetup& 
     if (checkpoints.every > 0 && step > 0 && step < setup.steps && step % checkpoints.every == 0) {
       WriteRunCheckpoint(checkpoints, e, recorder.State());
     }
-    if (step < setup.steps) ThrowIfStopRequested();
+    return step >= setup.steps || !StopRequested();
   };
-  particles::EngineSummary summary;
-  try {
-    summary = checkpoints.resumed ? engine.Continue(scenario.T, observe)
-                                  : engine.Run(scenario.T, observe);
-  } catch (const StopAfterStep&) {
-    summary = InterruptedSummary(engine.summary(), engine.step(), engine.time());
+  particles::EngineSummary summary =
+      checkpoints.resumed ? engine.Continue(scenario.T, observe) : engine.Run(scenario.T, observe);
+  if (summary.termination == Termination::kInterrupted) {
+    summary = InterruptedSummary(std::move(summary), engine.step(), engine.time());
   }
   progress.Finish();
   return recorder.Finish(summary, engine.time(), engine.Positions());

@@ -59,6 +59,7 @@
 #include "moreau/common/field_list.h"
 #include "moreau/common/termination.h"
 #include "moreau/particles/forces.h"
+#include "moreau/particles/initial_state.h"  // CheckInitialState, RandomSequentialAddition
 #include "moreau/particles/model.h"
 
 namespace moreau::particles {
@@ -151,10 +152,11 @@ struct EngineSummary {
 class Engine;
 struct EngineState;  // checkpoint.h
 
-// Called with the engine at step 0 (the initial state) and after every step taken. It reads
-// what it needs: step(), time(), Stored() (no copy) or CopyPositions / Positions (id order, a
-// copy of k·N values), so an observer that needs no positions costs nothing per step.
-using EngineObserver = std::function<void(const Engine& engine)>;
+// Called with the engine at step 0 (the initial state) and after every step taken; returns
+// whether to continue (false stops the run: kInterrupted). It reads what it needs: step(),
+// time(), Stored() (no copy) or CopyPositions / Positions (id order, a copy of k·N values), so an
+// observer that needs no positions costs nothing per step.
+using EngineObserver = std::function<bool(const Engine& engine)>;
 
 // The engine's positions as stored, without a copy: slot s holds particle ids[s] at
 // positions[k·s … k·s + k − 1]. The slots are in the engine's storage order (which changes at
@@ -202,7 +204,9 @@ class Engine {
   // Runs n = T/h steps (T/h a whole number to within 1e−9, else InputError), calling the
   // observer, if given, at step 0 and after every step. Stops early at a numerical failure (a
   // non-finite position, or Step's NumericalError) with termination kNonFinite, the message
-  // naming the step, and the last good state kept; never throws for it.
+  // naming the step, and the last good state kept; never throws for it. Stops when the observer
+  // returns false, right after the call, with termination kInterrupted and the message "stopped
+  // by the observer"; the engine stays usable (Step, Run and Continue go on from its step).
   EngineSummary Run(double T, const EngineObserver& observer = {});
   // Like Run, from the current step up to step T/h, calling the observer after every step only
   // (a resumed run: the current state was observed before the checkpoint).
@@ -236,15 +240,22 @@ class Engine {
   double MaxPairOverlap() const;
   // The largest violation of any set (pairs, walls, obstacles) at the current positions.
   double MaxViolation() const;
-  // For every particle (id order) the number of particles it touches, ‖X_i − X_j‖ ≤
-  // factor (r_i + r_j), at the current positions; factor in [1, 1.5] (InputError otherwise: the
-  // candidate pairs cover that reach). One pass over the list.
+  // The pairs that touch at the current positions: ‖X_i − X_j‖ ≤ factor (r_i + r_j), with the
+  // minimum image on periodic axes (a pair touches across a periodic boundary as it does
+  // mid-box), as (id_i, id_j), id_i < id_j, sorted; factor in [1, 1.5] (InputError otherwise).
+  // The engine's one definition of touching: ContactCounts and the population's rules use it.
+  // Exact: one pass over the candidate pairs while they provably hold every touching pair (the
+  // list's reach, less twice the distance moved since its build, exceeds (factor − 1) 2 max r),
+  // else over the pairs of a search made for the query.
+  std::vector<std::pair<int, int>> Contacts(double factor) const;
+  // For every particle (id order) the number of particles it touches (Contacts).
   std::vector<int> ContactCounts(double factor) const;
   // The candidate pairs of the current list as (id_i, id_j), id_i < id_j, sorted.
   std::vector<std::pair<int, int>> CandidatePairs() const;
 
  private:
   EngineSummary RunTo(std::int64_t last_step, const EngineObserver& observer);
+  EngineSummary Interrupted() const;  // the summary of a run its observer stopped
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
@@ -271,14 +282,5 @@ struct FixOverlapsOptions {
 // Throws InputError for a bad model, NumericalError when max_sweeps is reached.
 int FixOverlaps(const ParticleModel& model, std::span<double> positions,
                 const FixOverlapsOptions& options = {});
-
-// A random non-overlapping state by random sequential addition with a cell grid (O(N) expected
-// for packing fractions below ~0.5 in 2D, ~0.3 in 3D): centres uniform in the box [lo + r_i,
-// hi − r_i] on non-periodic axes and [lo, hi) on periodic ones (where lo, hi are the model's
-// domain), clear of walls and obstacles. Reproducible from the seed (SplitMix64). Throws
-// InputError when a particle cannot be placed in max_attempts tries.
-std::vector<double> RandomSequentialAddition(const ParticleModel& model, const Vec3& lo,
-                                             const Vec3& hi, std::uint64_t seed,
-                                             std::int64_t max_attempts = 1000000);
 
 }  // namespace moreau::particles

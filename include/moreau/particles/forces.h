@@ -28,8 +28,7 @@
 // its first three 32-bit words make two normals by BoxMullerNormals (common/random.h: a uniform of
 // 52 bits for the radius, 32 bits for the angle, a few ulp from the exact transform; the fourth
 // word is unused). The noise of a particle depends only on (seed, id, step), never on threads,
-// storage order, batch or other particles. (Before issue 11 the words made two 53-bit uniforms
-// and libm's log, cos and sin gave the normals: noisy runs then had other bits.)
+// storage order, batch or other particles.
 #pragma once
 
 #include <array>

@@ -20,7 +20,6 @@
 
 #include <array>
 #include <cstdint>
-#include <span>
 #include <vector>
 
 namespace moreau::particles {
@@ -88,17 +87,6 @@ struct ParticleModel {
   void Validate() const;
 };
 
-// Feasibility of positions (size k·N, id order) for the model, with tolerance tol ≥ 0 on every
-// constraint (a pair may overlap by at most tol·(r_i + r_j), a particle may be inside a wall or
-// obstacle by at most tol·r_i). Throws InputError naming the first violation found, e.g.
-//   "initial state: particles 3 and 17 overlap by 0.05 (fix it with FixOverlaps / --fix-overlaps)"
-//   "initial state: particle 5 is inside walls[2] by 0.1"
-//   "initial state: particle 9 is inside spheres[0] by 0.2", "… inside segments[1] …",
-//   "initial state: position of particle 4 is not finite",
-//   "initial state: positions have 99 entries for 50 particles in 2D".
-// Uses a cell grid: O(N) for bounded density. Positions outside a periodic domain are fine
-// (they are wrapped).
-void CheckInitialState(const ParticleModel& model, std::span<const double> positions,
-                       double tol = 1e-9);
+// The feasibility check of initial positions (CheckInitialState) is in initial_state.h.
 
 }  // namespace moreau::particles

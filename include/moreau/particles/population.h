@@ -12,7 +12,8 @@
 //   removal     removed when its centre is past the exit plane, ⟨n, X_i⟩ > c (a crowd's exit);
 //   death       dies with probability 1 − exp(−δ Δt);
 //   polarity    p_i ← normalise(p_i + Δt [J (m_i − p_i) + β (v̂_i − p_i)] + √(2Δt/τ_p) P⊥ η_i),
-//               m_i the mean polarity of the agents touching i (Vicsek-like alignment),
+//               m_i the mean polarity of the agents touching i (Vicsek-like alignment;
+//               touching as Engine::Contacts says, across periodic boundaries too),
 //               v̂_i the unit displacement of i over the last rule step (alignment with the
 //               velocity), η_i ~ N(0, I) projected perpendicular to p_i (rotational diffusion,
 //               persistence time τ_p; τ_p = 0: none). Alignment reads the previous polarities
@@ -194,7 +195,7 @@ class Population {
                                const std::vector<Agent>& agents);
   std::vector<double> ActiveVelocities() const;
   void ApplyRules();
-  std::vector<double> MeanNeighbourPolarity(std::span<const double> x) const;
+  std::vector<double> MeanNeighbourPolarity() const;
   void UpdatePolarity(std::size_t i, std::span<const double> x, std::span<const double> mean,
                       Agent* agent) const;
   bool Leaves(const Agent& a, const double* xi, std::int64_t step);
