@@ -198,13 +198,16 @@ void BindStepper(py::module_& m) {
           summary = Simulate(
               *drift, *constraints, options, x0, T,
               [&](std::int64_t k, double t, ConstVectorRef xk) {
-                check.Tick(has_observer && k % every == 0, [&] { observer(k, t, View(xk)); });
+                bool go_on = true;
+                check.Tick(has_observer && k % every == 0,
+                           [&] { go_on = observer(k, t, View(xk)).ptr() != Py_False; });
+                return go_on;
               },
               &x);
         } catch (const PythonErrorPending&) {
           throw py::error_already_set();
         }
-        if (!summary.ok()) {
+        if (summary.termination == Termination::kNonFinite) {
           py::dict attributes;
           attributes["summary"] = py::cast(summary);
           attributes["state"] = py::cast(x);
@@ -216,7 +219,8 @@ void BindStepper(py::module_& m) {
       py::arg("options") = py::none(), py::arg("observer") = py::none(), py::arg("every") = 1,
       "Runs T/h steps of x' ∈ f(x) − N(S, x): (final state, summary). drift: a Drift or a "
       "callable f(x) -> array. observer(k, t, x) every `every` steps (x a read-only view, valid "
-      "during the call). Keyword arguments are StepperOptions fields. NumericalError carries "
+      "during the call; returning False stops the run, summary.termination \"interrupted\"). "
+      "Keyword arguments are StepperOptions fields. NumericalError carries "
       "the last finite state; Ctrl-C raises KeyboardInterrupt between steps.");
 }
 

@@ -154,8 +154,9 @@ SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
   const Stopwatch stopwatch;
   Vector x = x0;
   Vector last_good = x0;
-  if (observer) observer(0, 0.0, x);
-  for (std::int64_t k = 1; k <= n; ++k) {
+  bool go_on = !observer || observer(0, 0.0, x);
+  std::int64_t done = 0;  // steps taken
+  for (std::int64_t k = 1; k <= n && go_on; ++k) {
     stepper.Step(x);
     if (!AllFinite(x)) {
       summary.termination = Termination::kNonFinite;
@@ -169,8 +170,13 @@ SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
       summary.max_violation = std::max(summary.max_violation, constraints.MaxViolation(x));
     }
     summary.final_time = static_cast<double>(k) * options.h;
-    if (observer) observer(k, summary.final_time, x);
+    done = k;
+    go_on = !observer || observer(k, summary.final_time, x);
     last_good = x;
+  }
+  if (!go_on && done < n) {
+    summary.termination = Termination::kInterrupted;
+    summary.message = fmt::format("stopped by the observer after step {}", done);
   }
   summary.counters = stepper.counters();
   summary.total_seconds = stopwatch.Seconds();

@@ -62,6 +62,7 @@ SampledTrajectory ComputeReference(const StudyProblem& problem, const StepperOpt
       Simulate(*problem.drift, *constraints, options, problem.x0, problem.T,
                [&](std::int64_t k, double, ConstVectorRef x) {
                  if (k % stride == 0) reference.Append(x);
+                 return true;
                });
   if (!summary.ok()) throw NumericalError("reference solution: " + summary.message);
   return reference;
@@ -79,6 +80,7 @@ StudyRow RunStudyPoint(const StudyProblem& problem, const MethodSpec& spec, doub
       Simulate(*problem.drift, *constraints, options, problem.x0, problem.T,
                [&](std::int64_t, double t, ConstVectorRef x) {
                  error = std::max(error, (x - problem.solution(t)).norm());
+                 return true;
                });
   StudyRow row;
   row.label = spec.label;

@@ -105,6 +105,7 @@ TEST(DisksCase, PbdViolationIsBoundedByKh) {
     Simulate(*c.MakeDrift(), *constraints, o, c.InitialState(), c.T,
              [&](std::int64_t, double, ConstVectorRef x) {
                worst = std::max(worst, pc.MaxPairOverlapAllPairs(x));
+               return true;
              });
     EXPECT_LT(worst, kK * h) << "h = 2^-" << k;
     EXPECT_GT(worst, 0.0);  // contacts do happen

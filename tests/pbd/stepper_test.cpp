@@ -93,6 +93,37 @@ TEST(Stepper, NonFiniteStateStopsAndKeepsTheLastGoodState) {
   EXPECT_NE(s.message.find("step 6"), std::string::npos) << s.message;
 }
 
+TEST(Stepper, AnObserverThatReturnsFalseStopsAfterTheStepItSaw) {
+  const ConstantDrift drift(Vector::Ones(1));
+  auto sets = std::make_unique<ConstraintSetList>(1);
+  sets->Add(std::make_unique<HalfSpace>(Vector::Ones(1), -10.0));
+  StepperOptions o;
+  o.h = 0.1;
+  std::int64_t last_seen = -1;
+  Vector x;
+  const SimulationSummary s = Simulate(
+      drift, *sets, o, Vector::Zero(1), 1.0,
+      [&](std::int64_t k, double, ConstVectorRef) {
+        last_seen = k;
+        return k < 3;
+      },
+      &x);
+  EXPECT_EQ(s.termination, Termination::kInterrupted);
+  EXPECT_EQ(last_seen, 3);
+  EXPECT_NEAR(x[0], 0.3, 1e-12);  // x' = 1 from 0: three steps taken
+  EXPECT_NEAR(s.final_time, 0.3, 1e-12);
+  // Returning false at the last step is a completed run.
+  const SimulationSummary full = Simulate(
+      drift, *sets, o, Vector::Zero(1), 1.0, [](std::int64_t, double, ConstVectorRef) {
+        return false;
+      });
+  EXPECT_EQ(full.termination, Termination::kInterrupted);  // stopped at step 0
+  const SimulationSummary last = Simulate(
+      drift, *sets, o, Vector::Zero(1), 1.0,
+      [](std::int64_t k, double, ConstVectorRef) { return k < 10 ? true : false; });
+  EXPECT_TRUE(last.ok());
+}
+
 TEST(Stepper, OptionsAreValidated) {
   auto sets = TwoBalls();
   const ConstantDrift drift(Eigen::Vector2d(0.0, -1.0));

@@ -47,6 +47,7 @@ PbdRunResult RunPbdScenario(const PbdScenario& scenario) {
                                    if (k % stride == 0 || k == steps)
                                      result.frames.push_back({t, x});
                                    progress.Update(k);
+                                   return true;
                                  });
   progress.Finish();
   if (diverged_step >= 0 && result.summary.ok()) {
