@@ -9,7 +9,8 @@
 //   Rows(settings)            one row per field: key, type, default, range, unit, help.
 // A field's member is reached through an accessor: a pointer to member (&Options::h) or a generic
 // lambda `[](auto& s) -> auto& { return s.newton.armijo; }` (called with S& to read, const S& to
-// echo). Mount() reuses the table of a sub-struct (e.g. the stepper options) under a prefix.
+// echo). Mount() takes a library options struct's field list (field_list.h) under a prefix, so
+// its ranges, help and checks are the library's, or reuses another table of the command's.
 #pragma once
 
 #include <array>
@@ -153,25 +154,6 @@ class FieldTable {
                   v = static_cast<T>(read);
                 },
                 Echoer(ref)});
-  }
-
-  // A thread count ≥ 0 (0: automatic). More than the machine's hardware threads is capped to
-  // them, with a warning line on stderr (oversubscribed threads only wait for each other).
-  template <class A>
-  FieldTable& Threads(std::string key, A ref, std::string help) {
-    Integer(std::move(key), ref, Range::NonNegative(), std::move(help));
-    fields_.back().read = [ref, read = fields_.back().read](Scenario& sc, S& s,
-                                                            const std::string& k) {
-      read(sc, s, k);
-      auto& v = std::invoke(ref, s);
-      const auto hardware = static_cast<std::int64_t>(std::thread::hardware_concurrency());
-      if (hardware > 0 && static_cast<std::int64_t>(v) > hardware) {
-        sc.Warn(k, fmt::format("{} threads is more than the {} hardware threads; using {}", v,
-                               hardware, hardware));
-        v = static_cast<std::remove_reference_t<decltype(v)>>(hardware);
-      }
-    };
-    return *this;
   }
 
   template <class A>

@@ -176,8 +176,9 @@ TEST(C3dRead, FileWithoutParametersIsReadFromItsHeader) {
     for (int m = 0; m < r.markers(); ++m) {
       const char* at =
           bytes.data() + data_start + static_cast<std::size_t>(f * r.markers() + m) * point_bytes;
-      const Eigen::Vector3d stored(LittleEndianFloat(at), LittleEndianFloat(at + 4),
-                                   LittleEndianFloat(at + 8));
+      const Eigen::Vector3d stored(static_cast<double>(LittleEndianFloat(at)),
+                                   static_cast<double>(LittleEndianFloat(at + 4)),
+                                   static_cast<double>(LittleEndianFloat(at + 8)));
       const bool absent = LittleEndianFloat(at + 12) < 0.0f || stored.isZero(0.0);
       ASSERT_EQ(r.observed(f, m), !absent) << "frame " << f << " marker " << m;
       missing += absent ? 1 : 0;
