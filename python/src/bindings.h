@@ -113,10 +113,9 @@ py::class_<T> BindOptionsClass(py::handle scope, const char* name, const std::st
   c.def(py::init(&FromKwargs<T>));
   for (const auto& f : T::Fields().fields()) {
     if (f.key.find('.') != std::string::npos) continue;
-    const std::string key = f.key;
     c.def_property(
-        key.c_str(), [key](const T& o) { return JsonToPython(T::Fields().Find(key)->get(o)); },
-        [key](T& o, const py::object& v) { T::Fields().Set(o, key, PythonToJson(v)); },
+        f.key.c_str(), [get = f.get](const T& o) { return JsonToPython(get(o)); },
+        [key = f.key](T& o, const py::object& v) { T::Fields().Set(o, key, PythonToJson(v)); },
         f.help.c_str());
   }
   c.def(

@@ -101,24 +101,6 @@ void PopulationRules::Validate() const {
   }
 }
 
-void PopulationRules::Set(std::string_view key, const nlohmann::json& value) {
-  if (!key.starts_with("types.")) return Fields().Set(*this, key, value);
-  const std::string_view rest = key.substr(6);
-  const std::size_t dot = rest.find('.');
-  const std::string_view name = rest.substr(0, dot);
-  for (AgentType& type : types) {
-    if (type.name != name) continue;
-    try {
-      AgentType::Fields().Set(type, dot == std::string_view::npos ? "" : rest.substr(dot + 1),
-                              value);
-    } catch (const InputError& e) {
-      throw e.Under("types." + std::string(name));
-    }
-    return;
-  }
-  throw InputError(std::string(key), fmt::format("unknown type '{}'", name));
-}
-
 int PopulationRules::TypeIndex(std::string_view name) const {
   std::string known;
   for (std::size_t t = 0; t < types.size(); ++t) {

@@ -69,7 +69,7 @@ class FieldList {
  public:
   struct Field {
     std::string key;
-    std::string type;   // "number", "integer", "boolean", "string", "one of a, b", "strings"
+    std::string type;   // "number", "integer", "boolean", "string", "one of a, b", "numbers", …
     std::string range;  // Range::Describe(), or "" when any value of the type is allowed
     std::string unit;   // "s", "m", "frames", … or ""
     std::string help;
@@ -152,56 +152,18 @@ class FieldList {
                 [ref, violation](const S& s) { return violation(std::invoke(ref, s)); }});
   }
 
-  // A list of strings (TOML ["a", "b"]); `allowed` non-empty: each one of those; `min_size`: at
-  // least that many entries.
-  template <class A>
-  FieldList& Texts(std::string key, A ref, std::size_t min_size, std::string help,
-                   std::vector<std::string> allowed = {}) {
-    auto violation = [allowed, min_size](const std::vector<std::string>& v) -> std::string {
-      if (v.size() < min_size) return fmt::format("needs at least {} entries", min_size);
-      for (const std::string& item : v) {
-        if (!allowed.empty() && !OneOf(allowed, item).empty()) return OneOf(allowed, item);
-      }
-      return "";
-    };
-    return Add({std::move(key),
-                allowed.empty() ? "strings" : "strings, each one of " + Joined(allowed), "", "",
-                std::move(help), Getter(ref),
-                [ref, violation](S& s, const nlohmann::json& j) -> std::string {
-                  if (!j.is_array()) return ExpectedType("an array of strings", j);
-                  std::vector<std::string> v;
-                  for (const nlohmann::json& item : j) {
-                    if (!item.is_string()) return ExpectedType("an array of strings", j);
-                    v.push_back(item.get<std::string>());
-                  }
-                  std::string why = violation(v);
-                  if (why.empty()) std::invoke(ref, s) = std::move(v);
-                  return why;
-                },
-                [ref, violation](const S& s) { return violation(std::invoke(ref, s)); }});
-  }
-
-  // An enum written by name: `names` is the enum's name table (enum_names.h).
+  // An enum written by name: `names` is the enum's name table (pairs of value and name).
   template <class A, class Names>
   FieldList& Choice(std::string key, A ref, const Names& names, std::string help) {
-    std::vector<std::string> allowed;
-    for (const auto& entry : names) allowed.emplace_back(entry.second);
+    const std::vector<std::string> allowed = NamesOf(names);
     return Add({std::move(key), "one of " + Joined(allowed), "", "", std::move(help),
-                [ref, names](const S& s) {
-                  for (const auto& entry : names) {
-                    if (entry.first == std::invoke(ref, s)) return nlohmann::json(entry.second);
-                  }
-                  return nlohmann::json();
-                },
+                [ref, names](const S& s) { return NameOf(names, std::invoke(ref, s)); },
                 [ref, names, allowed](S& s, const nlohmann::json& j) -> std::string {
                   if (!j.is_string()) return ExpectedType("a string", j);
-                  for (const auto& entry : names) {
-                    if (entry.second == j.get<std::string>()) {
-                      std::invoke(ref, s) = entry.first;
-                      return "";
-                    }
+                  if (!ValueOf(names, j.get<std::string>(), &std::invoke(ref, s))) {
+                    return OneOf(allowed, j.get<std::string>());
                   }
-                  return OneOf(allowed, j.get<std::string>());
+                  return "";
                 },
                 nullptr});
   }
@@ -239,40 +201,30 @@ class FieldList {
   FieldList& Choices(std::string key, A ref, const Names& names, std::size_t min_size,
                      std::string help) {
     using Enum = typename std::remove_cvref_t<std::invoke_result_t<A, S&>>::value_type;
-    std::vector<std::string> allowed;
-    for (const auto& entry : names) allowed.emplace_back(entry.second);
-    auto name_of = [names](Enum v) {
-      for (const auto& entry : names) {
-        if (entry.first == v) return std::string(entry.second);
-      }
-      return std::string();
+    const std::vector<std::string> allowed = NamesOf(names);
+    auto too_few = [min_size](std::size_t size) {
+      return size < min_size ? fmt::format("needs at least {} entries", min_size) : std::string();
     };
     return Add({std::move(key), "names, each one of " + Joined(allowed), "", "", std::move(help),
-                [ref, name_of](const S& s) {
+                [ref, names](const S& s) {
                   nlohmann::json j = nlohmann::json::array();
-                  for (Enum v : std::invoke(ref, s)) j.push_back(name_of(v));
+                  for (Enum v : std::invoke(ref, s)) j.push_back(NameOf(names, v));
                   return j;
                 },
-                [ref, names, allowed, min_size](S& s, const nlohmann::json& j) -> std::string {
+                [ref, names, allowed, too_few](S& s, const nlohmann::json& j) -> std::string {
                   if (!j.is_array()) return ExpectedType("an array of names", j);
                   std::vector<Enum> v;
                   for (const nlohmann::json& item : j) {
                     if (!item.is_string()) return ExpectedType("an array of names", j);
-                    const std::size_t before = v.size();
-                    for (const auto& entry : names) {
-                      if (entry.second == item.get<std::string>()) v.push_back(entry.first);
+                    if (!ValueOf(names, item.get<std::string>(), &v.emplace_back())) {
+                      return OneOf(allowed, item.get<std::string>());
                     }
-                    if (v.size() == before) return OneOf(allowed, item.get<std::string>());
                   }
-                  if (v.size() < min_size) return fmt::format("needs at least {} entries", min_size);
-                  std::invoke(ref, s) = std::move(v);
-                  return "";
+                  std::string why = too_few(v.size());
+                  if (why.empty()) std::invoke(ref, s) = std::move(v);
+                  return why;
                 },
-                [ref, min_size](const S& s) {
-                  return std::invoke(ref, s).size() < min_size
-                             ? fmt::format("needs at least {} entries", min_size)
-                             : std::string();
-                }});
+                [ref, too_few](const S& s) { return too_few(std::invoke(ref, s).size()); }});
   }
 
   // A rule over several fields, run by Validate() after the fields' own ranges.
@@ -358,6 +310,35 @@ class FieldList {
   template <class A>
   static std::function<nlohmann::json(const S&)> Getter(A ref) {
     return [ref](const S& s) { return nlohmann::json(std::invoke(ref, s)); };
+  }
+
+  // The names of a name table, in its order.
+  template <class Names>
+  static std::vector<std::string> NamesOf(const Names& names) {
+    std::vector<std::string> out;
+    for (const auto& entry : names) out.emplace_back(entry.second);
+    return out;
+  }
+
+  // The name of `value` in the table (null JSON when it has none).
+  template <class Names, class Enum>
+  static nlohmann::json NameOf(const Names& names, Enum value) {
+    for (const auto& entry : names) {
+      if (entry.first == value) return nlohmann::json(entry.second);
+    }
+    return nlohmann::json();
+  }
+
+  // Sets *value to the table's value named `name`; false when no entry has that name.
+  template <class Names, class Enum>
+  static bool ValueOf(const Names& names, const std::string& name, Enum* value) {
+    for (const auto& entry : names) {
+      if (entry.second == name) {
+        *value = entry.first;
+        return true;
+      }
+    }
+    return false;
   }
 
   static std::string Joined(const std::vector<std::string>& items) {

@@ -108,9 +108,6 @@ struct PopulationRules {
   // Throws InputError(key, reason) naming the field: ("types.cell.growth_rate", "must be ≥ 0
   // (got -1)"), ("types", "the name 'cell' is used twice"), ("interval", "must be ≥ 1 (got 0)"), …
   void Validate() const;
-  // Sets types.<name>.<key> (AgentType::Fields()) or a scalar field from JSON; InputError(key,
-  // reason) for an unknown type or key, a wrong type or a value out of range.
-  void Set(std::string_view key, const nlohmann::json& value);
   // The index of the type called `name`; InputError "unknown type 'x' (types: a, b)".
   int TypeIndex(std::string_view name) const;
   nlohmann::json ToJson() const;
