@@ -76,6 +76,7 @@ def test_every_key_is_accepted_and_checked_alike(tmp_path):
             r = subprocess.run([CLI, *map(str, command), "--set", f"{key}={literal}", "--out",
                                 tmp_path / "out"], capture_output=True, text=True, timeout=60)
             assert r.returncode == 2, (key, r.stderr)
+            assert r.stderr.count("\n") == 1, r.stderr  # one line
             assert f": {key}: {reason}\n" in r.stderr, (key, reason, r.stderr)
             checked += 1
     assert checked > 60
