@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "particles/block_rows.h"
 #include "particles/list_fill.h"
 #include "particles/parallel.h"
 #include "particles/step_context.h"
@@ -115,206 +116,19 @@ void NeighbourList::BuildRows(const double* x, const double* radius, const CellL
   Concatenate(x, K, P, chunks, threads);
 }
 
-using list_fill::CellCandidates;
-using list_fill::CellRanges;
-using list_fill::kSlack;
-using list_fill::MinimumImage;
-using list_fill::RowWriter;
-
 // The rows of the slots of blocks [first, last) into chunk q's buffers; returns the entries used.
 // The buffers only grow (their entries past the rows are scratch).
 template <int K, bool P, bool U>
 std::size_t NeighbourList::FillBlocks(const double* x, const double* radius, const CellList& cells,
                                       std::int64_t first, std::int64_t last, int q) {
-  std::vector<int>& buf = chunk_nbr_[static_cast<std::size_t>(q)];
-  std::vector<std::uint8_t>& img = chunk_image_[static_cast<std::size_t>(q)];
   const double reach = (uniform_radius_ + uniform_radius_) + extra();
-  const RowWriter<K, P, U> writer{x, radius, extra(), &box_, row_start_.data() + 1, reach * reach};
-  const std::int32_t* start = cells.cell_starts();
-  CellRanges run;
-  std::size_t used = 0;
-  std::int64_t active = 0;  // non-empty rows
-  auto reserve = [&](std::size_t most) {
-    if (buf.size() < used + most) [[unlikely]] {
-      buf.resize(2 * (used + most));
-      if constexpr (P) img.resize(buf.size());
-    }
-  };
-  // A row of `found` entries written at buf[used]: counted, and the next row starts after it.
-  auto keep = [&](int found) {
-    used += static_cast<std::size_t>(found);
-    active += found > 0 ? 1 : 0;
-  };
-  const std::int32_t* rank_of_slot = cells.sorted_ranks();
-  // The rows of the slots of the cell of rank r (with all its neighbours in its block: inside).
-  auto cell = [&](std::int64_t r, bool inside, const int* w) {
-    const int b = start[r], e = start[r + 1];
-    if (b == e) return;
-    CellCandidates<K>(cells, x + static_cast<std::ptrdiff_t>(K) * b, r, b, inside, w, &run);
-    reserve(static_cast<std::size_t>(run.most) * static_cast<std::size_t>(e - b) + kSlack);
-    for (int s = b; s < e; ++s) {
-      keep(writer.Row(s, run, n_, buf.data() + used, P ? img.data() + used : nullptr));
-    }
-  };
-  // The slots of the cells r + 1 … r + wx − 2 of one block row, consecutive: each slot's
-  // candidates are [s + 1, start[c + 2]) and (Above) the three cells at rank offset d − 1 … d + 1
-  // (the row above: d = wx inside the block; the first row of the block above, at a block's top),
-  // c being its cell's rank (from the sort): no branch per cell, empty or not. Every candidate lies
-  // in [s + 1, start[r + wx]) or [start[r + d], start[r + wx + d]): one reservation for the row,
-  // and no window reaches past slot n − 1 when both ends + 4 ≤ n (the windows are at most 4 wide).
-  auto row = [&](std::int64_t r, std::int64_t wx, auto above, std::int64_t d) {
-    const int sb = start[r + 1], se = start[r + wx - 1];
-    std::size_t span = static_cast<std::size_t>(start[r + wx] - sb);
-    int reach_end = start[r + wx];
-    if constexpr (above()) {
-      span += static_cast<std::size_t>(start[r + wx + d] - start[r + d]);
-      reach_end = std::max(reach_end, start[r + wx + d]);
-    }
-    reserve(static_cast<std::size_t>(se - sb) * span + kSlack);
-    auto slots = [&](auto checked) {
-      // Local copies of the captured state: the row writer's vector stores may alias any memory
-      // for the compiler, which would otherwise reload and store it around every store.
-      int* const out = buf.data();
-      std::uint8_t* const out_img = P ? img.data() : nullptr;
-      const std::int32_t* const st = start;
-      const std::int32_t* const rk = rank_of_slot;
-      const RowWriter<K, P, U> w = writer;
-      const int n = n_;
-      std::size_t at = used;
-      std::int64_t nonempty = active;
-      for (int s = sb; s < se; ++s) {
-        const std::int64_t c = rk[s];
-        const int own = st[c + 2] - s - 1;
-        int found;
-        if constexpr (above()) {
-          const int lo = st[c + d - 1], hi = st[c + d + 2];
-          found = w.template Runs<checked(), 2, 4>(s, {s + 1, lo}, {own, hi - lo}, n, out + at,
-                                                   P ? out_img + at : nullptr);
-        } else {
-          found = w.template Runs<checked(), 2>(s, {s + 1}, {own}, n, out + at,
-                                                P ? out_img + at : nullptr);
-        }
-        at += static_cast<std::size_t>(found);
-        nonempty += found > 0 ? 1 : 0;
-      }
-      used = at;
-      active = nonempty;
-    };
-    if (reach_end + 4 <= n_) {
-      slots(std::false_type());
-    } else {
-      slots(std::true_type());
-    }
-  };
-  for (std::int64_t blk = first; blk < last; ++blk) {
-    int origin[3], w[3];
-    cells.BlockShape(blk, origin, w);
-    const std::int64_t wx = w[0];
-    std::int64_t r = cells.block_cell_begin(blk);
-    // 2D without periodic axes, a block of at least 3 × 3 cells: every cell but the four corners
-    // takes its candidates at rank offsets fixed for its row or column. Morton order is monotone
-    // in each coordinate, so the blocks above and to the right rank after this one (their cells'
-    // slots are candidates) and those below and to the left before it (checked: else the cells
-    // go one by one). Blocks in one block row have the same height, in one column the same width.
-    const std::int64_t above_block = K == 2 && !P ? cells.AdjacentBlock(blk, 1, 1) : -1;
-    const std::int64_t right_block = K == 2 && !P ? cells.AdjacentBlock(blk, 0, 1) : -1;
-    if (K == 2 && !P && w[0] >= 3 && w[1] >= 3 && cells.AdjacentBlock(blk, 1, -1) < blk &&
-        cells.AdjacentBlock(blk, 0, -1) < blk && (above_block < 0 || above_block > blk) &&
-        (right_block < 0 || right_block > blk)) {
-      const std::int64_t wy = w[1];
-      // At the top, the row above is the first of the block above: offset d_above.
-      const std::int64_t d_above =
-          above_block < 0 ? 0 : cells.block_cell_begin(above_block) - r - (wy - 1) * wx;
-      std::int64_t right_begin = 0, right_width = 0;
-      if (right_block >= 0) {
-        int o[3], rw[3];
-        cells.BlockShape(right_block, o, rw);
-        right_begin = cells.block_cell_begin(right_block);
-        right_width = rw[0];
-      }
-      // The cell of rank c in the first (left) or last column, on row ly (not the first or last
-      // row): its own runs, and on the right the block to the right's cells on rows ly − 1 …
-      // ly + 1 (VisitPartners' order: row by row, left to right).
-      auto column = [&](std::int64_t c, std::int64_t ly, bool left) {
-        const bool side = !left && right_block >= 0;
-        auto side_cell = [&](std::int64_t y) { return right_begin + y * right_width; };
-        if (side) {
-          // The block to the right lies far from this row in memory: its offsets are fetched 8
-          // rows ahead and its positions 3 rows ahead (the misses otherwise dominate).
-          __builtin_prefetch(start + side_cell(std::min(ly + 8, wy - 1)));
-          __builtin_prefetch(x + static_cast<std::ptrdiff_t>(K) *
-                                     start[side_cell(std::min(ly + 3, wy - 1))]);
-        }
-        const int b = start[c], e = start[c + 1];
-        if (b == e) return;
-        // Own cell (and the next on the left), then the row above's two cells.
-        const std::int64_t own_end = left ? c + 2 : c + 1;
-        const int ab = start[left ? c + wx : c + wx - 1], ae = start[c + wx + (left ? 2 : 1)];
-        int lo[3] = {0, 0, 0}, len[3] = {0, 0, 0};
-        if (side) {
-          for (int j = 0; j < 3; ++j) {
-            lo[j] = start[side_cell(ly - 1 + j)];
-            len[j] = start[side_cell(ly - 1 + j) + 1] - lo[j];
-          }
-        }
-        reserve(
-            static_cast<std::size_t>(e - b) *
-                static_cast<std::size_t>(start[own_end] - b + ae - ab + len[0] + len[1] + len[2]) +
-            kSlack);
-        int* out = buf.data();
-        for (int s = b; s < e; ++s) {
-          const int own = start[own_end] - s - 1;
-          std::uint8_t* out_img = P ? img.data() + used : nullptr;
-          const int found =
-              side ? writer.template Runs<true, 2, 2, 2, 4, 2>(
-                         s, {lo[0], s + 1, lo[1], ab, lo[2]},
-                         {len[0], own, len[1], ae - ab, len[2]}, n_, out + used, out_img)
-                   : writer.template Runs<true, 2, 4>(s, {s + 1, ab}, {own, ae - ab}, n_,
-                                                      out + used, out_img);
-          keep(found);
-        }
-      };
-      for (std::int64_t ly = 0; ly < wy; ++ly, r += wx) {
-        const bool edge = ly == 0 || ly == wy - 1;
-        if (edge) {
-          cell(r, false, w);
-        } else {
-          column(r, ly, true);
-        }
-        if (ly < wy - 1) {
-          row(r, wx, std::true_type(), wx);
-        } else if (above_block >= 0) {
-          row(r, wx, std::true_type(), d_above);
-        } else {
-          row(r, wx, std::false_type(), 0);
-        }
-        if (edge) {
-          cell(r + wx - 1, false, w);
-        } else {
-          column(r + wx - 1, ly, false);
-        }
-      }
-      continue;
-    }
-    for (int lz = 0; lz < w[2]; ++lz) {
-      const bool plane_inside = K < 3 || (lz >= 1 && lz + 2 <= w[2]);
-      for (int ly = 0; ly < w[1]; ++ly) {
-        const bool row_inside = plane_inside && (K < 2 || (ly >= 1 && ly + 2 <= w[1]));
-        if (K == 2 && row_inside && wx >= 3) {
-          cell(r, false, w);
-          row(r, wx, std::true_type(), wx);
-          cell(r + wx - 1, false, w);
-          r += wx;
-          continue;
-        }
-        for (int lx = 0; lx < w[0]; ++lx, ++r) {
-          cell(r, row_inside && lx >= 1 && lx + 2 <= w[0], w);
-        }
-      }
-    }
-  }
-  chunk_active_[static_cast<std::size_t>(q)] = active;
-  return used;
+  const list_fill::RowWriter<K, P, U> writer{
+      x, radius, extra(), &box_, row_start_.data() + 1, reach * reach};
+  list_fill::BlockRows<K, P, U> rows(cells, x, writer, n_, &chunk_nbr_[static_cast<std::size_t>(q)],
+                                     &chunk_image_[static_cast<std::size_t>(q)]);
+  for (std::int64_t blk = first; blk < last; ++blk) rows.Block(blk);
+  chunk_active_[static_cast<std::size_t>(q)] = rows.active();
+  return rows.used();
 }
 
 // Storage in cell order: every slot of a cell has the same candidates (CellCandidates, the slot

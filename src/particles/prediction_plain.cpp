@@ -14,6 +14,113 @@
 
 namespace moreau::particles::internal {
 
+namespace {
+
+// A batch with a row that is not finite: its worst move and extent over the finite rows only (as
+// PredictImpl), and the smallest id of a row that is not.
+template <int K>
+std::int64_t RescanFinite(const double* x, const double* y, const int* id, int begin, int end,
+                          double* worst, double* extent) {
+  std::int64_t bad = std::numeric_limits<std::int64_t>::max();
+  *worst = *extent = 0.0;
+  for (int s = begin; s < end; ++s) {
+    double d2 = 0.0, far = 0.0;
+    bool row_finite = true;
+    for (int a = 0; a < K; ++a) {
+      const double ya = y[K * s + a], dd = ya - x[K * s + a];
+      row_finite = row_finite && std::isfinite(ya);
+      d2 += dd * dd;
+      far = std::max(far, std::abs(ya));
+    }
+    if (!row_finite) {
+      bad = std::min<std::int64_t>(bad, id[s]);
+    } else {
+      *worst = std::max(*worst, d2);
+      *extent = std::max(*extent, far);
+    }
+  }
+  return bad;
+}
+
+#if defined(__SSE2__)
+// The constants of the plain prediction: F = −γ (x − c), y = x + h F (+ σ ξ), reach² of the bound.
+struct PlainConstants {
+  double g, h, sigma, reach2;
+  double c[2];
+};
+
+// The 2D vector path's running maxima, lane by lane: ‖Y − X‖², |Y| and ‖Y − R‖².
+struct Maxima2 {
+  __m128d worst = _mm_setzero_pd(), extent = _mm_setzero_pd(), worst2 = _mm_setzero_pd();
+  // Folded into the scalar maxima.
+  void Fold(double* w, double* e, double* w2) const {
+    double lanes[2];
+    _mm_storeu_pd(lanes, worst);
+    *w = std::max({*w, lanes[0], lanes[1]});
+    _mm_storeu_pd(lanes, extent);
+    *e = std::max({*e, lanes[0], lanes[1]});
+    _mm_storeu_pd(lanes, worst2);
+    *w2 = std::max({*w2, lanes[0], lanes[1]});
+  }
+};
+
+// In 2D a particle is one SSE2 vector: the scalar loop's operations lane by lane (no fused
+// multiply-add in either), so the same bits; two particles a time give their ‖·‖² as one vector
+// (each the scalar sum dd₀² + dd₁²). Maxima are taken as max(new, kept), which keeps `kept` when
+// new is NaN, as std::max(kept, new) does. The slots [begin, end) two at a time; returns the first
+// slot left for the scalar loop.
+template <bool Noise, bool Trap, bool Bound>
+[[gnu::always_inline]] inline int PredictPairs2(const PlainConstants& k,
+                                                const double* __restrict xs,
+                                                const double* __restrict rs, double* __restrict ys,
+                                                const double* xi, int begin, int end, Maxima2* m,
+                                                std::int64_t* far, bool* nonfinite) {
+  const __m128d neg_g = _mm_set1_pd(-k.g), hv = _mm_set1_pd(k.h), sv = _mm_set1_pd(k.sigma);
+  const __m128d cv = _mm_set_pd(k.c[1], k.c[0]),
+                big = _mm_set1_pd(std::numeric_limits<double>::max());
+  const __m128d sign = _mm_set1_pd(-0.0), r2v = _mm_set1_pd(k.reach2);
+  int flags = 0;
+  // Y of slot s stored; returns (Y − X)² and sets *e2 to (Y − R)² (Bound), *abs to |Y|.
+  auto one = [&](int s, __m128d* e2, __m128d* abs) {
+    const __m128d xv = _mm_loadu_pd(xs + 2 * s);
+    const __m128d v = Trap ? _mm_mul_pd(neg_g, _mm_sub_pd(xv, cv)) : _mm_setzero_pd();
+    __m128d yv = _mm_add_pd(xv, _mm_mul_pd(hv, v));
+    if constexpr (Noise) {
+      const int i = s - begin;
+      yv = _mm_add_pd(yv, _mm_mul_pd(sv, _mm_set_pd(xi[kNoiseBatch + i], xi[i])));
+    }
+    _mm_storeu_pd(ys + 2 * s, yv);
+    *abs = _mm_andnot_pd(sign, yv);
+    flags |= _mm_movemask_pd(_mm_cmpnle_pd(*abs, big));
+    if constexpr (Bound) {
+      const __m128d e = _mm_sub_pd(yv, _mm_loadu_pd(rs + 2 * s));
+      *e2 = _mm_mul_pd(e, e);
+    }
+    const __m128d d = _mm_sub_pd(yv, xv);
+    return _mm_mul_pd(d, d);
+  };
+  int first = begin;
+  for (; first + 2 <= end; first += 2) {
+    __m128d e2a = _mm_setzero_pd(), e2b = _mm_setzero_pd(), abs_a, abs_b;
+    const __m128d d2a = one(first, &e2a, &abs_a);
+    const __m128d d2b = one(first + 1, &e2b, &abs_b);
+    const __m128d d2 = _mm_add_pd(_mm_unpacklo_pd(d2a, d2b), _mm_unpackhi_pd(d2a, d2b));
+    m->worst = _mm_max_pd(d2, m->worst);
+    m->extent = _mm_max_pd(_mm_max_pd(abs_a, abs_b), m->extent);
+    if constexpr (Bound) {
+      const __m128d e2 = _mm_add_pd(_mm_unpacklo_pd(e2a, e2b), _mm_unpackhi_pd(e2a, e2b));
+      m->worst2 = _mm_max_pd(e2, m->worst2);
+      const int over = _mm_movemask_pd(_mm_cmpgt_pd(e2, r2v));
+      *far += (over & 1) + (over >> 1);
+    }
+  }
+  *nonfinite = flags != 0;
+  return first;
+}
+#endif
+
+}  // namespace
+
 bool Prediction::Plain(const double* active) const {
   const DriftParameters& d = parameters_;
   bool wraps = false;
@@ -76,53 +183,11 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
     };
     int first = begin;
 #if defined(__SSE2__)
-    // In 2D a particle is one SSE2 vector: the same operations lane by lane (no fused multiply-add
-    // in either), so the same bits; two particles a time give their ‖·‖² as one vector (each the
-    // scalar sum dd₀² + dd₁²). Maxima are taken as max(new, kept), which keeps `kept` when new is
-    // NaN, as std::max(kept, new) does.
-    [[maybe_unused]] __m128d vec_worst = _mm_setzero_pd(), vec_extent = _mm_setzero_pd(),
-                             vec_worst2 = _mm_setzero_pd();
+    [[maybe_unused]] Maxima2 vec;
     if constexpr (K == 2) {
-      const __m128d neg_g = _mm_set1_pd(-g), hv = _mm_set1_pd(step_h),
-                    sv = _mm_set1_pd(noise_scale);
-      const __m128d cv = _mm_set_pd(c[1], c[0]),
-                    big = _mm_set1_pd(std::numeric_limits<double>::max());
-      const __m128d sign = _mm_set1_pd(-0.0), r2v = _mm_set1_pd(reach2);
-      int flags = 0;
-      // Y of slot s stored; returns (Y − X)² and sets *e2 to (Y − R)² (Bound), *abs to |Y|.
-      auto one = [&](int s, __m128d* e2, __m128d* abs) {
-        const __m128d xv = _mm_loadu_pd(xs + 2 * s);
-        const __m128d v = Trap ? _mm_mul_pd(neg_g, _mm_sub_pd(xv, cv)) : _mm_setzero_pd();
-        __m128d yv = _mm_add_pd(xv, _mm_mul_pd(hv, v));
-        if constexpr (Noise) {
-          const int i = s - begin;
-          yv = _mm_add_pd(yv, _mm_mul_pd(sv, _mm_set_pd(xi[kNoiseBatch + i], xi[i])));
-        }
-        _mm_storeu_pd(ys + 2 * s, yv);
-        *abs = _mm_andnot_pd(sign, yv);
-        flags |= _mm_movemask_pd(_mm_cmpnle_pd(*abs, big));
-        if constexpr (Bound) {
-          const __m128d e = _mm_sub_pd(yv, _mm_loadu_pd(rs + 2 * s));
-          *e2 = _mm_mul_pd(e, e);
-        }
-        const __m128d d = _mm_sub_pd(yv, xv);
-        return _mm_mul_pd(d, d);
-      };
-      for (; first + 2 <= end; first += 2) {
-        __m128d e2a = _mm_setzero_pd(), e2b = _mm_setzero_pd(), abs_a, abs_b;
-        const __m128d d2a = one(first, &e2a, &abs_a);
-        const __m128d d2b = one(first + 1, &e2b, &abs_b);
-        const __m128d d2 = _mm_add_pd(_mm_unpacklo_pd(d2a, d2b), _mm_unpackhi_pd(d2a, d2b));
-        vec_worst = _mm_max_pd(d2, vec_worst);
-        vec_extent = _mm_max_pd(_mm_max_pd(abs_a, abs_b), vec_extent);
-        if constexpr (Bound) {
-          const __m128d e2 = _mm_add_pd(_mm_unpacklo_pd(e2a, e2b), _mm_unpackhi_pd(e2a, e2b));
-          vec_worst2 = _mm_max_pd(e2, vec_worst2);
-          const int over = _mm_movemask_pd(_mm_cmpgt_pd(e2, r2v));
-          batch_far += (over & 1) + (over >> 1);
-        }
-      }
-      nonfinite = flags != 0;
+      first =
+          PredictPairs2<Noise, Trap, Bound>({g, step_h, noise_scale, reach2, {c[0], c[1]}}, xs, rs,
+                                            ys, xi, begin, end, &vec, &batch_far, &nonfinite);
     }
 #endif
     for (; first + kLanes <= end; first += kLanes) {
@@ -136,36 +201,11 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
       batch_worst2 = std::max(batch_worst2, lane_worst2[l]);
     }
 #if defined(__SSE2__)
-    if constexpr (K == 2) {
-      double lanes[2];
-      _mm_storeu_pd(lanes, vec_worst);
-      batch_worst = std::max({batch_worst, lanes[0], lanes[1]});
-      _mm_storeu_pd(lanes, vec_extent);
-      batch_extent = std::max({batch_extent, lanes[0], lanes[1]});
-      _mm_storeu_pd(lanes, vec_worst2);
-      batch_worst2 = std::max({batch_worst2, lanes[0], lanes[1]});
-    }
+    if constexpr (K == 2) vec.Fold(&batch_worst, &batch_extent, &batch_worst2);
 #endif
     std::int64_t batch_bad = std::numeric_limits<std::int64_t>::max();
-    const bool finite = !nonfinite;
-    if (!finite) {  // the batch's finite rows only, as PredictImpl
-      batch_worst = batch_extent = 0.0;
-      for (int s = begin; s < end; ++s) {
-        double d2 = 0.0, far = 0.0;
-        bool row_finite = true;
-        for (int a = 0; a < K; ++a) {
-          const double ya = y[K * s + a], dd = ya - x[K * s + a];
-          row_finite = row_finite && std::isfinite(ya);
-          d2 += dd * dd;
-          far = std::max(far, std::abs(ya));
-        }
-        if (!row_finite) {
-          batch_bad = std::min<std::int64_t>(batch_bad, id[s]);
-        } else {
-          batch_worst = std::max(batch_worst, d2);
-          batch_extent = std::max(batch_extent, far);
-        }
-      }
+    if (nonfinite) {
+      batch_bad = RescanFinite<K>(x, y, id, begin, end, &batch_worst, &batch_extent);
     }
     *t = {batch_worst, batch_extent, batch_worst2, batch_bad, batch_far};
   };

@@ -16,6 +16,36 @@ namespace moreau::particles::internal {
 
 namespace {
 constexpr int kAhead = 64;  // slots ahead to prefetch in the sweep
+
+#if defined(__SSE2__)
+// Equal radii in 2D: a row of `count` ≤ 4 pairs from slot p (nearly all rows) tested whole, with
+// no branch per pair: the pair test's ‖u‖² (SquaredDistances2, two pairs a vector) for 4 entries
+// from p on (those past the row are other rows' partners, valid slots, and masked out). True when
+// no pair overlaps (r² ≥ c², which also fails for NaN): the row projects nothing, and only the
+// near-contact test is left (R: s appended to *near when a pair lies closer than near2).
+template <bool R>
+[[gnu::always_inline]] inline bool UniformRowClear2(__m128d xv, const double* x, const int* nb,
+                                                    std::int64_t p, int count, double c2,
+                                                    double near2, int s, std::vector<int>* near) {
+  auto r2_of = [&](std::int64_t q) {  // the pairs q and q + 1
+    return SquaredDistances2(xv, x + 2 * static_cast<std::ptrdiff_t>(nb[q]),
+                             x + 2 * static_cast<std::ptrdiff_t>(nb[q + 1]));
+  };
+  const __m128d lo = r2_of(p), hi = r2_of(p + 2);
+  const int valid = (1 << count) - 1;
+  const __m128d c2v = _mm_set1_pd(c2);
+  const int over_lo = _mm_movemask_pd(_mm_cmpnge_pd(lo, c2v));
+  const int over_hi = _mm_movemask_pd(_mm_cmpnge_pd(hi, c2v));
+  if (((over_lo | (over_hi << 2)) & valid) != 0) return false;
+  if constexpr (R) {
+    const __m128d near2v = _mm_set1_pd(near2);
+    const int near_lo = _mm_movemask_pd(_mm_cmplt_pd(lo, near2v));
+    const int near_hi = _mm_movemask_pd(_mm_cmplt_pd(hi, near2v));
+    if ((near_lo | (near_hi << 2)) & valid) near->push_back(s);
+  }
+  return true;
+}
+#endif
 }  // namespace
 
 ProjectionSweep::ProjectionSweep(const ParticleModel& model, bool uniform_radius)
@@ -71,31 +101,10 @@ void ProjectionSweep::SweepRows(int begin, int end, double* x, const double* rad
     for (int a = 0; a < K; ++a) xs[a] = xs_mem[a];
 #if defined(__SSE2__)
     if constexpr (K == 2 && !P && U) {
-      // A row of at most 4 pairs (nearly all of them) is tested whole first, with no branch per
-      // pair: the pair test's ‖u‖² (SquaredDistances2, two pairs a vector) for 4 entries from
-      // p on (those past the row are other rows' partners, valid slots, and masked out). When no
-      // pair overlaps (r2 ≥ c², which also fails for NaN) the row projects nothing, and only
-      // the near-contact test is left.
-      if (e - p <= 4 && p + 4 <= pairs) {
-        const __m128d xv = _mm_loadu_pd(xs);
-        auto r2_of = [&](std::int64_t q) {  // the pairs q and q + 1
-          return SquaredDistances2(xv, x + 2 * static_cast<std::ptrdiff_t>(nb[q]),
-                                   x + 2 * static_cast<std::ptrdiff_t>(nb[q + 1]));
-        };
-        const __m128d lo = r2_of(p), hi = r2_of(p + 2);
-        const int valid = (1 << (e - p)) - 1;
-        const __m128d c2 = _mm_set1_pd(uniform_c2);
-        const int over_lo = _mm_movemask_pd(_mm_cmpnge_pd(lo, c2));
-        const int over_hi = _mm_movemask_pd(_mm_cmpnge_pd(hi, c2));
-        if (((over_lo | (over_hi << 2)) & valid) == 0) {
-          if constexpr (R) {
-            const __m128d near2 = _mm_set1_pd(uniform_near2);
-            const int near_lo = _mm_movemask_pd(_mm_cmplt_pd(lo, near2));
-            const int near_hi = _mm_movemask_pd(_mm_cmplt_pd(hi, near2));
-            if ((near_lo | (near_hi << 2)) & valid) near->push_back(s);
-          }
-          continue;
-        }
+      if (e - p <= 4 && p + 4 <= pairs &&
+          UniformRowClear2<R>(_mm_loadu_pd(xs), x, nb, p, static_cast<int>(e - p), uniform_c2,
+                              uniform_near2, s, near)) {
+        continue;
       }
     }
 #endif

@@ -10,11 +10,6 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 FOLDERS = ("src", "include", "apps", "python/src")
 MAX_FILE_LINES = 500
 MAX_FUNCTION_LINES = 80
-# Hot kernels of the particle engine kept whole: every split tried changed their machine code
-# (register allocation, stack frames), and on the 2-core machines the 10^6-disk step's timing
-# noise (5–20 %) cannot show such a change to be free. Each entry is the function's qualified
-# name; a block inside it is exempt too.
-EXEMPT = ("NeighbourList::FillBlocks", "Prediction::PredictPlain", "ProjectionSweep::SweepRows")
 
 
 def sources():
@@ -31,13 +26,10 @@ def code_only(text):
     return pattern.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
 
 
-def long_functions(text, limit=MAX_FUNCTION_LINES, exempt=EXEMPT):
-    """(first line, lines) of every function body longer than `limit` lines, except those whose
-    signature (the opening line and the three before it) names an `exempt` function, and the
-    blocks inside those."""
+def long_functions(text, limit=MAX_FUNCTION_LINES):
+    """(first line, lines) of every function body longer than `limit` lines."""
     lines = code_only(text).split("\n")
     out = []
-    spared = []  # (start, end) of the exempt functions
     for end, line in enumerate(lines):
         if line not in ("}", "  }"):
             continue
@@ -46,13 +38,9 @@ def long_functions(text, limit=MAX_FUNCTION_LINES, exempt=EXEMPT):
             depth += lines[start].count("}") - lines[start].count("{")
             if depth == 0:
                 break
-        signature = "\n".join(lines[max(0, start - 3):start + 1])
-        if any(name + "(" in signature for name in exempt):
-            spared.append((start, end))
-        elif end - start > limit:
-            out.append((start, end))
-    return [(start + 1, end - start) for start, end in out
-            if not any(a <= start and end <= b for a, b in spared)]
+        if end - start > limit:
+            out.append((start + 1, end - start))
+    return out
 
 
 def test_no_source_file_is_over_500_lines():
@@ -74,4 +62,3 @@ def test_the_function_finder_sees_a_long_function_and_skips_comments_and_strings
     assert long_functions(text, limit=100) == []
     member = f"struct S {{\n  void G() {{\n{body}\n  }}\n}};\n"
     assert long_functions(member) == [(2, 82)]
-    assert long_functions(member, exempt=("G",)) == []
