@@ -22,6 +22,7 @@ namespace moreau::python {
 namespace py = pybind11;
 
 void RegisterParticles(py::module_& m);
+void RegisterPopulation(py::module_& m);  // in moreau.particles, after RegisterParticles
 void RegisterPbd(py::module_& m);
 void RegisterControl(py::module_& m);
 void RegisterMocap(py::module_& m);

@@ -90,6 +90,7 @@ PYBIND11_MODULE(_moreau, m) {
 
   py::module_ particles = m.def_submodule("particles", "The particle engine at scale.");
   RegisterParticles(particles);
+  RegisterPopulation(particles);
   py::module_ pbd = m.def_submodule("pbd", "The paper's methods: sets, steppers, cases, studies.");
   RegisterPbd(pbd);
   py::module_ control = m.def_submodule("control", "Optimal control of spring networks.");

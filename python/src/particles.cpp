@@ -201,7 +201,8 @@ void BindEngineOptions(py::module_& m) {
   BindOptionsClass<AgentType>(m, "AgentType", "One agent type: the keys of a [[types]] table.");
   BindOptionsClass<PopulationRules>(m, "PopulationRules",
                                     "The population's rules: keys of [population]; types by name.")
-      .def_readwrite("types", &PopulationRules::types);
+      .def_readwrite("types", &PopulationRules::types)
+      .def_readwrite("variables", &PopulationRules::variables);
   BindSummary<EngineSummary>(m, "EngineSummary",
                              "How a run ended: termination, message, counters, *_seconds.")
       .def("brief_report", &EngineSummary::BriefReport);

@@ -336,6 +336,22 @@ void Engine::Repopulate(ParticleModel model, std::span<const double> positions,
   impl_->Repopulate(positions, active_velocity);
 }
 
+void Engine::SetActiveVelocities(std::span<const double> active_velocity) {
+  internal::StepContext& c = impl_->context;
+  internal::ParticleStore& store = *c.store;
+  if (active_velocity.empty()) {
+    store.active.clear();
+    return;
+  }
+  CheckEntries("active velocities", "velocities", active_velocity.size(), c.k, c.n);
+  const auto k = static_cast<std::size_t>(c.k);
+  store.active.resize(k * static_cast<std::size_t>(c.n));
+  for (std::size_t s = 0; s < store.id.size(); ++s) {
+    const double* from = active_velocity.data() + k * static_cast<std::size_t>(store.id[s]);
+    std::copy(from, from + k, store.active.data() + k * s);
+  }
+}
+
 int Engine::Relax(double tolerance, int max_sweeps) {
   if (!(tolerance >= 0.0)) {
     throw InputError(fmt::format("relax tolerance must be ≥ 0 (got {})", tolerance));

@@ -102,8 +102,12 @@ Population::Population(ParticleModel geometry, Forces forces, EngineOptions opti
       engine_(ModelOf(geometry_, rules_, agents_), std::move(forces), options, positions),
       last_positions_(positions.begin(), positions.end()) {
   for (const Agent& a : agents_) ids_.insert(a.id);
-  const std::vector<double> active = ActiveVelocities();
-  if (!active.empty()) engine_.Repopulate(ModelOf(geometry_, rules_, agents_), positions, active);
+  for (const AgentVariable& v : rules_.variables)
+    variables_.emplace_back(agents_.size(), v.initial);
+  motility_ = ActiveVelocities();
+  if (!motility_.empty()) {
+    engine_.Repopulate(ModelOf(geometry_, rules_, agents_), positions, motility_);
+  }
   summary_.settings = rules_;
   summary_.final_count = count();
 }
@@ -241,6 +245,15 @@ void Population::Divide(Agent a, const double* xi, std::int64_t step, std::vecto
   }
 }
 
+// The type's division rules for agent a (after growth), contact inhibition aside.
+bool Population::Divides(const Agent& a, const AgentType& type, std::int64_t step,
+                         double dt) const {
+  return (type.division_radius > 0.0 && a.radius >= type.division_radius) ||
+         (type.cycle_time > 0.0 && a.age >= type.cycle_time) ||
+         (type.division_rate > 0.0 && Uniform(rules_.seed, Stream::kDivision, a.id, step) <
+                                          -std::expm1(-type.division_rate * dt));
+}
+
 // growth → removal → death → polarity → division, agent by agent (population.h); then the
 // engine takes the new roster.
 void Population::ApplyRules() {
@@ -255,11 +268,14 @@ void Population::ApplyRules() {
     aligns = aligns || t.alignment > 0.0;
     inhibits = inhibits || t.max_contacts > 0.0;
   }
+  std::vector<std::uint8_t> divide, die;
+  if (rule_) ApplyUserRule(&divide, &die);
   const std::vector<double> mean = aligns ? MeanNeighbourPolarity() : std::vector<double>{};
   const std::vector<int> contacts =
       inhibits ? engine_.ContactCounts(rules_.contact_factor) : std::vector<int>{};
   std::vector<Agent> next;
   std::vector<double> y;
+  std::vector<std::vector<double>> next_variables(variables_.size());
   next.reserve(agents_.size() + agents_.size() / 4 + 1);
   y.reserve(uk * next.capacity());
   std::int64_t births = 0;
@@ -271,14 +287,16 @@ void Population::ApplyRules() {
         type.max_contacts > 0.0 && static_cast<double>(contacts[i]) >= type.max_contacts;
     if (!inhibited) a.radius += type.growth_rate * dt;
     a.age += dt;
+    if (!die.empty() && die[i] != 0) {  // the user rule's death
+      ++summary_.deaths;
+      ids_.erase(a.id);
+      continue;
+    }
     if (Leaves(a, xi, step)) continue;
     UpdatePolarity(i, x, mean, &a);
     const bool divides =
-        !inhibited &&
-        ((type.division_radius > 0.0 && a.radius >= type.division_radius) ||
-         (type.cycle_time > 0.0 && a.age >= type.cycle_time) ||
-         (type.division_rate > 0.0 && Uniform(rules_.seed, Stream::kDivision, a.id, step) <
-                                          -std::expm1(-type.division_rate * dt)));
+        (!divide.empty() && divide[i] != 0) || (!inhibited && Divides(a, type, step, dt));
+    Inherit(i, divides, &next_variables);
     if (!divides) {
       next.push_back(a);
       y.insert(y.end(), xi, xi + uk);
@@ -289,6 +307,7 @@ void Population::ApplyRules() {
   }
   summary_.births += births;
   agents_.swap(next);
+  variables_.swap(next_variables);
   ++summary_.rule_steps;
   summary_.final_count = count();
   if (agents_.empty()) {
@@ -296,7 +315,8 @@ void Population::ApplyRules() {
     Stop(Termination::kCompleted, fmt::format("no agents left at step {}", step));
     return;
   }
-  engine_.Repopulate(ModelOf(geometry_, rules_, agents_), y, ActiveVelocities());
+  motility_ = ActiveVelocities();
+  engine_.Repopulate(ModelOf(geometry_, rules_, agents_), y, motility_);
   overlap_before_ = engine_.MaxPairOverlap();
   summary_.max_overlap_before = std::max(summary_.max_overlap_before, overlap_before_);
   if (rules_.relax) {
@@ -318,6 +338,13 @@ bool Population::Step() {
   if (stopped_) return false;
   const Stopwatch stopwatch;
   try {
+    if (drift_) {
+      ApplyDrift();
+      drifting_ = true;
+    } else if (drifting_) {  // the drift was removed: the motility alone again
+      engine_.SetActiveVelocities(motility_);
+      drifting_ = false;
+    }
     if (!engine_.Step()) {
       Stop(Termination::kNonFinite, engine_.summary().message);
       return false;

@@ -95,6 +95,17 @@ void PopulationRules::Validate() const {
       throw InputError("types", fmt::format("the name '{}' is used twice", type.name));
     }
   }
+  std::set<std::string_view> variable_names;
+  for (const AgentVariable& v : variables) {
+    if (v.name.empty()) throw InputError("variables", "a variable needs a name");
+    if (!variable_names.insert(v.name).second) {
+      throw InputError("variables", fmt::format("the name '{}' is used twice", v.name));
+    }
+    if (!std::isfinite(v.initial)) {
+      throw InputError("variables." + v.name + ".initial",
+                       fmt::format("must be finite (got {})", v.initial));
+    }
+  }
   Fields().Validate(*this);
   if (exit && exit->normal == Vec3{0.0, 0.0, 0.0}) {
     throw InputError("exit.normal", "must be non-zero");
@@ -122,6 +133,11 @@ nlohmann::json PopulationRules::ToJson() const {
   j["relax_tolerance"] = relax_tolerance;
   j["relax_max_sweeps"] = relax_max_sweeps;
   j["max_count"] = max_count;
+  for (const AgentVariable& v : variables) {
+    j["variables"].push_back({{"name", v.name},
+                              {"initial", v.initial},
+                              {"inherit", EnumName(kInheritanceNames, v.inherit)}});
+  }
   return j;
 }
 

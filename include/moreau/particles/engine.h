@@ -196,6 +196,10 @@ class Engine {
   // positions (the engine is then unusable).
   void Repopulate(ParticleModel model, std::span<const double> positions,
                   std::span<const double> active_velocity = {});
+  // Replaces the active velocities (k·N, id order; empty: none) from the next step on, without
+  // a rebuild: a velocity field that changes every step (user code's drift, population.h).
+  // Throws InputError for a wrong size.
+  void SetActiveVelocities(std::span<const double> active_velocity);
   // Projection sweeps at the current positions (no drift, no noise, the step count unchanged)
   // until the largest pair overlap is ≤ tolerance (≥ 0, else InputError) or max_sweeps were
   // done; returns the number of sweeps.

@@ -89,10 +89,23 @@ struct ExitPlane {
   double offset = 0.0;
 };
 
+// A user variable: one number per agent (a concentration, a clock, a mark), declared by name.
+// At a division the daughters inherit it: kCopy, both keep the mother's value; kSplit, each gets
+// half (an amount shared between the two).
+enum class Inheritance { kCopy, kSplit };
+inline constexpr EnumNames<Inheritance, 2> kInheritanceNames{
+    {{Inheritance::kCopy, "copy"}, {Inheritance::kSplit, "split"}}};
+struct AgentVariable {
+  std::string name;      // unique among the variables, not empty
+  double initial = 0.0;  // the initial agents' value (finite)
+  Inheritance inherit = Inheritance::kCopy;
+};
+
 struct PopulationRules {
-  std::vector<AgentType> types;  // ≥ 1; agents name their type by index
-  int interval = 10;             // engine steps per rule step, ≥ 1
-  std::uint64_t seed = 1;        // key of the rules' randomness (the engine's noise has its own)
+  std::vector<AgentType> types;          // ≥ 1; agents name their type by index
+  std::vector<AgentVariable> variables;  // user variables, in this order
+  int interval = 10;                     // engine steps per rule step, ≥ 1
+  std::uint64_t seed = 1;  // key of the rules' randomness (the engine's noise has its own)
   DivisionAxis axis = DivisionAxis::kRandom;
   std::optional<ExitPlane> exit;  // removal on leaving through it
   double contact_factor = 1.05;  // agents touch when ‖X_i − X_j‖ ≤ f (r_i + r_j), f in [1, 1.5]
@@ -165,6 +178,32 @@ class Population;
 // Called at step 0 and after every rule step; returns false to stop the run (kInterrupted).
 using PopulationObserver = std::function<bool(const Population& population)>;
 
+// What user code sees: the whole population at one time, index order (the engine's particle
+// order), so that it works on arrays, never agent by agent.
+struct PopulationView {
+  int dimension = 2;
+  std::int64_t step = 0;  // engine steps taken
+  double time = 0.0;
+  double rule_dt = 0.0;               // Δt = interval · h, the time between rule steps
+  std::span<const double> positions;  // k·N, wrapped into the periodic domain
+  // N agents. A rule may change radius (> 0), type (an index of the rules' types) and polarity;
+  // id, generation, divisions and age are the population's and must stay.
+  std::span<Agent> agents;
+  std::vector<std::span<double>> variables;  // per declared variable, N values
+};
+
+// A user drift: called before every engine step; writes velocities (k·N, zero on entry) that
+// are added to the agents' drift for that step (a chemotaxis, a push, a flow). It must not
+// change the agents.
+using UserDrift = std::function<void(const PopulationView& view, std::span<double> velocity)>;
+
+// A user rule: called at every rule step before the built-in rules (growth, death, polarity,
+// division), after the engine step. It may change radii, types, polarities and variables through
+// the view, and mark agents (N flags each, zero on entry): divide (divides now, whatever the
+// type's division rules say) or die (dies now, counted as a death).
+using UserRule = std::function<void(PopulationView& view, std::span<std::uint8_t> divide,
+                                    std::span<std::uint8_t> die)>;
+
 class Population {
  public:
   // geometry: dimension, walls, obstacles, periodic domain (its radius/mobility/stable_ids are
@@ -181,6 +220,20 @@ class Population {
 
   const std::vector<Agent>& agents() const { return agents_; }
   std::vector<double> Positions() const { return engine_.Positions(); }  // k·N, index order
+  // The user variable `index` of every agent (index order); declared in rules().variables.
+  std::span<const double> variable(std::size_t index) const { return variables_.at(index); }
+  // The index of the variable called `name`; InputError "unknown variable 'x' (variables: …)".
+  std::size_t VariableIndex(std::string_view name) const;
+  const PopulationRules& rules() const { return rules_; }
+
+  // User code (UserDrift, UserRule); an empty function removes it. The run's guarantees hold
+  // with it: no overlap beyond the engine's tolerance, and the same bits for any thread count
+  // when the user code is deterministic. A rule that leaves a radius ≤ 0 or not finite, or a
+  // type out of range, stops the step with InputError naming the agent.
+  void SetDrift(UserDrift drift) { drift_ = std::move(drift); }
+  void SetRule(UserRule rule) { rule_ = std::move(rule); }
+  // The view user code gets, over this population's own storage (valid until the next step).
+  PopulationView View();
   const Engine& engine() const { return engine_; }
   int count() const { return static_cast<int>(agents_.size()); }
   // The observables now (one pass over the candidate pairs for the contacts).
@@ -199,10 +252,20 @@ class Population {
   void Divide(Agent a, const double* xi, std::int64_t step, std::vector<Agent>* next,
               std::vector<double>* y);
   void Stop(Termination termination, std::string message);
+  bool Divides(const Agent& a, const AgentType& type, std::int64_t step, double dt) const;
+  void ApplyDrift();
+  void ApplyUserRule(std::vector<std::uint8_t>* divide, std::vector<std::uint8_t>* die);
+  void Inherit(std::size_t mother, bool divides, std::vector<std::vector<double>>* next) const;
 
   ParticleModel geometry_;
   PopulationRules rules_;
-  std::vector<Agent> agents_;  // before engine_: the engine is built from them
+  std::vector<Agent> agents_;                   // before engine_: the engine is built from them
+  std::vector<std::vector<double>> variables_;  // per declared variable, N values
+  UserDrift drift_;
+  UserRule rule_;
+  std::vector<double> motility_;  // k·N: v0 p_i since the last rule step, or empty
+  std::vector<double> view_positions_, velocity_;
+  bool drifting_ = false;  // the engine's active velocities include the user drift
   Engine engine_;
   std::unordered_set<std::int64_t> ids_;  // the ids in use (the collision check)
   std::vector<double> last_positions_;    // at the last rule step (velocity alignment)

@@ -1,0 +1,120 @@
+"""moreau.particles.Population from Python: views without copies, a user drift against its exact
+displacement, a user rule's marks and variables, errors from user code, the observer and Ctrl-C."""
+import signal
+
+import numpy as np
+import pytest
+
+from moreau import particles
+
+
+def line(n=3, interval=1000, variables=(), **type_keys):
+    """n agents of one type 2 apart on the x axis (no contacts), h = 0.01, no noise."""
+    rules = particles.PopulationRules(types=[particles.AgentType(name="cell", **type_keys)],
+                                      interval=interval)
+    rules.variables = list(variables)
+    x = np.stack([2.0 * np.arange(n), np.zeros(n)], axis=1)
+    return particles.Population(rules, ["cell"] * n, x, h=0.01)
+
+
+def test_views_share_the_populations_memory():
+    p = line(variables=[particles.AgentVariable("food", 2.0)])
+    assert np.shares_memory(p.radii, p.radii)  # the same storage on every access
+    # Fields of one array of agents: strided views a fixed offset apart.
+    address = lambda a: a.__array_interface__["data"][0]  # noqa: E731
+    assert p.ids.strides == p.radii.strides and 0 < address(p.radii) - address(p.ids) < 64
+    p.radii[1] = 0.25
+    assert p.radii[1] == 0.25
+    food = p.variable("food")
+    food[2] = 5.0
+    assert p.variable("food")[2] == 5.0
+    assert not p.ids.flags.writeable and not p.positions.flags.writeable
+    assert list(p.ids) == [0, 1, 2]
+    assert p.positions.shape == (3, 2) and p.polarities.shape == (3, 2)
+    with pytest.raises(ValueError, match="unknown variable 'oxygen'"):
+        p.variable("oxygen")
+
+
+def test_a_constant_drift_moves_each_agent_by_its_exact_displacement():
+    p = line()
+    p.drift = lambda pop, v: v.__setitem__((slice(None), 1), 0.5 * np.arange(pop.count))
+    p.step(40)
+    y = np.zeros(3)
+    for _ in range(40):
+        y = y + 0.01 * (0.5 * np.arange(3))
+    assert np.array_equal(p.positions[:, 1], y)
+    assert np.array_equal(p.positions[:, 0], [0.0, 2.0, 4.0])
+
+
+def test_a_rule_marks_divisions_and_deaths_and_split_amounts_are_conserved():
+    p = line(n=4, interval=5, radius=0.4,
+             variables=[particles.AgentVariable("amount", 8.0, "split")])
+    seen = []
+
+    def rule(pop, divide, die):
+        seen.append(pop.step_count)
+        if len(seen) == 1:
+            divide[:2] = True
+            die[3] = True
+
+    p.rule = rule
+    p.step(10)
+    assert seen == [5, 10]
+    assert p.count == 5
+    assert list(p.variable("amount")) == [4.0, 4.0, 4.0, 4.0, 8.0]
+    s = p.summary()
+    assert (s.births, s.deaths) == (2, 1)
+    assert list(p.generations) == [1, 1, 1, 1, 0]
+
+
+def test_errors_in_user_code_reach_python_with_the_last_good_state():
+    p = line()
+    p.step(2)
+    before = p.positions.copy()
+    p.drift = lambda pop, v: 1 / 0
+    with pytest.raises(ZeroDivisionError):
+        p.step()
+    assert np.array_equal(p.positions, before)
+    p.drift = None
+    p.rule = lambda pop, divide, die: pop.radii.__setitem__(0, -1.0)
+    p.step(997)  # up to the rule step
+    with pytest.raises(ValueError, match="radius -1"):
+        p.step()
+
+
+def test_a_non_finite_drift_stops_the_run_naming_the_agent():
+    p = line()
+    p.drift = lambda pop, v: v.__setitem__((1, 0), np.nan)
+    s = p.step()
+    assert s.termination == "non_finite" and "agent 1" in s.message
+
+
+def test_the_observer_stops_a_run_and_ctrl_c_interrupts_between_steps():
+    p = line(interval=10, growth_rate=0.01)
+    steps = []
+
+    def observer(pop):
+        steps.append(pop.step_count)
+        return pop.step_count < 30
+
+    s = p.run(1.0, observer)
+    assert steps == [0, 10, 20, 30] and s.termination == "interrupted"
+
+    def interrupt(pop, v):
+        if pop.step_count == 37:
+            signal.raise_signal(signal.SIGINT)
+
+    fresh = line(interval=10)
+    fresh.drift = interrupt
+    with pytest.raises(KeyboardInterrupt):
+        fresh.run(1.0)
+    assert fresh.step_count == 37  # the step whose drift raised was not taken
+
+
+def test_types_by_name_and_bad_names():
+    rules = particles.PopulationRules(types=[particles.AgentType(name="a"),
+                                             particles.AgentType(name="b", radius=0.3)])
+    p = particles.Population(rules, ["b", 0], [[0.0, 0.0], [2.0, 0.0]])
+    assert list(p.types) == [1, 0] and list(p.radii) == [0.3, 0.5]
+    with pytest.raises(ValueError, match="unknown type 'c'"):
+        particles.Population(rules, ["c"], [[0.0, 0.0]])
