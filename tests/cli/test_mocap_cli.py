@@ -40,16 +40,24 @@ def assert_rejected(args, out, *words):
     assert not out.exists() or not any(out.iterdir()), list(out.iterdir())
 
 
+def fill_with_deletions(tmp_path, recording, rows, *args, name="out"):
+    """`moreau fill-gaps RECORDING --gaps GAPS.csv ARGS --out tmp_path/NAME`, GAPS.csv holding
+    ROWS; returns the finished run and the output folder."""
+    gaps = tmp_path / f"{name}_gaps.csv"
+    gaps.write_text(rows)
+    out = tmp_path / name
+    return run_cli("fill-gaps", recording, "--gaps", gaps, *args, "--out", out), out
+
+
 def test_fill_gaps_deletes_listed_samples_and_fills_them(tmp_path):
     # Qualisys.c3d is complete: the only gaps are those GAPS.csv makes. Marker by label and by
     # index; linear fill is the straight line between the samples bounding the gap.
     inventory = json.loads(run_cli("inspect", DATA / "Qualisys.c3d", "--json").stdout)
     label = inventory["labels"][3]
-    gaps = tmp_path / "gaps.csv"
-    gaps.write_text(f"marker,first_frame,last_frame\n{label},100,119\n7,0,4\n# comment\n10,200,200\n")
-    out = tmp_path / "out"
-    r = run_cli("fill-gaps", DATA / "Qualisys.c3d", "--gaps", gaps, "--method", "linear",
-                "--out", out)
+    r, out = fill_with_deletions(
+        tmp_path, DATA / "Qualisys.c3d",
+        f"marker,first_frame,last_frame\n{label},100,119\n7,0,4\n# comment\n10,200,200\n",
+        "--method", "linear")
     assert r.returncode == 0, r.stderr
     assert "3 gaps: 2 filled by linear, 1 unfillable (skipped_edge 1)" in r.stdout
 
@@ -167,10 +175,8 @@ def test_fill_gaps_counts_gaps_by_outcome_prior_only(tmp_path):
 def test_fill_gaps_counts_gaps_by_outcome_with_the_optimal_control(tmp_path):
     # One short deleted gap of the complete Qualisys recording, the optimal control on; plus a
     # gap at the start that only pca fills and a marker deleted in every frame (unfillable).
-    gaps = tmp_path / "gaps.csv"
-    gaps.write_text("marker,first_frame,last_frame\n3,100,109\n7,0,339\n")
-    out = tmp_path / "out"
-    r = run_cli("fill-gaps", DATA / "Qualisys.c3d", "--gaps", gaps, "--out", out)
+    r, out = fill_with_deletions(tmp_path, DATA / "Qualisys.c3d",
+                                 "marker,first_frame,last_frame\n3,100,109\n7,0,339\n")
     assert r.returncode == 0, r.stderr
     report = json.loads((out / "report.json").read_text())
     assert_outcomes_counted_from_the_gaps(report, r.stdout)
@@ -185,11 +191,9 @@ def test_fill_gaps_marker_never_observed_is_unfillable_exit_0_with_a_warning(tmp
     # fill a gap that spans the recording), then filled again.
     inventory = json.loads(run_cli("inspect", DATA / "Qualisys.c3d", "--json").stdout)
     label = inventory["labels"][5]
-    gaps = tmp_path / "gaps.csv"
-    gaps.write_text(f"{label},0,{inventory['frames'] - 1}\n")
-    first = tmp_path / "first"
-    r = run_cli("fill-gaps", DATA / "Qualisys.c3d", "--gaps", gaps, "--method", "linear",
-                "--out", first)
+    r, first = fill_with_deletions(tmp_path, DATA / "Qualisys.c3d",
+                                   f"{label},0,{inventory['frames'] - 1}\n", "--method", "linear",
+                                   name="first")
     assert r.returncode == 0, r.stderr
     source = first / "filled.c3d"
     c3d = json.loads(run_cli("inspect", source, "--json").stdout)
