@@ -309,47 +309,92 @@ fs::path FindScript(const std::string& script, std::string* looked) {
   return {};
 }
 
-// Runs ARGV (argv[0] a path) with its stdout sent to our stderr; returns the wait status, or −1
-// when it could not be started.
-int SpawnAndWait(const std::vector<std::string>& argv) {
+// What a child process did: its wait status (−1 when it could not be started, errno in
+// `start_error`) and everything it wrote to stdout and stderr.
+struct ChildRun {
+  int status = -1;
+  int start_error = 0;
+  std::string output;
+};
+
+// Runs ARGV (argv[0] a path) with its stdout and stderr captured through one pipe.
+ChildRun SpawnAndWait(const std::vector<std::string>& argv) {
+  ChildRun run;
   std::vector<char*> pointers;
   for (const std::string& a : argv) pointers.push_back(const_cast<char*>(a.c_str()));
   pointers.push_back(nullptr);
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) {
+    run.start_error = errno;
+    return run;
+  }
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, STDERR_FILENO, STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], STDERR_FILENO);
   pid_t pid = 0;
-  const int error = ::posix_spawn(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
+  run.start_error = ::posix_spawn(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (error != 0) return -1;
+  ::close(fds[1]);
+  char buffer[4096];
+  while (run.start_error == 0) {
+    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+    if (n > 0) {
+      run.output.append(buffer, static_cast<std::size_t>(n));
+    } else if (n == 0 || errno != EINTR) {
+      break;
+    }
+  }
+  ::close(fds[0]);
+  if (run.start_error != 0) return run;
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
+    if (errno != EINTR) return run;
   }
-  return status;
+  run.status = status;
+  return run;
+}
+
+// The last non-blank line of TEXT (a traceback's last line names the error), empty if none.
+std::string LastLine(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, last;
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  }
+  const auto first = last.find_first_not_of(" \t");
+  return first == std::string::npos ? std::string() : last.substr(first);
 }
 
 }  // namespace
 
-bool RunPlotScript(const std::string& script, const std::vector<std::string>& args) {
+std::string RunFigureScript(const std::string& script, const std::vector<std::string>& args) {
   std::string looked;
   const fs::path path = FindScript(script, &looked);
-  if (path.empty()) {
-    std::fprintf(stderr,
-                 "moreau: warning: figure script %s not found (looked in %s); figures "
-                 "skipped (numbers are written)\n",
-                 script.c_str(), looked.c_str());
-    return false;
-  }
+  if (path.empty()) return fmt::format("figure script {} not found (looked in {})", script, looked);
   std::vector<std::string> argv = {MOREAU_PYTHON, path.string()};
   argv.insert(argv.end(), args.begin(), args.end());
-  const int status = SpawnAndWait(argv);
-  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    std::fprintf(stderr, "moreau: warning: %s failed; figures skipped (numbers are written)\n",
-                 script.c_str());
-    return false;
+  const ChildRun run = SpawnAndWait(argv);
+  if (run.status == -1) {
+    return fmt::format("cannot run {} ({})", MOREAU_PYTHON, std::strerror(run.start_error));
   }
-  return true;
+  if (WIFEXITED(run.status) && WEXITSTATUS(run.status) == 0) {
+    std::fputs(run.output.c_str(), stderr);  // the script's own notes, as it wrote them
+    return {};
+  }
+  const std::string how = WIFEXITED(run.status)
+                              ? fmt::format("exit status {}", WEXITSTATUS(run.status))
+                              : fmt::format("signal {}", WTERMSIG(run.status));
+  const std::string last = LastLine(run.output);
+  return fmt::format("{} failed ({}{}{})", script, how, last.empty() ? "" : ": ", last);
+}
+
+bool RunPlotScript(const std::string& script, const std::vector<std::string>& args) {
+  const std::string failure = RunFigureScript(script, args);
+  if (failure.empty()) return true;
+  std::fprintf(stderr, "moreau: warning: %s; figures skipped (numbers are written)\n",
+               failure.c_str());
+  return false;
 }
 
 }  // namespace moreau::cli

@@ -70,9 +70,15 @@ class OutputDir {
 // Runs a figure script with Debian's Python (MOREAU_PYTHON), by argument vector (posix_spawn: no
 // shell, so no character of a path is ever interpreted). The script is looked up in
 // <executable's folder>/../share/moreau/scripts (an installed tool), then in the source tree the
-// tool was built from. Returns false (after one warning line on stderr) when the script is not
-// found, Python or matplotlib is missing or the script fails: figures are an extra, never a
-// reason to lose the numbers.
+// tool was built from. Returns an empty string when the script ran and exited 0 (what it printed
+// is passed on to stderr), else why not, in one line: the script not found, Python not
+// startable, or "SCRIPT failed (exit status N: LAST LINE IT PRINTED)" (matplotlib missing, an
+// error in the script). The caller checks that the figure was written.
+std::string RunFigureScript(const std::string& script, const std::vector<std::string>& args);
+
+// RunFigureScript, with one warning line on stderr when it fails ("moreau: warning: REASON;
+// figures skipped (numbers are written)"): figures are an extra, never a reason to lose the
+// numbers. Returns true when the script succeeded.
 bool RunPlotScript(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace moreau::cli

@@ -34,13 +34,21 @@ constexpr std::array<MethodEntry, 5> kMethods{{
     {FillMethod::kPca, "pca", &FillGapPca},
 }};
 
-constexpr EnumNames<GapStatus, 6> kStatuses{{
+constexpr EnumNames<GapStatus, 7> kStatuses{{
     {GapStatus::kFilled, "filled"},
     {GapStatus::kSkippedEdge, "skipped_edge"},
     {GapStatus::kTooLong, "too_long"},
     {GapStatus::kTooFewSamples, "too_few_samples"},
     {GapStatus::kNoDonors, "no_donors"},
     {GapStatus::kFailed, "failed"},
+    {GapStatus::kNeverObserved, "never_observed"},
+}};
+
+constexpr EnumNames<GapOutcome, 4> kOutcomes{{
+    {GapOutcome::kBaseline, "baseline"},
+    {GapOutcome::kOptimalControl, "optimal_control"},
+    {GapOutcome::kPrior, "prior"},
+    {GapOutcome::kUnfillable, "unfillable"},
 }};
 
 const MethodEntry& Entry(FillMethod method) {
@@ -74,6 +82,8 @@ std::string_view ToString(GapStatus status) { return EnumName(kStatuses, status)
 GapStatus ParseGapStatus(std::string_view name) {
   return ParseEnumName(kStatuses, name, "gap status");
 }
+
+std::string_view ToString(GapOutcome outcome) { return EnumName(kOutcomes, outcome); }
 
 const FieldList<InterpolationFillOptions>& InterpolationFillOptions::Fields() {
   using O = InterpolationFillOptions;
@@ -148,6 +158,9 @@ void FillOptions::Validate() const { Fields().Validate(*this); }
 nlohmann::json FillOptions::ToJson() const { return Fields().ToJson(*this); }
 
 GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options) {
+  if (gap.first == 0 && gap.last == in.frames() - 1) {
+    return {GapStatus::kNeverObserved, "the marker is missing in every frame", {}};
+  }
   const double seconds = static_cast<double>(gap.length()) / in.rate();
   if (options.max_gap_seconds > 0.0 && seconds > options.max_gap_seconds * (1.0 + 1e-12)) {
     return {GapStatus::kTooLong,
@@ -167,11 +180,73 @@ GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options)
   return result;
 }
 
+GapOutcomeCounts GapOutcomeCounts::Of(const std::vector<GapReport>& gaps) {
+  GapOutcomeCounts c;
+  for (const GapReport& gap : gaps) {
+    ++c.gaps;
+    switch (gap.outcome) {
+      case GapOutcome::kBaseline:
+        ++c.baseline;
+        break;
+      case GapOutcome::kOptimalControl:
+        ++c.optimal_control;
+        break;
+      case GapOutcome::kPrior:
+        ++c.prior;
+        ++c.prior_by_reason[gap.prior_reason];
+        break;
+      case GapOutcome::kUnfillable:
+        ++c.unfillable;
+        ++c.unfillable_by_status[std::string(ToString(gap.status))];
+        break;
+    }
+  }
+  return c;
+}
+
+nlohmann::json GapOutcomeCounts::ToJson() const {
+  return {{"gaps", gaps},
+          {"optimal_control", optimal_control},
+          {"prior", prior},
+          {"baseline", baseline},
+          {"unfillable", unfillable},
+          {"prior_by_reason", prior_by_reason},
+          {"unfillable_by_status", unfillable_by_status}};
+}
+
+namespace {
+
+// " (a 2, b 1)" from {a: 2, b: 1}.
+std::string CountsInBrackets(const std::map<std::string, std::int64_t>& counts) {
+  std::string text;
+  for (const auto& [name, count] : counts) {
+    text += fmt::format("{}{} {}", text.empty() ? " (" : ", ", name, count);
+  }
+  return text.empty() ? text : text + ")";
+}
+
+}  // namespace
+
+std::string GapOutcomeCounts::Describe(std::string_view method) const {
+  std::string text = fmt::format("{} gaps", gaps);
+  auto add = [&text, first = true](std::int64_t count, const std::string& what) mutable {
+    if (count == 0) return;
+    text += fmt::format("{}{} {}", first ? ": " : ", ", count, what);
+    first = false;
+  };
+  add(optimal_control, "solved by the optimal control");
+  add(prior, "kept the prior" + CountsInBrackets(prior_by_reason));
+  add(baseline, fmt::format("filled by {}", method));
+  add(unfillable, "unfillable" + CountsInBrackets(unfillable_by_status));
+  return text;
+}
+
 nlohmann::json FillSummary::ToJson() const {
   nlohmann::json j = SummaryJson(termination, message, total_seconds);
   j["gaps_filled"] = gaps_filled;
   j["gaps_unfilled"] = static_cast<std::int64_t>(gaps.size()) - gaps_filled;
   j["samples_filled"] = samples_filled;
+  j["outcomes"] = GapOutcomeCounts::Of(gaps).ToJson();
   nlohmann::json rows = nlohmann::json::array();
   for (const GapReport& gap : gaps) {
     rows.push_back({{"marker", gap.marker},
@@ -181,6 +256,9 @@ nlohmann::json FillSummary::ToJson() const {
                     {"frames", gap.last - gap.first + 1},
                     {"method", method},
                     {"status", std::string(ToString(gap.status))},
+                    {"outcome", std::string(ToString(gap.outcome))},
+                    {"prior_reason", gap.prior_reason.empty() ? nlohmann::json()
+                                                              : nlohmann::json(gap.prior_reason)},
                     {"message", gap.message},
                     {"seconds", gap.seconds}});
   }
@@ -198,32 +276,30 @@ FillSummary SummarizeFills(const Recording& in, const std::vector<Gap>& gaps,
   FillSummary summary;
   summary.method = method;
   Recording result = in;
-  std::map<GapStatus, int> unfilled;
   for (std::size_t i = 0; i < gaps.size(); ++i) {
     const Gap& gap = gaps[i];
     const Stopwatch watch;
     GapFill fill = fill_gap(i);
-    GapReport report{gap.marker,  in.labels()[static_cast<std::size_t>(gap.marker)],
-                     gap.first,   gap.last,
-                     fill.status, std::move(fill.message),
-                     0.0};
+    GapReport report;
+    report.marker = gap.marker;
+    report.label = in.labels()[static_cast<std::size_t>(gap.marker)];
+    report.first = gap.first;
+    report.last = gap.last;
+    report.status = fill.status;
+    report.message = std::move(fill.message);
+    report.outcome =
+        fill.status == GapStatus::kFilled ? GapOutcome::kBaseline : GapOutcome::kUnfillable;
     if (fill.status == GapStatus::kFilled) {
       for (std::int64_t f = gap.first; f <= gap.last; ++f) {
         result.SetPoint(f, gap.marker, fill.points.col(f - gap.first));
       }
       ++summary.gaps_filled;
       summary.samples_filled += gap.length();
-    } else {
-      ++unfilled[fill.status];
     }
     report.seconds = watch.Seconds();
     summary.gaps.push_back(std::move(report));
   }
-  summary.message =
-      fmt::format("{} of {} gaps filled by {}", summary.gaps_filled, gaps.size(), method);
-  for (const auto& [status, count] : unfilled) {
-    summary.message += fmt::format("; {} {}", count, ToString(status));
-  }
+  summary.message = GapOutcomeCounts::Of(summary.gaps).Describe(method);
   *out = std::move(result);
   return summary;
 }

@@ -85,12 +85,37 @@ OcpCandidates ComputeCandidates(const Recording& in, const std::vector<Gap>& gap
   return out;
 }
 
-// The ocp fill of every gap, one GapFill per gap in input order: the gaps some candidate fills
-// go to FillGapsOcp together; the others keep the first failing candidate's status.
-std::vector<GapFill> FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
-                                   const GapFillOptions& options) {
+// Why the prior was kept for a gap the optimal-control layer did not solve (GapReport's
+// prior_reason), or empty when it solved it.
+std::string PriorReason(const OcpGapReport& r) {
+  switch (r.outcome) {
+    case OcpOutcome::kSolved:
+      return {};
+    case OcpOutcome::kPrior:
+      return "optimal_control_off";
+    case OcpOutcome::kFallback:
+      break;
+  }
+  // A window that converged but whose fill was not kept was turned down by the guard.
+  return IsSuccess(r.termination) ? "rejected_by_guard" : "optimal_control_failed";
+}
+
+// The ocp fill of every gap in input order: its GapFill, and for a filled gap what filled it
+// (the optimal control or the prior, and why the prior).
+struct OcpGapFills {
+  std::vector<GapFill> fills;
+  std::vector<GapOutcome> outcomes;  // kUnfillable for a gap no candidate fills
+  std::vector<std::string> prior_reasons;
+};
+
+// The gaps some candidate fills go to FillGapsOcp together; the others keep the first failing
+// candidate's status.
+OcpGapFills FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
+                          const GapFillOptions& options) {
   OcpCandidates candidates = ComputeCandidates(in, gaps, options);
-  std::vector<GapFill> fills = std::move(candidates.unfilled);
+  OcpGapFills result{std::move(candidates.unfilled),
+                     std::vector<GapOutcome>(gaps.size(), GapOutcome::kUnfillable),
+                     std::vector<std::string>(gaps.size())};
   std::vector<Gap> solved;
   std::vector<std::size_t> index;
   for (std::size_t i = 0; i < gaps.size(); ++i) {
@@ -99,7 +124,7 @@ std::vector<GapFill> FillGapsByOcp(const Recording& in, const std::vector<Gap>& 
       index.push_back(i);
     }
   }
-  if (solved.empty()) return fills;
+  if (solved.empty()) return result;
   Recording out;
   const OcpFillSummary summary = [&] {
     try {
@@ -110,14 +135,18 @@ std::vector<GapFill> FillGapsByOcp(const Recording& in, const std::vector<Gap>& 
   }();
   for (std::size_t k = 0; k < solved.size(); ++k) {
     const Gap& g = solved[k];
-    GapFill& fill = fills[index[k]];
-    fill = {GapStatus::kFilled, DescribeOcpGap(summary.gaps[k], summary.methods),
+    const OcpGapReport& report = summary.gaps[k];
+    GapFill& fill = result.fills[index[k]];
+    fill = {GapStatus::kFilled, DescribeOcpGap(report, summary.methods),
             Eigen::Matrix3Xd(3, g.length())};
     for (std::int64_t f = g.first; f <= g.last; ++f) {
       fill.points.col(f - g.first) = out.point(f, g.marker);
     }
+    result.prior_reasons[index[k]] = PriorReason(report);
+    result.outcomes[index[k]] =
+        report.outcome == OcpOutcome::kSolved ? GapOutcome::kOptimalControl : GapOutcome::kPrior;
   }
-  return fills;
+  return result;
 }
 
 }  // namespace
@@ -192,9 +221,14 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps,
     summary = FillGaps(in, gaps, BaselineWith(options, *baseline), out);
   } else {
     CheckGaps(in, gaps);
-    std::vector<GapFill> fills = FillGapsByOcp(in, gaps, options);
+    OcpGapFills ocp = FillGapsByOcp(in, gaps, options);
     summary = internal::SummarizeFills(
-        in, gaps, kOcpName, [&](std::size_t i) { return std::move(fills[i]); }, out);
+        in, gaps, kOcpName, [&](std::size_t i) { return std::move(ocp.fills[i]); }, out);
+    for (std::size_t i = 0; i < gaps.size(); ++i) {
+      summary.gaps[i].outcome = ocp.outcomes[i];
+      summary.gaps[i].prior_reason = std::move(ocp.prior_reasons[i]);
+    }
+    summary.message = GapOutcomeCounts::Of(summary.gaps).Describe(kOcpName);
   }
   summary.settings = options.ToJson();
   summary.total_seconds = total.Seconds();
@@ -205,7 +239,7 @@ GapFill FillGap(const Recording& in, const Gap& gap, const GapFillOptions& optio
   if (const std::optional<FillMethod> baseline = BaselineMethod(options.method)) {
     return FillGap(in, gap, BaselineWith(options, *baseline));
   }
-  return std::move(FillGapsByOcp(in, {gap}, options).front());
+  return std::move(FillGapsByOcp(in, {gap}, options).fills.front());
 }
 
 }  // namespace moreau::mocap

@@ -1,12 +1,15 @@
 """`moreau fill-gaps` and `moreau evaluate-gaps`: the files they write, and exit code 2 with one
 line and nothing written on bad input."""
+import collections
 import csv
 import json
 import math
+import os
+import subprocess
 
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import CLI, ROOT, run_cli
 
 DATA = (ROOT.parent / "shared" / "data" / "mocap").resolve()
 
@@ -37,18 +40,26 @@ def assert_rejected(args, out, *words):
     assert not out.exists() or not any(out.iterdir()), list(out.iterdir())
 
 
+def fill_with_deletions(tmp_path, recording, rows, *args, name="out"):
+    """`moreau fill-gaps RECORDING --gaps GAPS.csv ARGS --out tmp_path/NAME`, GAPS.csv holding
+    ROWS; returns the finished run and the output folder."""
+    gaps = tmp_path / f"{name}_gaps.csv"
+    gaps.write_text(rows)
+    out = tmp_path / name
+    return run_cli("fill-gaps", recording, "--gaps", gaps, *args, "--out", out), out
+
+
 def test_fill_gaps_deletes_listed_samples_and_fills_them(tmp_path):
     # Qualisys.c3d is complete: the only gaps are those GAPS.csv makes. Marker by label and by
     # index; linear fill is the straight line between the samples bounding the gap.
     inventory = json.loads(run_cli("inspect", DATA / "Qualisys.c3d", "--json").stdout)
     label = inventory["labels"][3]
-    gaps = tmp_path / "gaps.csv"
-    gaps.write_text(f"marker,first_frame,last_frame\n{label},100,119\n7,0,4\n# comment\n10,200,200\n")
-    out = tmp_path / "out"
-    r = run_cli("fill-gaps", DATA / "Qualisys.c3d", "--gaps", gaps, "--method", "linear",
-                "--out", out)
+    r, out = fill_with_deletions(
+        tmp_path, DATA / "Qualisys.c3d",
+        f"marker,first_frame,last_frame\n{label},100,119\n7,0,4\n# comment\n10,200,200\n",
+        "--method", "linear")
     assert r.returncode == 0, r.stderr
-    assert "3 gaps" in r.stdout and "filled 2" in r.stdout and "skipped_edge 1" in r.stdout
+    assert "3 gaps: 2 filled by linear, 1 unfillable (skipped_edge 1)" in r.stdout
 
     report = json.loads((out / "report.json").read_text())
     assert report["units"] == "mm" and report["samples_deleted"] == 20 + 5 + 1
@@ -108,6 +119,132 @@ def test_fill_gaps_fills_a_recording_with_gaps_and_echoes_settings(tmp_path):
             assert all(p is not None and all(map(math.isfinite, p)) for p in values)
         else:
             assert all(p is None for p in values)
+
+
+def assert_outcomes_counted_from_the_gaps(report, stdout):
+    """report.json's "outcomes" are the counts of the per-gap entries, and its message (the line
+    printed) agrees with them."""
+    gaps = report["gaps"]
+    by_outcome = collections.Counter(g["outcome"] for g in gaps)
+    by_reason = collections.Counter(g["prior_reason"] for g in gaps if g["outcome"] == "prior")
+    by_status = collections.Counter(g["status"] for g in gaps if g["outcome"] == "unfillable")
+    outcomes = report["outcomes"]
+    assert outcomes["gaps"] == len(gaps)
+    for name in ("optimal_control", "prior", "baseline", "unfillable"):
+        assert outcomes[name] == by_outcome[name], name
+    assert sum(by_outcome.values()) == len(gaps)
+    assert outcomes["prior_by_reason"] == dict(by_reason)
+    assert outcomes["unfillable_by_status"] == dict(by_status)
+    assert report["gaps_unfilled"] == by_outcome["unfillable"]
+    for g in gaps:
+        assert (g["prior_reason"] is not None) == (g["outcome"] == "prior"), g
+        assert (g["status"] == "filled") == (g["outcome"] != "unfillable"), g
+        if g["outcome"] == "optimal_control":
+            assert g["message"].startswith("optimal control:"), g
+        if g["outcome"] == "prior":
+            assert g["message"].startswith("prior"), g
+    parts = [f"{len(gaps)} gaps"]
+    words = {"optimal_control": "solved by the optimal control", "prior": "kept the prior",
+             "unfillable": "unfillable"}
+    for name, counts in (("optimal_control", None), ("prior", by_reason),
+                         ("unfillable", by_status)):
+        if by_outcome[name]:
+            text = f"{by_outcome[name]} {words[name]}"
+            if counts:
+                text += " (" + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())) + ")"
+            parts.append(text)
+    assert report["message"].startswith(parts[0] + ": " + ", ".join(parts[1:])), \
+        (report["message"], parts)
+    assert f"  {report['message']}; " in stdout
+
+
+def test_fill_gaps_counts_gaps_by_outcome_prior_only(tmp_path):
+    # Vicon.c3d's 34 real gaps with the optimal control off: every gap keeps the prior, and says
+    # why.
+    out = tmp_path / "out"
+    r = run_cli("fill-gaps", DATA / "Vicon.c3d", "--set", "ocp.optimal_control=false",
+                "--out", out)
+    assert r.returncode == 0, r.stderr
+    report = json.loads((out / "report.json").read_text())
+    assert_outcomes_counted_from_the_gaps(report, r.stdout)
+    assert report["outcomes"]["prior"] == 34
+    assert report["outcomes"]["prior_by_reason"] == {"optimal_control_off": 34}
+    assert report["message"] == "34 gaps: 34 kept the prior (optimal_control_off 34)"
+
+
+def test_fill_gaps_counts_gaps_by_outcome_with_the_optimal_control(tmp_path):
+    # One short deleted gap of the complete Qualisys recording, the optimal control on; plus a
+    # gap at the start that only pca fills and a marker deleted in every frame (unfillable).
+    r, out = fill_with_deletions(tmp_path, DATA / "Qualisys.c3d",
+                                 "marker,first_frame,last_frame\n3,100,109\n7,0,339\n")
+    assert r.returncode == 0, r.stderr
+    report = json.loads((out / "report.json").read_text())
+    assert_outcomes_counted_from_the_gaps(report, r.stdout)
+    by_marker = {g["marker"]: g for g in report["gaps"]}
+    assert by_marker[3]["outcome"] in ("optimal_control", "prior")
+    assert by_marker[7]["outcome"] == "unfillable"
+    assert by_marker[7]["status"] == "never_observed"
+
+
+def test_fill_gaps_marker_never_observed_is_unfillable_exit_0_with_a_warning(tmp_path):
+    # A C3D with one marker missing in every frame: written by fill-gaps itself (linear cannot
+    # fill a gap that spans the recording), then filled again.
+    inventory = json.loads(run_cli("inspect", DATA / "Qualisys.c3d", "--json").stdout)
+    label = inventory["labels"][5]
+    r, first = fill_with_deletions(tmp_path, DATA / "Qualisys.c3d",
+                                   f"{label},0,{inventory['frames'] - 1}\n", "--method", "linear",
+                                   name="first")
+    assert r.returncode == 0, r.stderr
+    source = first / "filled.c3d"
+    c3d = json.loads(run_cli("inspect", source, "--json").stdout)
+    assert [(g["marker"], g["first_frame"], g["last_frame"]) for g in c3d["gaps"]] == \
+        [(label, 0, inventory["frames"] - 1)]
+    for method in ("linear", "ocp"):
+        out = tmp_path / method
+        r = run_cli("fill-gaps", source, "--method", method, "--out", out)
+        assert r.returncode == 0, r.stderr
+        warnings = r.stderr.strip().splitlines()
+        assert len(warnings) == 1, r.stderr
+        assert label in warnings[0] and "missing in every frame" in warnings[0], warnings[0]
+        report = json.loads((out / "report.json").read_text())
+        assert_outcomes_counted_from_the_gaps(report, r.stdout)
+        (gap,) = report["gaps"]
+        assert (gap["label"], gap["status"], gap["outcome"]) == \
+            (label, "never_observed", "unfillable")
+        assert report["outcomes"]["unfillable_by_status"] == {"never_observed": 1}
+        points = read_csv_points(out / "filled.csv")
+        assert all(points[(f, label)] is None for f in range(inventory["frames"]))
+
+
+def test_fill_gaps_failed_figure_is_one_warning_and_not_announced(tmp_path):
+    # A matplotlib that cannot be imported, placed first on the figure script's path.
+    fake = tmp_path / "fake" / "matplotlib"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text('raise ImportError("no matplotlib in this test")\n')
+    out = tmp_path / "out"
+    env = dict(os.environ, PYTHONPATH=str(fake.parent))
+    r = subprocess.run([CLI, "fill-gaps", str(DATA / "Qualisys.c3d"), "--method", "linear",
+                        "--out", str(out)], capture_output=True, text=True, env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    assert "gaps.png not written" in lines[0] and "no matplotlib in this test" in lines[0], lines
+    wrote = [x for x in r.stdout.splitlines() if x.startswith("wrote ")]
+    assert wrote == [f"wrote {out}/filled.c3d, filled.csv, report.json"], r.stdout
+    assert sorted(p.name for p in out.iterdir()) == ["filled.c3d", "filled.csv", "report.json"]
+
+
+@pytest.mark.parametrize("rows,lines,words", [
+    ("3,100,110\n4,100,110\n3,105,120\n", "lines 2 and 4", ["overlapping", "105 … 120"]),
+    ("3,100,110\n3,111,120\n3,100,110\n", "lines 2 and 4", ["duplicate", "100 … 110"]),
+    ("3,100,200\n3,120,130\n", "lines 2 and 3", ["overlapping", "120 … 130"]),
+])
+def test_fill_gaps_overlapping_or_duplicate_rows_exit_2_and_write_nothing(tmp_path, rows, lines,
+                                                                          words):
+    gaps = tmp_path / "gaps.csv"
+    gaps.write_text("marker,first_frame,last_frame\n" + rows)
+    assert_rejected(["fill-gaps", DATA / "Qualisys.c3d", "--gaps", gaps], tmp_path / "out", gaps,
+                    lines, *words)
 
 
 def test_evaluate_gaps_writes_rows_statistics_and_figure(tmp_path):

@@ -199,5 +199,6 @@ def test_scripts_beside_the_executable_come_first(tmp_path):
                         "--out", str(out), "--set", "solver.h=0.01"], capture_output=True,
                        text=True)
     assert r.returncode == 0, r.stderr
-    assert "plot_run.py failed; figures skipped" in r.stderr
+    assert "moreau: warning: plot_run.py failed (exit status 1); figures skipped" in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert (out / "summary.json").exists() and not (out / "trajectory.png").exists()

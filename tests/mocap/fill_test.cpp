@@ -193,12 +193,53 @@ TEST(FillGaps, SummaryJsonNamesStatusesAndSettings) {
   EXPECT_TRUE(summary.ok());
 }
 
+TEST(FillGaps, AMarkerMissingInEveryFrameIsNeverObservedForEveryMethod) {
+  const Recording truth = MakeLineRecording(4, 50, 100.0);
+  Recording gapped = truth;
+  const std::vector<Gap> gaps = {Hide(gapped, 2, 0, 49), Hide(gapped, 1, 10, 19)};
+  for (FillMethod method : AllFillMethods()) {
+    Recording out;
+    const FillSummary summary = FillGaps(gapped, gaps, With(method), &out);
+    EXPECT_EQ(summary.gaps[0].status, GapStatus::kNeverObserved) << ToString(method);
+    EXPECT_EQ(summary.gaps[0].outcome, GapOutcome::kUnfillable) << ToString(method);
+    for (std::int64_t f = 0; f < 50; ++f) EXPECT_FALSE(out.observed(f, 2));
+    const GapOutcomeCounts counts = GapOutcomeCounts::Of(summary.gaps);
+    EXPECT_EQ(counts.unfillable_by_status.at("never_observed"), 1) << ToString(method);
+  }
+}
+
+TEST(FillGaps, OutcomeCountsAndMessageAgreeWithTheGaps) {
+  // linear: one gap filled, one at the start (skipped_edge), one longer than 0.05 s (too_long).
+  const Recording truth = MakeLineRecording(3, 60, 100.0);
+  Recording gapped = truth;
+  const std::vector<Gap> gaps = {Hide(gapped, 0, 10, 12), Hide(gapped, 1, 0, 3),
+                                 Hide(gapped, 2, 20, 29)};
+  FillOptions options = With(FillMethod::kLinear);
+  options.max_gap_seconds = 0.05;
+  Recording out;
+  const FillSummary summary = FillGaps(gapped, gaps, options, &out);
+  EXPECT_EQ(summary.message,
+            "3 gaps: 1 filled by linear, 2 unfillable (skipped_edge 1, too_long 1)");
+  const nlohmann::json j = summary.ToJson();
+  EXPECT_EQ(j["outcomes"]["gaps"], 3);
+  EXPECT_EQ(j["outcomes"]["baseline"], 1);
+  EXPECT_EQ(j["outcomes"]["unfillable"], 2);
+  EXPECT_EQ(j["outcomes"]["optimal_control"], 0);
+  EXPECT_EQ(j["outcomes"]["prior"], 0);
+  EXPECT_EQ(j["outcomes"]["unfillable_by_status"]["too_long"], 1);
+  EXPECT_EQ(j["gaps"][0]["outcome"], "baseline");
+  EXPECT_EQ(j["gaps"][1]["outcome"], "unfillable");
+  EXPECT_TRUE(j["gaps"][0]["prior_reason"].is_null());
+  EXPECT_EQ(GapOutcomeCounts{}.Describe("linear"), "0 gaps");
+}
+
 TEST(FillGaps, MethodAndStatusNamesRoundTrip) {
   for (FillMethod method : AllFillMethods()) {
     EXPECT_EQ(ParseFillMethod(ToString(method)), method);
   }
-  for (auto status : {GapStatus::kFilled, GapStatus::kSkippedEdge, GapStatus::kTooLong,
-                      GapStatus::kTooFewSamples, GapStatus::kNoDonors, GapStatus::kFailed}) {
+  for (auto status :
+       {GapStatus::kFilled, GapStatus::kSkippedEdge, GapStatus::kTooLong, GapStatus::kTooFewSamples,
+        GapStatus::kNoDonors, GapStatus::kFailed, GapStatus::kNeverObserved}) {
     EXPECT_EQ(ParseGapStatus(ToString(status)), status);
   }
   try {

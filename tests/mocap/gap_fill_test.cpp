@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <string>
+
 #include "mocap/ocp_test_util.h"
 #include "moreau/common/error.h"
 
@@ -80,7 +83,41 @@ TEST(GapFill, OcpGapThatNoCandidateFillsKeepsTheCandidatesStatus) {
   EXPECT_FALSE(out.observed(0, 1));
   EXPECT_EQ(summary.gaps[1].status, GapStatus::kFilled);
   EXPECT_EQ(summary.gaps[1].message.find("prior: spline "), 0u) << summary.gaps[1].message;
-  EXPECT_EQ(summary.message, "1 of 2 gaps filled by ocp; 1 skipped_edge");
+  EXPECT_EQ(summary.message,
+            "2 gaps: 1 kept the prior (optimal_control_off 1), 1 unfillable "
+            "(skipped_edge 1)");
+  EXPECT_EQ(summary.gaps[0].outcome, GapOutcome::kUnfillable);
+  EXPECT_EQ(summary.gaps[1].outcome, GapOutcome::kPrior);
+  EXPECT_EQ(summary.gaps[1].prior_reason, "optimal_control_off");
+}
+
+TEST(GapFill, OcpOutcomesAreCountedAsThePerGapEntries) {
+  // Two rigid-body gaps with the optimal control on: each gap is solved or keeps the prior for a
+  // reason, and the counts are those of the entries.
+  const Recording truth = MakeRigidBodyRecording(5, 60, 100.0, 3);
+  Recording gapped = truth;
+  const std::vector<Gap> gaps = {Hide(gapped, 1, 20, 27), Hide(gapped, 3, 35, 40)};
+  GapFillOptions o;
+  o.method = GapFillMethod::kOcp;
+  Recording out;
+  const FillSummary summary = FillGaps(gapped, gaps, o, &out);
+  const nlohmann::json j = summary.ToJson();
+  std::map<std::string, std::int64_t> by_outcome, by_reason;
+  for (const auto& gap : j["gaps"]) {
+    ++by_outcome[gap["outcome"].get<std::string>()];
+    const bool prior = gap["outcome"] == "prior";
+    EXPECT_EQ(prior, !gap["prior_reason"].is_null()) << gap.dump();
+    if (prior) ++by_reason[gap["prior_reason"].get<std::string>()];
+    EXPECT_EQ(gap["outcome"] == "optimal_control",
+              gap["message"].get<std::string>().rfind("optimal control:", 0) == 0)
+        << gap.dump();
+  }
+  for (const char* outcome : {"optimal_control", "prior", "baseline", "unfillable"}) {
+    EXPECT_EQ(j["outcomes"][outcome], by_outcome[outcome]) << outcome;
+  }
+  EXPECT_EQ(j["outcomes"]["prior_by_reason"], nlohmann::json(by_reason));
+  EXPECT_EQ(j["outcomes"]["gaps"], 2);
+  EXPECT_EQ(by_outcome["optimal_control"] + by_outcome["prior"], 2);
 }
 
 TEST(GapFill, BadSettingsAreOneInputErrorNamingTheField) {

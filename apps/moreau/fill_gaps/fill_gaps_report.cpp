@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <map>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -34,23 +37,16 @@ nlohmann::json FillGapsReportJson(const FillGapsSettings& settings, const FillGa
 
 namespace {
 
+namespace fs = std::filesystem;
+
 void PrintFillGapsReport(const FillGapsResult& result, const FillGapsInputs& inputs) {
   const mocap::FillSummary& s = result.summary;
   std::int64_t missing = 0;
-  std::map<mocap::GapStatus, int> by_status;
-  for (const mocap::GapReport& gap : s.gaps) {
-    missing += gap.last - gap.first + 1;
-    ++by_status[gap.status];
-  }
-  std::string statuses;
-  for (const auto& [status, count] : by_status) {
-    statuses +=
-        fmt::format("{}{} {}", statuses.empty() ? "" : ", ", mocap::ToString(status), count);
-  }
+  for (const mocap::GapReport& gap : s.gaps) missing += gap.last - gap.first + 1;
   fmt::print("{}: {} gaps, {} samples missing ({} deleted); method {}\n", inputs.recording,
              s.gaps.size(), missing, result.samples_deleted, s.method);
-  fmt::print("  {}; {} samples filled in {:.3g} s\n", statuses.empty() ? "no gaps" : statuses,
-             s.samples_filled, s.total_seconds);
+  // The summary's message counts the gaps by outcome, as report.json's "outcomes" does.
+  fmt::print("  {}; {} samples filled in {:.3g} s\n", s.message, s.samples_filled, s.total_seconds);
   double mean = 0.0, max = 0.0;
   int measured = 0;
   for (const auto& error : result.errors) {
@@ -65,6 +61,38 @@ void PrintFillGapsReport(const FillGapsResult& result, const FillGapsInputs& inp
   }
 }
 
+// One warning line per marker missing in every frame (left missing, listed as unfillable).
+void WarnNeverObserved(const FillGapsResult& result, const FillGapsInputs& inputs) {
+  for (const mocap::GapReport& gap : result.summary.gaps) {
+    if (gap.status != mocap::GapStatus::kNeverObserved) continue;
+    std::fprintf(stderr,
+                 "moreau: warning: %s: marker %s (index %d) is missing in every frame; it stays "
+                 "missing (report.json: unfillable, never_observed)\n",
+                 inputs.recording.c_str(), gap.label.c_str(), gap.marker);
+  }
+}
+
+bool IsNonEmptyFile(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec) && fs::file_size(path, ec) > 0 && !ec;
+}
+
+// gaps.png from the staged filled.csv and report.json: true when it was written; otherwise one
+// warning line saying why, and no partial figure is left to publish.
+bool WriteGapsFigure(OutputDir& out) {
+  const fs::path png = out.Stage("gaps.png");
+  std::string failure =
+      RunFigureScript("plot_gaps.py", {out.StagedPath("filled.csv").string(),
+                                       out.StagedPath("report.json").string(), png.string()});
+  if (failure.empty() && !IsNonEmptyFile(png)) failure = "plot_gaps.py wrote no figure";
+  if (failure.empty()) return true;
+  std::error_code ec;
+  fs::remove(png, ec);
+  std::fprintf(stderr, "moreau: warning: gaps.png not written: %s; the numbers are written\n",
+               failure.c_str());
+  return false;
+}
+
 }  // namespace
 
 int ReportFillGaps(const FillGapsSettings& settings, const FillGapsResult& result,
@@ -73,12 +101,19 @@ int ReportFillGaps(const FillGapsSettings& settings, const FillGapsResult& resul
   mocap::WriteRecording(result.filled, out.Stage("filled.c3d"));
   mocap::WriteRecording(result.filled, out.Stage("filled.csv"));
   out.WriteText("report.json", FillGapsReportJson(settings, result, inputs).dump(2) + "\n");
-  RunPlotScript("plot_gaps.py",
-                {out.StagedPath("filled.csv").string(), out.StagedPath("report.json").string(),
-                 out.Stage("gaps.png").string()});
+  std::vector<std::string> written = {"filled.c3d", "filled.csv", "report.json"};
+  for (const std::string& name : written) {
+    if (!IsNonEmptyFile(out.StagedPath(name))) {
+      throw std::runtime_error(fmt::format("{}/{}: not written", out.dir().string(), name));
+    }
+  }
+  if (WriteGapsFigure(out)) written.push_back("gaps.png");
   out.Commit();
+  WarnNeverObserved(result, inputs);
   PrintFillGapsReport(result, inputs);
-  fmt::print("wrote {}/filled.c3d, filled.csv, report.json, gaps.png\n", out.dir().string());
+  std::string names;
+  for (const std::string& name : written) names += (names.empty() ? "" : ", ") + name;
+  fmt::print("wrote {}/{}\n", out.dir().string(), names);
   return 0;
 }
 

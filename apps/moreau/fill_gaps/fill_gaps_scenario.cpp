@@ -1,7 +1,9 @@
 #include "fill_gaps/fill_gaps_scenario.h"
 
+#include <algorithm>
 #include <charconv>
 #include <fstream>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -102,20 +104,62 @@ mocap::Gap ParseGapLine(const std::vector<std::string_view>& fields,
   return gap;
 }
 
+// A row of GAPS.csv and its line number.
+struct GapRow {
+  mocap::Gap gap;
+  int line = 0;
+};
+
+// Throws InputError "FILE: lines A and B: …" for two rows of one marker that share a frame
+// (the first such pair by marker, then by first frame).
+void CheckNoOverlap(const std::string& path, std::vector<GapRow> rows,
+                    const mocap::Recording& recording) {
+  std::sort(rows.begin(), rows.end(), [](const GapRow& a, const GapRow& b) {
+    return std::tie(a.gap.marker, a.gap.first, a.line) <
+           std::tie(b.gap.marker, b.gap.first, b.line);
+  });
+  const GapRow* reach = nullptr;  // of the rows before, the one of this marker reaching furthest
+  for (const GapRow& row : rows) {
+    if (reach == nullptr || reach->gap.marker != row.gap.marker) {
+      reach = &row;
+      continue;
+    }
+    if (row.gap.first <= reach->gap.last) {
+      const GapRow& a = reach->line < row.line ? *reach : row;
+      const GapRow& b = reach->line < row.line ? row : *reach;
+      const std::string& label = recording.labels()[static_cast<std::size_t>(row.gap.marker)];
+      const bool same = a.gap.first == b.gap.first && a.gap.last == b.gap.last;
+      throw InputError(
+          same ? fmt::format("{}: lines {} and {}: duplicate rows (marker {}, frames {} … {}); "
+                             "list each sample once",
+                             path, a.line, b.line, label, a.gap.first, a.gap.last)
+               : fmt::format("{}: lines {} and {}: overlapping rows (marker {}, frames {} … {} "
+                             "and {} … {}); list each sample once",
+                             path, a.line, b.line, label, a.gap.first, a.gap.last, b.gap.first,
+                             b.gap.last));
+    }
+    if (row.gap.last > reach->gap.last) reach = &row;
+  }
+}
+
 }  // namespace
 
 std::vector<mocap::Gap> ReadGapList(const std::string& path, const mocap::Recording& recording) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot read the file", path));
-  std::vector<mocap::Gap> gaps;
+  std::vector<GapRow> rows;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const std::string_view text = Trim(line);
     if (text.empty() || text.front() == '#') continue;
     const std::vector<std::string_view> fields = SplitFields(text);
-    if (gaps.empty() && fields[0] == "marker") continue;  // the header
-    gaps.push_back(ParseGapLine(fields, recording, fmt::format("{}: line {}", path, number)));
+    if (rows.empty() && fields[0] == "marker") continue;  // the header
+    rows.push_back(
+        {ParseGapLine(fields, recording, fmt::format("{}: line {}", path, number)), number});
   }
+  CheckNoOverlap(path, rows, recording);
+  std::vector<mocap::Gap> gaps;
+  for (const GapRow& row : rows) gaps.push_back(row.gap);
   return gaps;
 }
 

@@ -38,7 +38,9 @@ nlohmann::json EchoFillGapsSettings(const FillGapsSettings& settings);
 // GAPS.csv: one line `marker,first_frame,last_frame` per run of samples to delete (an optional
 // header line starting with "marker", blank lines and lines starting with '#' are skipped). The
 // marker is a label of `recording`, or else a 0-based marker index; frames are 0-based and
-// inclusive, 0 ≤ first ≤ last < frames. Throws InputError "FILE: line N: FIELD: reason".
+// inclusive, 0 ≤ first ≤ last < frames. Throws InputError "FILE: line N: FIELD: reason", or
+// "FILE: lines A and B: duplicate rows (…)" / "… overlapping rows (…)" when two rows of one
+// marker share a frame.
 std::vector<mocap::Gap> ReadGapList(const std::string& path, const mocap::Recording& recording);
 
 }  // namespace moreau::cli

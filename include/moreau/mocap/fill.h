@@ -42,6 +42,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -74,9 +75,11 @@ enum class GapStatus {
   kTooFewSamples,  // too few observed samples (per side, or complete frames for pca)
   kNoDonors,       // rigid/pca: too few usable markers observed throughout the gap
   kFailed,         // a numerical failure (message says where)
+  kNeverObserved,  // the marker is missing in every frame: nothing to fill it from
 };
 
-// "filled", "skipped_edge", "too_long", "too_few_samples", "no_donors", "failed".
+// "filled", "skipped_edge", "too_long", "too_few_samples", "no_donors", "failed",
+// "never_observed".
 std::string_view ToString(GapStatus status);
 // Throws InputError for an unknown name.
 GapStatus ParseGapStatus(std::string_view name);
@@ -86,7 +89,8 @@ struct InterpolationFillOptions {
   // Observed samples taken on each side of the gap (the adjacent observed run, up to this many);
   // ≥ 2. Both methods need at least 2 on each side (else too_few_samples).
   int samples_per_side = 4;
-  static const FieldList<InterpolationFillOptions>& Fields();  // key, range, unit, help of every field
+  static const FieldList<InterpolationFillOptions>&
+  Fields();  // key, range, unit, help of every field
 };
 
 struct RigidFillOptions {
@@ -143,14 +147,26 @@ struct GapFill {
 
 // One method on one gap of `in` (gap consistent with `in`: marker in range, first ≤ last inside
 // the recording, every sample missing). The FillGapX functions do not check max_gap_seconds
-// or the recording's edges beyond what the method itself needs; FillGap does both, then
-// dispatches on options.method.
+// or the recording's edges beyond what the method itself needs; FillGap does both (a gap that
+// spans every frame is never_observed, whatever the method), then dispatches on options.method.
 GapFill FillGapLinear(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapSpline(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapPchip(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapRigid(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapPca(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options);
+
+// What filled a gap, or that nothing did; the summaries count the gaps by it.
+enum class GapOutcome {
+  kBaseline,        // filled by a baseline method (this file's)
+  kOptimalControl,  // filled by the optimal control (ocp_fill.h, outcome kSolved)
+  kPrior,           // filled by the optimal-control fill's prior (its weighted candidates), the
+                    // optimal control being off or its fill not kept: GapReport::prior_reason
+  kUnfillable,      // left missing: GapReport::status says why
+};
+
+// "baseline", "optimal_control", "prior", "unfillable".
+std::string_view ToString(GapOutcome outcome);
 
 struct GapReport {
   int marker = 0;
@@ -160,14 +176,40 @@ struct GapReport {
   GapStatus status = GapStatus::kFilled;
   std::string message;
   double seconds = 0.0;  // wall-clock time spent on this gap
+  // kUnfillable exactly when status is not kFilled.
+  GapOutcome outcome = GapOutcome::kBaseline;
+  // Why the prior was kept (outcome kPrior, else empty): "optimal_control_off",
+  // "optimal_control_failed" (no converged window; message says how) or "rejected_by_guard" (its
+  // fill disagreed with the distance distributions much more than the prior's).
+  std::string prior_reason;
   bool filled() const { return status == GapStatus::kFilled; }
+};
+
+// The gaps of a summary counted by outcome (every gap in exactly one of the four counts), the
+// kept priors by reason and the unfillable gaps by status.
+struct GapOutcomeCounts {
+  std::int64_t gaps = 0;
+  std::int64_t optimal_control = 0;
+  std::int64_t prior = 0;
+  std::int64_t baseline = 0;
+  std::int64_t unfillable = 0;
+  std::map<std::string, std::int64_t> prior_by_reason;       // prior_reason → gaps
+  std::map<std::string, std::int64_t> unfillable_by_status;  // status name → gaps
+
+  static GapOutcomeCounts Of(const std::vector<GapReport>& gaps);
+  // The counts above as keys of one object (the by-reason and by-status counts as objects).
+  nlohmann::json ToJson() const;
+  // "34 gaps: 6 solved by the optimal control, 28 kept the prior (not_converged 28)";
+  // "12 gaps: 10 filled by METHOD, 2 unfillable (too_long 2)"; "0 gaps". Zero counts are left
+  // out; METHOD names the baseline method.
+  std::string Describe(std::string_view method) const;
 };
 
 struct FillSummary {
   Termination termination = Termination::kCompleted;  // always completed: see the gap statuses
-  std::string message;                                // "k of n gaps filled; …"
-  std::vector<GapReport> gaps;                        // one per input gap, in input order
-  std::int64_t gaps_filled = 0;
+  std::string message;          // GapOutcomeCounts::Describe of the gaps: "n gaps: k solved by …"
+  std::vector<GapReport> gaps;  // one per input gap, in input order
+  std::int64_t gaps_filled = 0;     // every outcome but kUnfillable
   std::int64_t samples_filled = 0;  // marker samples written
   double total_seconds = 0.0;
   // The method tried on every gap, by the name users give it: a FillMethod's, or "ocp" when
@@ -176,6 +218,8 @@ struct FillSummary {
   nlohmann::json settings;  // the options used, as their ToJson() writes them
 
   bool ok() const { return IsSuccess(termination); }
+  // SummaryJson, the counters, "outcomes" (GapOutcomeCounts of the gaps), "gaps" (each with its
+  // "outcome" and "prior_reason", null unless the prior was kept) and "settings".
   nlohmann::json ToJson() const;
 };
 

@@ -51,7 +51,12 @@ struct GapFillOptions {
 // Fills `gaps` of `in` with options.method into *out (which may be &in), as FillGaps (fill.h)
 // does; for ocp each filled gap's message says how: "optimal control: window …; prior rigid
 // 0.71, pca 0.29", "prior: rigid 0.71, pca 0.29" (optimal control off) or "prior (rigid …): why"
-// (the optimal control failed or was rejected). Throws InputError as FillGaps and FillGapsOcp do.
+// (the optimal control failed or was rejected). Each GapReport's outcome says what filled the gap:
+// kBaseline for a baseline method; for ocp kOptimalControl (OcpOutcome kSolved) or kPrior with
+// prior_reason "optimal_control_off" (kPrior), "optimal_control_failed" (kFallback, the window
+// did not converge or was rejected) or "rejected_by_guard" (kFallback, converged but turned down
+// by the guard); kUnfillable when nothing filled it. Throws InputError as FillGaps and FillGapsOcp
+// do.
 FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps,
                      const GapFillOptions& options, Recording* out);
 
