@@ -20,7 +20,7 @@ struct RunArgs : ScenarioArgs {
 };
 
 // Every input is read and checked, the run set up on its initial state, before the output
-// folder is made: particle runs stream their trajectory there.
+// folder is made.
 int Run(const RunArgs& args) {
   Scenario scenario = Scenario::Load(args.scenario, args.overrides);
   RunRequest request;
@@ -30,8 +30,7 @@ int Run(const RunArgs& args) {
   request.out_dir = args.OutDir();
   request.fingerprint = ScenarioFingerprint(args.scenario, args.overrides, args.fix_overlaps);
   PreparedRun run(scenario, std::move(request));
-  OutputDir out(args.OutDir());
-  const RunOutcome outcome = run.Run(out);
+  const RunOutcome outcome = run.Run(args.OutDir());
   std::fputs(outcome.report.c_str(), stdout);
   return RunExitCode(outcome.termination, outcome.message);
 }

@@ -25,6 +25,9 @@ struct PreparedRun::Impl {
 
   bool writes() const { return request.files != RunFiles::kNone; }
   bool figures() const { return request.files == RunFiles::kAll; }
+  OutputDir MakeOut(const std::filesystem::path& dir) const {
+    return writes() ? OutputDir(dir) : OutputDir::Scratch();
+  }
 
   void PrepareParticles(Scenario& scenario) {
     particles = ReadParticleScenario(scenario, request.fix_overlaps);
@@ -44,15 +47,19 @@ struct PreparedRun::Impl {
                                   request.out_dir, request.fingerprint, setup->engine);
   }
 
-  RunOutcome RunPaperCase(OutputDir& out) const {
+  RunOutcome RunPaperCase(const std::filesystem::path& out_dir) const {
     const PbdRunResult result = RunPbdScenario(*pbd);
     RunOutcome o{PbdRunJson(*pbd, result, scenario_file), "", result.summary.termination,
                  result.summary.message};
-    if (writes()) o.report = ReportPbdRun(*pbd, result, o.summary, out, figures());
+    if (writes()) {
+      OutputDir out(out_dir);  // after the run: a signal during it leaves nothing behind
+      o.report = ReportPbdRun(*pbd, result, o.summary, out, figures());
+    }
     return o;
   }
 
-  RunOutcome RunParticles(OutputDir& out) {
+  RunOutcome RunParticles(const std::filesystem::path& out_dir) {
+    OutputDir out = MakeOut(out_dir);
     const ParticleRunResult result = cli::RunParticles(*particles, *setup, out, checkpoints);
     RunOutcome o{ParticleRunJson(*particles, *setup, result, scenario_file), "",
                  result.summary.termination, result.summary.message};
@@ -62,7 +69,8 @@ struct PreparedRun::Impl {
     return o;
   }
 
-  RunOutcome RunPopulation(OutputDir& out) {
+  RunOutcome RunPopulation(const std::filesystem::path& out_dir) {
+    OutputDir out = MakeOut(out_dir);
     const PopulationRunResult result = cli::RunPopulation(*particles, *population, out);
     RunOutcome o{PopulationRunJson(*particles, *population, result, scenario_file), "",
                  result.summary.termination, result.summary.message};
@@ -91,14 +99,14 @@ RunKind PreparedRun::kind() const {
   return impl_->population ? RunKind::kPopulation : RunKind::kParticles;
 }
 
-RunOutcome PreparedRun::Run(OutputDir& out) {
+RunOutcome PreparedRun::Run(const std::filesystem::path& out_dir) {
   switch (kind()) {
     case RunKind::kPaperCase:
-      return impl_->RunPaperCase(out);
+      return impl_->RunPaperCase(out_dir);
     case RunKind::kParticles:
-      return impl_->RunParticles(out);
+      return impl_->RunParticles(out_dir);
     case RunKind::kPopulation:
-      return impl_->RunPopulation(out);
+      return impl_->RunPopulation(out_dir);
   }
   return {};
 }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -61,9 +62,13 @@ class PreparedRun {
 
   RunKind kind() const;
 
-  // Runs it once over [0, T], writing into OUT what the request asks for (committed unless
-  // RunFiles::kNone). Throws NumericalError when a requested reference solution fails.
-  RunOutcome Run(OutputDir& out);
+  // Runs it once over [0, T] and writes into the folder OUT_DIR what the request asks for
+  // (nothing with RunFiles::kNone: then a particle run stages into a scratch folder that goes
+  // with it). The folder is made when the run starts writing (OutputDir: staged, published
+  // whole): particle runs stream their trajectory, the paper's cases write at the end, so a
+  // signal during their run leaves nothing behind. Throws NumericalError when a requested
+  // reference solution fails.
+  RunOutcome Run(const std::filesystem::path& out_dir);
 
  private:
   struct Impl;

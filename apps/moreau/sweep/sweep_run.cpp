@@ -66,28 +66,28 @@ SweepPointRun PrepareRunPoint(const SweepScenario& sweep,
   RunRequest request;
   request.files = sweep.run_folders ? RunFiles::kNoFigures : RunFiles::kNone;
   auto run = std::make_shared<PreparedRun>(scenario, std::move(request));
-  return [run](const fs::path& run_dir) {
-    // Without a run folder nothing is staged, and the scratch folder goes with `out`.
-    OutputDir out = run_dir.empty() ? OutputDir::Scratch() : OutputDir(run_dir);
-    return run->Run(out).summary;
-  };
+  return [run](const fs::path& run_dir) { return run->Run(run_dir).summary; };
 }
 
 nlohmann::json FailedRow(std::string_view status, std::string_view message) {
   return {{"status", status}, {"message", message}};
 }
 
-// The sweep key that sets `key` of the base scenario in the first run, as the sweep file names
-// it; "" when none does.
-std::string SweepKeyOf(const SweepScenario& sweep, std::string_view key) {
-  for (const sweep::Axis& axis : sweep.grid.axes) {
-    if (axis.key == key) return "axes." + axis.key;
+// The key of the sweep file that sets a key of the base scenario named in MESSAGE (an
+// InputError's "BASE: KEY: REASON" or "--set KEY=VALUE: REASON"): axes.KEY, seeds or set.KEY;
+// "scenario" when none does.
+std::string BlamedSweepKey(const SweepScenario& sweep, const std::string& message) {
+  std::vector<std::pair<std::string, std::string>> keys;  // (in the sweep file, in the scenario)
+  for (const sweep::Axis& axis : sweep.grid.axes) keys.emplace_back("axes." + axis.key, axis.key);
+  if (!sweep.grid.seeds.empty()) keys.emplace_back("seeds", sweep.grid.seed_key);
+  for (const sweep::Setting& f : sweep.fixed) keys.emplace_back("set." + f.key, f.key);
+  for (const auto& [sweep_key, key] : keys) {
+    if (message.find(": " + key + ": ") != std::string::npos ||
+        message.rfind("--set " + key + "=", 0) == 0) {
+      return sweep_key;
+    }
   }
-  if (!sweep.grid.seeds.empty() && sweep.grid.seed_key == key) return "seeds";
-  for (const sweep::Setting& f : sweep.fixed) {
-    if (f.key == key) return "set." + f.key;
-  }
-  return "";
+  return "scenario";
 }
 
 }  // namespace
@@ -100,27 +100,17 @@ SweepPointRun PrepareSweepPoint(const SweepScenario& sweep,
 }
 
 void CheckFirstRun(const SweepScenario& sweep, const Scenario& file) {
-  const std::vector<sweep::Setting> first = sweep.grid.Run(0);
   try {
     PrepareSweepPoint(sweep, sweep.Overrides(0));
   } catch (const InputError& e) {
-    // The base scenario's message is "BASE: KEY: REASON"; the key it names, when a sweep key
-    // sets it, is the one to blame.
-    const std::string what = e.what();
-    std::string key = "scenario";
-    for (const std::vector<sweep::Setting>* list : {&first, &sweep.fixed}) {
-      for (const sweep::Setting& setting : *list) {
-        if (what.find(": " + setting.key + ": ") != std::string::npos) {
-          key = SweepKeyOf(sweep, setting.key);
-        }
-      }
-    }
     std::string settings;
-    for (const sweep::Setting& setting : first) {
+    for (const sweep::Setting& setting : sweep.grid.Run(0)) {
       settings +=
-          fmt::format("{}{} = {}", settings.empty() ? "" : ", ", setting.key, setting.value);
+          fmt::format("{}{} = {}", settings.empty() ? " (" : ", ", setting.key, setting.value);
     }
-    file.Fail(key, fmt::format("the first run ({}) is rejected: {}", settings, what));
+    if (!settings.empty()) settings += ")";
+    file.Fail(BlamedSweepKey(sweep, e.what()),
+              fmt::format("the first run{} is rejected: {}", settings, e.what()));
   }
 }
 
