@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from conftest import CLI, run_cli
+from conftest import CLI, ROOT, run_cli
 
 # 400 disks in a periodic box with noise and a trap: the neighbour lists are rebuilt and the
 # storage reordered during the run, so a resume must restore the last build to keep the bits.
@@ -148,3 +148,13 @@ def test_corrupt_or_foreign_checkpoints_are_refused(tmp_path):
                    "is not a directory")
     assert_refused(["run", path, "--out", out, "--checkpoint-every", -1], "--checkpoint-every")
     assert not out.exists()
+
+
+@pytest.mark.parametrize("example", ["abm/monolayer.toml", "sweeps/crowd_room.toml"])
+def test_populations_and_rooms_are_not_checkpointed(tmp_path, example):
+    """Their state is not saved (rules, the evacuation count): the flags are refused, not ignored."""
+    scenario = ROOT / "examples" / example
+    out = tmp_path / "out"
+    for flags in (["--checkpoint-every", 10], ["--resume", tmp_path]):
+        assert_refused(["run", scenario, "--out", out, *flags], "only particle runs without")
+    assert not out.exists() and not (tmp_path / "out.checkpoint").exists()

@@ -12,6 +12,7 @@ import pytest
 from conftest import CLI, ROOT, run_cli
 from test_pbd_cli import DISKS  # the paper's disks case, small
 
+FAILED = 3  # the exit code of a sweep whose table has failed runs
 MPIRUN = shutil.which("mpirun")
 needs_mpirun = pytest.mark.skipif(MPIRUN is None,
                                   reason="mpirun is absent (Debian: openmpi-bin): MPI not tested")
@@ -38,7 +39,8 @@ diffusion = 0.01
 h = 0.01
 """
 
-# 2 door widths × 3 speeds (one invalid: 3 failed rows) × 2 seeds = 12 runs.
+# 2 door widths × 3 speeds (one invalid: 4 failed rows) × 2 seeds = 12 runs; with failed runs the
+# sweep writes its table and exits 3.
 SWEEP = """
 command = "run"
 scenario = "base.toml"
@@ -73,7 +75,7 @@ def rows(out):
 def test_table_has_one_row_per_run_in_grid_order_with_failed_runs_reported(sweep_file, tmp_path):
     out = tmp_path / "out"
     r = run_cli("sweep", sweep_file(), "--out", out)
-    assert r.returncode == 0, r.stderr
+    assert r.returncode == FAILED, r.stderr
     table = rows(out)
     assert [int(row["run"]) for row in table] == list(range(12))
     assert len({row["hash"] for row in table}) == 12
@@ -92,6 +94,7 @@ def test_table_has_one_row_per_run_in_grid_order_with_failed_runs_reported(sweep
             assert int(row["steps"]) == 100
             assert row["settings.room.door_width"] == row["room.door_width"]  # dotted keys
     assert r.stderr.count("input_error") == 4  # each failure named on stderr as it happens
+    assert "4 of 12 runs failed" in r.stderr.strip().splitlines()[-1]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["runs"] == 12 and summary["runs_failed"] == 4 and summary["runs_skipped"] == 0
     assert (out / "results.h5").stat().st_size > 0
@@ -101,8 +104,8 @@ def test_table_has_one_row_per_run_in_grid_order_with_failed_runs_reported(sweep
 def test_threads_give_the_same_bytes(sweep_file, tmp_path):
     sweep = sweep_file()
     one, two = tmp_path / "one", tmp_path / "two"
-    assert run_cli("sweep", sweep, "--out", one).returncode == 0
-    assert run_cli("sweep", sweep, "--out", two, "--jobs", "3").returncode == 0
+    assert run_cli("sweep", sweep, "--out", one).returncode == FAILED
+    assert run_cli("sweep", sweep, "--out", two, "--jobs", "3").returncode == FAILED
     for name in ("results.csv", "results.h5"):
         assert (one / name).read_bytes() == (two / name).read_bytes(), name
 
@@ -111,11 +114,11 @@ def test_threads_give_the_same_bytes(sweep_file, tmp_path):
 def test_one_two_three_ranks_and_no_mpi_give_the_same_bytes(sweep_file, tmp_path):
     sweep = sweep_file()
     plain = tmp_path / "plain"
-    assert run_cli("sweep", sweep, "--out", plain).returncode == 0
+    assert run_cli("sweep", sweep, "--out", plain).returncode == FAILED
     for ranks in (1, 2, 3):
         out = tmp_path / f"ranks{ranks}"
         r = mpi_sweep(ranks, sweep, "--out", out)
-        assert r.returncode == 0, r.stderr
+        assert r.returncode == FAILED, r.stderr
         assert json.loads((out / "summary.json").read_text())["ranks"] == ranks
         for name in ("results.csv", "results.h5"):
             assert (out / name).read_bytes() == (plain / name).read_bytes(), (ranks, name)
@@ -125,7 +128,7 @@ def test_killed_sweep_restarts_where_it_stopped_and_ends_with_the_same_table(swe
                                                                              tmp_path):
     sweep = sweep_file(T=4.0)
     reference = tmp_path / "reference"
-    assert run_cli("sweep", sweep, "--out", reference).returncode == 0
+    assert run_cli("sweep", sweep, "--out", reference).returncode == FAILED
     out = tmp_path / "killed"
     journal = out / "journal.jsonl"
     p = subprocess.Popen([CLI, "sweep", str(sweep), "--out", str(out)],
@@ -144,12 +147,12 @@ def test_killed_sweep_restarts_where_it_stopped_and_ends_with_the_same_table(swe
         r = mpi_sweep(2, sweep, "--out", out)
     else:
         r = run_cli("sweep", sweep, "--out", out)
-    assert r.returncode == 0, r.stderr
+    assert r.returncode == FAILED, r.stderr  # the failed runs of the journal count too
     summary = json.loads((out / "summary.json").read_text())
     assert summary["runs_skipped"] == finished
     assert (out / "results.csv").read_bytes() == (reference / "results.csv").read_bytes()
     again = run_cli("sweep", sweep, "--out", out)  # nothing left to run
-    assert again.returncode == 0
+    assert again.returncode == FAILED
     assert json.loads((out / "summary.json").read_text())["runs_skipped"] == 12
 
 
@@ -157,7 +160,7 @@ def test_run_folders_on_request(sweep_file, tmp_path):
     sweep = sweep_file(sweep=SWEEP + "\n".join(["", "[set]", "problem.count = 8"]) + "\n")
     sweep.write_text('run_folders = true\n' + sweep.read_text())
     out = tmp_path / "out"
-    assert run_cli("sweep", sweep, "--out", out).returncode == 0
+    assert run_cli("sweep", sweep, "--out", out).returncode == FAILED
     for row in rows(out):
         summary = out / "runs" / row["hash"] / "summary.json"
         assert summary.exists() == (row["status"] == "completed"), row

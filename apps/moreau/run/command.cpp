@@ -1,18 +1,14 @@
 // `moreau run SCENARIO.toml [--set key=value ...] [--out DIR] [--fix-overlaps]
-// [--checkpoint-every K] [--resume DIR]`: one simulation.
-// problem.kind = "particles" goes to the particle engine (particles_scenario → particles_run →
-// particles_report; with [[types]], an agent-based model: population_run); "sliding" and "disks"
-// to the paper's steppers (pbd_scenario → pbd_run → pbd_report).
+// [--checkpoint-every K] [--resume DIR]`: one simulation. Which kind of run a scenario is (the
+// paper's cases, particles, an agent-based model) is told in run/dispatch.h, which `moreau
+// sweep` shares.
+#include <cstdio>
 #include <memory>
 
 #include "commands.h"
-#include "run/particles_report.h"
-#include "run/particles_run.h"
-#include "run/particles_scenario.h"
-#include "run/pbd_report.h"
-#include "run/pbd_run.h"
-#include "run/pbd_scenario.h"
-#include "run/population_run.h"
+#include "run/dispatch.h"
+#include "run/particles_checkpoint.h"
+#include "signals.h"
 
 namespace moreau::cli {
 namespace {
@@ -23,34 +19,20 @@ struct RunArgs : ScenarioArgs {
   std::string resume;
 };
 
-// Every input is read and checked, the engine set up on its initial state, before the output
-// folder is made: the run streams its trajectory there.
-int RunParticleScenario(Scenario& scenario, const RunArgs& args) {
-  const ParticleScenario settings = ReadParticleScenario(scenario, args.fix_overlaps);
-  scenario.CheckAllKeysUsed();
-  if (settings.is_population()) {
-    particles::Population population = SetUpPopulationRun(settings, scenario);
-    OutputDir out(args.OutDir());
-    return RunPopulation(settings, population, scenario.path(), out);
-  }
-  ParticleSetup setup = SetUpParticleRun(settings, scenario);
-  const CheckpointPlan checkpoints = PlanCheckpoints(
-      settings, args.checkpoint_every, args.resume, args.OutDir(),
-      ScenarioFingerprint(args.scenario, args.overrides, args.fix_overlaps), setup.engine);
-  OutputDir out(args.OutDir());
-  const ParticleRunResult result = RunParticles(settings, setup, out, checkpoints);
-  return ReportParticleRun(settings, setup, result, scenario.path(), out);
-}
-
+// Every input is read and checked, the run set up on its initial state, before the output
+// folder is made.
 int Run(const RunArgs& args) {
   Scenario scenario = Scenario::Load(args.scenario, args.overrides);
-  if (scenario.GetString("problem.kind", "") == "particles") {
-    return RunParticleScenario(scenario, args);
-  }
-  const PbdScenario pbd_scenario = ReadPbdScenario(scenario);
-  scenario.CheckAllKeysUsed();
-  const PbdRunResult result = RunPbdScenario(pbd_scenario);
-  return ReportPbdRun(pbd_scenario, result, args.scenario, args.OutDir());
+  RunRequest request;
+  request.fix_overlaps = args.fix_overlaps;
+  request.checkpoint_every = args.checkpoint_every;
+  request.resume = args.resume;
+  request.out_dir = args.OutDir();
+  request.fingerprint = ScenarioFingerprint(args.scenario, args.overrides, args.fix_overlaps);
+  PreparedRun run(scenario, std::move(request));
+  const RunOutcome outcome = run.Run(args.OutDir());
+  std::fputs(outcome.report.c_str(), stdout);
+  return RunExitCode(outcome.termination, outcome.message);
 }
 
 }  // namespace

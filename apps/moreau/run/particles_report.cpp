@@ -1,13 +1,12 @@
 #include "run/particles_report.h"
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 
 #include "moreau/common/hash.h"
-#include "signals.h"
 
 namespace moreau::cli {
 namespace {
@@ -45,6 +44,25 @@ void WriteFigures(const ParticleScenario& scenario, const particles::ParticleMod
   }
 }
 
+// The time of the first row of "t,out" whose count is everybody; null when there is none.
+nlohmann::json EvacuationTime(const std::string& series_csv, int people) {
+  std::istringstream in(series_csv);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    const std::size_t comma = line.find(',');
+    if (std::stoi(line.substr(comma + 1)) == people) return std::stod(line.substr(0, comma));
+  }
+  return nullptr;
+}
+
+double MeanSquaredDisplacement(const std::vector<double>& x0, const std::vector<double>& x,
+                               int count) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) sum += (x[i] - x0[i]) * (x[i] - x0[i]);
+  return count > 0 ? sum / count : 0.0;
+}
+
 }  // namespace
 
 nlohmann::json ParticleRunJson(const ParticleScenario& scenario, const ParticleSetup& setup,
@@ -63,30 +81,33 @@ nlohmann::json ParticleRunJson(const ParticleScenario& scenario, const ParticleS
   j["fix_overlaps_sweeps"] = setup.fix_overlaps_sweeps;
   j["scenario_file"] = scenario_file;
   j["positions_hash"] = HashDoublesHex(result.x);  // final positions, id order (FNV-1a of bits)
-  if (result.evacuated) j["evacuated"] = *result.evacuated;
+  j["msd"] = MeanSquaredDisplacement(setup.x0, result.x, engine.count());
+  if (result.evacuated) {
+    j["evacuated"] = *result.evacuated;
+    j["evacuation_time"] = EvacuationTime(result.evacuation_csv, engine.count());
+  }
   j["settings"] = EchoParticleScenario(scenario);
   return j;
 }
 
-int ReportParticleRun(const ParticleScenario& scenario, const ParticleSetup& setup,
-                      const ParticleRunResult& result, const std::string& scenario_file,
-                      OutputDir& out) {
+std::string ReportParticleRun(const ParticleScenario& scenario, const ParticleSetup& setup,
+                              const ParticleRunResult& result, const nlohmann::json& summary,
+                              OutputDir& out, bool figures) {
   if (result.evacuated) out.WriteText("evacuation.csv", result.evacuation_csv);
-  out.WriteText("summary.json",
-                ParticleRunJson(scenario, setup, result, scenario_file).dump(2) + "\n");
-  WriteFigures(scenario, setup.engine.model(), result, out);
+  out.WriteText("summary.json", summary.dump(2) + "\n");
+  if (figures) WriteFigures(scenario, setup.engine.model(), result, out);
   out.Commit();
 
-  const particles::EngineSummary& summary = result.summary;
-  std::printf("%s\n", summary.BriefReport().c_str());
+  std::string report = result.summary.BriefReport() + "\n";
   if (result.evacuated) {
-    std::printf("people out at t = %g: %d of %d\n", setup.engine.time(), *result.evacuated,
-                setup.engine.count());
+    report += fmt::format("people out at t = {:g}: {} of {}\n", setup.engine.time(),
+                          *result.evacuated, setup.engine.count());
   }
-  std::printf("wrote %s/summary.json%s%s%s\n", out.dir().c_str(),
-              result.hdf5 ? ", trajectory.h5 + .xdmf" : "", result.vtu ? ", vtu/frame.pvd" : "",
-              WritesSnapshots(scenario) ? ", snapshots.png" : "");
-  return RunExitCode(summary.termination, summary.message);
+  report +=
+      fmt::format("wrote {}/summary.json{}{}{}\n", out.dir().string(),
+                  result.hdf5 ? ", trajectory.h5 + .xdmf" : "", result.vtu ? ", vtu/frame.pvd" : "",
+                  figures && WritesSnapshots(scenario) ? ", snapshots.png" : "");
+  return report;
 }
 
 }  // namespace moreau::cli

@@ -12,15 +12,17 @@
 
 namespace moreau::cli {
 
-// The engine's summary (counters, *_seconds) with the run's context, the final positions' hash
-// and the scenario's settings.
+// The engine's summary (counters, *_seconds) with the run's context, the final positions' hash,
+// "msd" (mean squared displacement from the initial to the final positions), with a room
+// "evacuated" and "evacuation_time" (when the last person went out; null when some are still
+// in), and the scenario's settings: summary.json.
 nlohmann::json ParticleRunJson(const ParticleScenario& scenario, const ParticleSetup& setup,
                                const ParticleRunResult& result, const std::string& scenario_file);
 
-// Writes the rest of DIR, commits it and prints the brief report. Returns the exit code: 0, or 3
-// after a numerical failure (the last good frame is written).
-int ReportParticleRun(const ParticleScenario& scenario, const ParticleSetup& setup,
-                      const ParticleRunResult& result, const std::string& scenario_file,
-                      OutputDir& out);
+// Writes the rest of DIR (evacuation.csv, SUMMARY as summary.json and, with `figures`,
+// evacuation.png and snapshots.png) and commits it. Returns the brief report `moreau run` prints.
+std::string ReportParticleRun(const ParticleScenario& scenario, const ParticleSetup& setup,
+                              const ParticleRunResult& result, const nlohmann::json& summary,
+                              OutputDir& out, bool figures);
 
 }  // namespace moreau::cli

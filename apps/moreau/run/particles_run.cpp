@@ -165,7 +165,9 @@ ParticleSetup SetUpParticleRun(const ParticleScenario& scenario, const Scenario&
   WithKey(file, "initial", [&] {
     engine.emplace(std::move(model), scenario.MakeForces(), scenario.MakeEngineOptions(), x0);
   });
-  return {std::move(*engine), fix_sweeps, StepCount(scenario.T, scenario.solver.h)};
+  std::vector<double> start = engine->Positions();
+  return {std::move(*engine), std::move(start), fix_sweeps,
+          StepCount(scenario.T, scenario.solver.h)};
 }
 
 ParticleRunResult RunParticles(const ParticleScenario& scenario, ParticleSetup& setup,

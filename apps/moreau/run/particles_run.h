@@ -20,6 +20,7 @@ namespace moreau::cli {
 // A run ready to go: the engine on its initial state.
 struct ParticleSetup {
   particles::Engine engine;
+  std::vector<double> x0;       // the initial positions, id order (for the displacement)
   int fix_overlaps_sweeps = 0;  // FixOverlaps sweeps on the initial state (0: not asked, or
                                 // feasible already)
   std::int64_t steps = 0;       // T / h

@@ -1,12 +1,8 @@
 #include "run/pbd_report.h"
 
-#include <cstdio>
 #include <iterator>
 
 #include <fmt/format.h>
-
-#include "output.h"
-#include "signals.h"
 
 namespace moreau::cli {
 
@@ -52,25 +48,26 @@ nlohmann::json PbdRunJson(const PbdScenario& scenario, const PbdRunResult& resul
   return j;
 }
 
-int ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
-                 const std::string& scenario_file, const std::string& out_dir) {
-  OutputDir out(out_dir);
-  out.WriteText("summary.json", PbdRunJson(scenario, result, scenario_file).dump(2) + "\n");
+std::string ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
+                         const nlohmann::json& summary, OutputDir& out, bool figures) {
+  out.WriteText("summary.json", summary.dump(2) + "\n");
   out.WriteText("trajectory.csv", PbdTrajectoryCsv(scenario, result));
-  RunPlotScript(
-      "plot_run.py",
-      {out.Stage("trajectory.png").string(), out.StagedPath("trajectory.csv").string(),
-       scenario.kind, fmt::format("{}", scenario.is_disks() ? scenario.disks.radius : 0.0)});
+  if (figures) {
+    RunPlotScript(
+        "plot_run.py",
+        {out.Stage("trajectory.png").string(), out.StagedPath("trajectory.csv").string(),
+         scenario.kind, fmt::format("{}", scenario.is_disks() ? scenario.disks.radius : 0.0)});
+  }
   out.Commit();
 
-  const pbd::SimulationSummary& summary = result.summary;
-  std::printf("%s\n", summary.BriefReport().c_str());
+  std::string report = result.summary.BriefReport() + "\n";
   if (result.error) {
-    std::printf("error against the %s solution: %.6e\n",
-                scenario.is_disks() ? "reference" : "exact", *result.error);
+    report += fmt::format("error against the {} solution: {:.6e}\n",
+                          scenario.is_disks() ? "reference" : "exact", *result.error);
   }
-  std::printf("wrote %s/summary.json, trajectory.csv, trajectory.png\n", out.dir().c_str());
-  return RunExitCode(summary.termination, summary.message);
+  report += fmt::format("wrote {}/summary.json, trajectory.csv{}\n", out.dir().string(),
+                        figures ? ", trajectory.png" : "");
+  return report;
 }
 
 }  // namespace moreau::cli

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "output.h"
 #include "run/pbd_run.h"
 #include "run/pbd_scenario.h"
 
@@ -18,9 +19,9 @@ std::string PbdTrajectoryCsv(const PbdScenario& scenario, const PbdRunResult& re
 nlohmann::json PbdRunJson(const PbdScenario& scenario, const PbdRunResult& result,
                           const std::string& scenario_file);
 
-// Writes DIR (staged, committed only once everything is written) and prints the brief report.
-// Returns the exit code: 0, or 3 after a numerical failure.
-int ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
-                 const std::string& scenario_file, const std::string& out_dir);
+// Writes SUMMARY as summary.json, trajectory.csv and, with `figures`, trajectory.png into OUT
+// and commits it. Returns the brief report `moreau run` prints.
+std::string ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
+                         const nlohmann::json& summary, OutputDir& out, bool figures);
 
 }  // namespace moreau::cli

@@ -1,6 +1,5 @@
 #include "run/population_run.h"
 
-#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -107,8 +106,8 @@ particles::Population SetUpPopulationRun(const ParticleScenario& scenario, const
   return std::move(*population);
 }
 
-int RunPopulation(const ParticleScenario& scenario, particles::Population& population,
-                  const std::string& scenario_file, OutputDir& out) {
+PopulationRunResult RunPopulation(const ParticleScenario& scenario,
+                                  particles::Population& population, OutputDir& out) {
   const particles::PopulationRules rules = scenario.MakeRules();
   const std::int64_t steps = StepCount(scenario.T, scenario.solver.h);
   FrameWriter frames(
@@ -119,7 +118,7 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
   std::int64_t recorded_step = -1;
   ProgressBar progress("run", steps);
   const StopScope stop_on_signal;  // SIGINT/SIGTERM: stop after the current step
-  const particles::PopulationSummary summary =
+  particles::PopulationSummary summary =
       population.Run(scenario.T, [&](const particles::Population& p) {
         if (observed++ % scenario.population.record_every == 0) {
           csv += CsvRow(p.Observe());
@@ -136,26 +135,37 @@ int RunPopulation(const ParticleScenario& scenario, particles::Population& popul
   }
   frames.Write(population, false);
   frames.Close();
-  out.WriteText("population.csv", csv);
-  out.WriteText("agents.csv", AgentsCsv(population));
-  nlohmann::json j = summary.ToJson();
+  return {std::move(summary), std::move(csv), scenario.output.hdf5, scenario.output.vtu};
+}
+
+nlohmann::json PopulationRunJson(const ParticleScenario& scenario,
+                                 const particles::Population& population,
+                                 const PopulationRunResult& result,
+                                 const std::string& scenario_file) {
+  nlohmann::json j = result.summary.ToJson();
   j["engine_kind"] = "particles";
   j["scenario_file"] = scenario_file;
   j["dimension"] = population.engine().dimension();
   j["positions_hash"] =
       HashDoublesHex(population.count() > 0 ? population.Positions() : std::vector<double>{});
   j["scenario"] = EchoParticleScenario(scenario);
-  out.WriteText("summary.json", j.dump(2) + "\n");
+  return j;
+}
+
+std::string ReportPopulationRun(const particles::Population& population,
+                                const PopulationRunResult& result, const nlohmann::json& summary,
+                                OutputDir& out) {
+  out.WriteText("population.csv", result.series_csv);
+  out.WriteText("agents.csv", AgentsCsv(population));
+  out.WriteText("summary.json", summary.dump(2) + "\n");
   out.Commit();
-  std::printf("%s\n", summary.engine.BriefReport().c_str());
-  std::printf("agents: %lld (births %lld, deaths %lld, removals %lld)%s%s\n",
-              static_cast<long long>(population.count()), static_cast<long long>(summary.births),
-              static_cast<long long>(summary.deaths), static_cast<long long>(summary.removals),
-              summary.message.empty() ? "" : " — ", summary.message.c_str());
-  std::printf("wrote %s/summary.json, population.csv, agents.csv%s%s\n", out.dir().c_str(),
-              scenario.output.hdf5 ? ", trajectory.h5 + .xdmf" : "",
-              scenario.output.vtu ? ", vtu/frame.pvd" : "");
-  return RunExitCode(summary.termination, summary.message);
+  const particles::PopulationSummary& s = result.summary;
+  return fmt::format(
+      "{}\nagents: {} (births {}, deaths {}, removals {}){}{}\n"
+      "wrote {}/summary.json, population.csv, agents.csv{}{}\n",
+      s.engine.BriefReport(), population.count(), s.births, s.deaths, s.removals,
+      s.message.empty() ? "" : " — ", s.message, out.dir().string(),
+      result.hdf5 ? ", trajectory.h5 + .xdmf" : "", result.vtu ? ", vtu/frame.pvd" : "");
 }
 
 }  // namespace moreau::cli

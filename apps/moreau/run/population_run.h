@@ -1,11 +1,14 @@
 // `moreau run` for an agent-based model (a particle scenario with [[types]], docs/abm.md): the
 // population on its initial state, the run with the observables recorded every
-// population.record_every rule steps and the trajectory written as VTU frames (the agent count
-// changes), and what the run writes besides: population.csv, agents.csv, summary.json.
+// population.record_every rule steps and the trajectory written as HDF5 and VTU frames (the
+// agent count changes), and what the run writes besides: population.csv, agents.csv,
+// summary.json.
 #pragma once
 
 #include <cstdint>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "moreau/particles/population.h"
 #include "output.h"
@@ -18,9 +21,30 @@ namespace moreau::cli {
 // InputError "FILE: KEY: REASON" before anything is written.
 particles::Population SetUpPopulationRun(const ParticleScenario& scenario, const Scenario& file);
 
-// Runs over [0, T], writes DIR (population.csv, agents.csv, summary.json, vtu/frame.pvd) and
-// prints the brief report. Returns 0, or 3 after a numerical failure (the last good state kept).
-int RunPopulation(const ParticleScenario& scenario, particles::Population& population,
-                  const std::string& scenario_file, OutputDir& out);
+struct PopulationRunResult {
+  particles::PopulationSummary summary;
+  std::string series_csv;  // population.csv
+  bool hdf5 = false;       // trajectory.h5 + .xdmf written
+  bool vtu = false;        // vtu/frame.pvd written
+};
+
+// Runs over [0, T] (with a progress bar on a terminal), writing the trajectory frames into
+// `out` (staged) and recording the observables every population.record_every rule steps and at
+// the end. After a numerical failure the population keeps the last good state.
+PopulationRunResult RunPopulation(const ParticleScenario& scenario,
+                                  particles::Population& population, OutputDir& out);
+
+// The population's summary with the run's context, the final positions' hash ("positions_hash")
+// and the scenario's settings: summary.json.
+nlohmann::json PopulationRunJson(const ParticleScenario& scenario,
+                                 const particles::Population& population,
+                                 const PopulationRunResult& result,
+                                 const std::string& scenario_file);
+
+// Writes population.csv, agents.csv and SUMMARY as summary.json into OUT and commits it. Returns
+// the brief report `moreau run` prints.
+std::string ReportPopulationRun(const particles::Population& population,
+                                const PopulationRunResult& result, const nlohmann::json& summary,
+                                OutputDir& out);
 
 }  // namespace moreau::cli

@@ -3,7 +3,9 @@
 // sweep::Dispatch over MPI ranks (under mpirun/srun) or a local pool, each appended to its
 // rank's journal (DIR/journal.jsonl, DIR/journal.rank<k>.jsonl) as it finishes → sweep_report
 // (results.csv, results.h5, summary.json). Runs already in a journal (by the hash of their
-// settings) are not run again.
+// settings) are not run again. The first run of the grid is read and set up before anything is
+// written, so a bad key or value stops the sweep with exit code 2; the exit code is 3 when any
+// run of the table failed.
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -44,6 +46,7 @@ int Sweep(const SweepArgs& args) {
   const SweepScenario s = ReadSweepScenario(file);
   file.CheckAllKeysUsed();
   if (args.jobs < 1) file.Fail("--jobs", fmt::format("must be ≥ 1 (got {})", args.jobs));
+  CheckFirstRun(s, file);  // a typo in a key or a bad value: exit 2 before anything is written
   const fs::path dir = args.OutDir();
   fs::create_directories(dir);  // on every rank: the folder may be local to a node
   SweepCounts counts{s.grid.RunCount(), 0, mpi.size(), args.jobs, 0.0, 0.0};

@@ -71,7 +71,11 @@ int ReportSweep(const SweepScenario& s, const sweep::ResultsTable& table, const 
       counts.ranks == 1 ? "" : "s", counts.jobs, counts.jobs == 1 ? "" : "s", counts.total_seconds,
       static_cast<long long>(failed), 1e3 * overhead);
   std::printf("wrote %s/results.csv, results.h5, summary.json\n", dir.c_str());
-  return 0;
+  if (failed == 0) return 0;
+  std::fprintf(stderr, "moreau: sweep: %lld of %lld runs failed (status and message in %s)\n",
+               static_cast<long long>(failed), static_cast<long long>(counts.runs),
+               (dir / "results.csv").c_str());
+  return 3;
 }
 
 }  // namespace moreau::cli

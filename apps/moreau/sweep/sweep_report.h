@@ -30,7 +30,8 @@ sweep::ResultsTable SweepTable(const SweepScenario& sweep,
                                const std::map<std::string, nlohmann::json>& journal);
 
 // Writes results.csv, results.h5 and summary.json into DIR and prints the brief report.
-// Returns 0 (failed runs are rows of the table, not a failure of the sweep).
+// Returns the exit code: 0 when every run of the table succeeded, else 3 (after one line on
+// stderr counting the failed runs; they are rows of the table with their status and message).
 int ReportSweep(const SweepScenario& sweep, const sweep::ResultsTable& table,
                 const SweepCounts& counts, const std::string& sweep_file,
                 const std::filesystem::path& dir);

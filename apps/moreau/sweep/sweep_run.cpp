@@ -1,6 +1,8 @@
 #include "sweep/sweep_run.h"
 
-#include <sstream>
+#include <memory>
+
+#include <fmt/format.h>
 
 #include "control/control_report.h"
 #include "control/control_run.h"
@@ -14,109 +16,102 @@
 #include "moreau/common/termination.h"
 #include "moreau/sweep/grid.h"
 #include "output.h"
-#include "run/particles_report.h"
-#include "run/particles_run.h"
-#include "run/particles_scenario.h"
-#include "run/pbd_report.h"
-#include "run/pbd_run.h"
-#include "run/pbd_scenario.h"
+#include "run/dispatch.h"
 
 namespace moreau::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Writes summary.json (and `extra` files) into run_dir when one is asked for.
-void WriteRunFolder(const fs::path& run_dir, const nlohmann::json& summary,
-                    const std::vector<std::pair<std::string, std::string>>& extra = {}) {
+// Writes summary.json into run_dir when one is asked for.
+void WriteRunFolder(const fs::path& run_dir, const nlohmann::json& summary) {
   if (run_dir.empty()) return;
   OutputDir out(run_dir);
   out.WriteText("summary.json", summary.dump(2) + "\n");
-  for (const auto& [name, text] : extra) out.WriteText(name, text);
   out.Commit();
 }
 
-// The time of the first row of "t,out" whose count is everybody; null when there is none.
-nlohmann::json EvacuationTime(const std::string& series_csv, int people) {
-  std::istringstream in(series_csv);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    const std::size_t comma = line.find(',');
-    if (std::stoi(line.substr(comma + 1)) == people) return std::stod(line.substr(0, comma));
-  }
-  return nullptr;
-}
-
-double MeanSquaredDisplacement(const std::vector<double>& x0, const std::vector<double>& x,
-                               int count) {
-  double sum = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) sum += (x[i] - x0[i]) * (x[i] - x0[i]);
-  return count > 0 ? sum / count : 0.0;
-}
-
-nlohmann::json RunParticlePoint(Scenario& scenario, const fs::path& run_dir) {
-  ParticleScenario settings = ReadParticleScenario(scenario, false);
-  scenario.CheckAllKeysUsed();
-  if (run_dir.empty()) {  // no trajectory, no figures: the numbers only
-    settings.output.hdf5 = false;
-    settings.output.vtu = false;
-    settings.output.snapshots = false;
-  }
-  ParticleSetup setup = SetUpParticleRun(settings, scenario);
-  const std::vector<double> x0 = setup.engine.Positions();
-  // RunParticles stages its trajectory here; without a run folder nothing is staged and the
-  // scratch folder goes with `out`.
-  OutputDir out = run_dir.empty() ? OutputDir::Scratch() : OutputDir(run_dir);
-  const ParticleRunResult result = RunParticles(settings, setup, out);
-  nlohmann::json j = ParticleRunJson(settings, setup, result, scenario.path());
-  j["msd"] = MeanSquaredDisplacement(x0, result.x, setup.engine.count());
-  if (result.evacuated)
-    j["evacuation_time"] = EvacuationTime(result.evacuation_csv, setup.engine.count());
-  if (!run_dir.empty()) {
-    out.WriteText("summary.json", j.dump(2) + "\n");
-    if (result.evacuated) out.WriteText("evacuation.csv", result.evacuation_csv);
-    out.Commit();
-  }
-  return j;
-}
-
-nlohmann::json FailedRow(std::string_view status, std::string_view message) {
-  return {{"status", status}, {"message", message}};
-}
-
-}  // namespace
-
-nlohmann::json RunSweepPoint(const SweepScenario& sweep, const std::vector<std::string>& overrides,
-                             const fs::path& run_dir) {
-  if (sweep.command == "fill-gaps") {
-    Scenario scenario = sweep.scenario.empty() ? Scenario::FromCommandLine(overrides)
-                                               : Scenario::Load(sweep.scenario, overrides);
-    const FillGapsSettings settings = ReadFillGapsSettings(scenario);
+SweepPointRun PrepareFillGapsPoint(const SweepScenario& sweep,
+                                   const std::vector<std::string>& overrides) {
+  Scenario scenario = sweep.scenario.empty() ? Scenario::FromCommandLine(overrides)
+                                             : Scenario::Load(sweep.scenario, overrides);
+  const FillGapsSettings settings = ReadFillGapsSettings(scenario);
+  return [settings, &sweep](const fs::path& run_dir) {
     const mocap::Recording recording =
         ReadRecordingReportingWarnings(sweep.recording, settings.read);
     const FillGapsResult result = RunFillGaps(recording, {}, settings);
     const nlohmann::json j = FillGapsReportJson(settings, result, {sweep.recording, ""});
     WriteRunFolder(run_dir, j);
     return j;
-  }
+  };
+}
+
+SweepPointRun PrepareControlPoint(const SweepScenario& sweep,
+                                  const std::vector<std::string>& overrides) {
   Scenario scenario = Scenario::Load(sweep.scenario, overrides);
-  if (sweep.command == "control") {
-    const ControlScenario c = ReadControlScenario(scenario);
-    scenario.CheckAllKeysUsed();
+  const ControlScenario c = ReadControlScenario(scenario);
+  scenario.CheckAllKeysUsed();
+  return [c, &sweep](const fs::path& run_dir) {
     const nlohmann::json j = ControlRunJson(c, RunControl(c), sweep.scenario);
     WriteRunFolder(run_dir, j);
     return j;
+  };
+}
+
+// command = "run": the run command's dispatch; a run folder gets what `moreau run` writes but
+// the figures, and without one nothing is written (no trajectory either).
+SweepPointRun PrepareRunPoint(const SweepScenario& sweep,
+                              const std::vector<std::string>& overrides) {
+  Scenario scenario = Scenario::Load(sweep.scenario, overrides);
+  RunRequest request;
+  request.files = sweep.run_folders ? RunFiles::kNoFigures : RunFiles::kNone;
+  auto run = std::make_shared<PreparedRun>(scenario, std::move(request));
+  return [run](const fs::path& run_dir) { return run->Run(run_dir).summary; };
+}
+
+nlohmann::json FailedRow(std::string_view status, std::string_view message) {
+  return {{"status", status}, {"message", message}};
+}
+
+// The key of the sweep file that sets a key of the base scenario named in MESSAGE (an
+// InputError's "BASE: KEY: REASON" or "--set KEY=VALUE: REASON"): axes.KEY, seeds or set.KEY;
+// "scenario" when none does.
+std::string BlamedSweepKey(const SweepScenario& sweep, const std::string& message) {
+  std::vector<std::pair<std::string, std::string>> keys;  // (in the sweep file, in the scenario)
+  for (const sweep::Axis& axis : sweep.grid.axes) keys.emplace_back("axes." + axis.key, axis.key);
+  if (!sweep.grid.seeds.empty()) keys.emplace_back("seeds", sweep.grid.seed_key);
+  for (const sweep::Setting& f : sweep.fixed) keys.emplace_back("set." + f.key, f.key);
+  for (const auto& [sweep_key, key] : keys) {
+    if (message.find(": " + key + ": ") != std::string::npos ||
+        message.rfind("--set " + key + "=", 0) == 0) {
+      return sweep_key;
+    }
   }
-  if (scenario.GetString("problem.kind", "") == "particles") {
-    return RunParticlePoint(scenario, run_dir);
+  return "scenario";
+}
+
+}  // namespace
+
+SweepPointRun PrepareSweepPoint(const SweepScenario& sweep,
+                                const std::vector<std::string>& overrides) {
+  if (sweep.command == "fill-gaps") return PrepareFillGapsPoint(sweep, overrides);
+  if (sweep.command == "control") return PrepareControlPoint(sweep, overrides);
+  return PrepareRunPoint(sweep, overrides);
+}
+
+void CheckFirstRun(const SweepScenario& sweep, const Scenario& file) {
+  try {
+    PrepareSweepPoint(sweep, sweep.Overrides(0));
+  } catch (const InputError& e) {
+    std::string settings;
+    for (const sweep::Setting& setting : sweep.grid.Run(0)) {
+      settings +=
+          fmt::format("{}{} = {}", settings.empty() ? " (" : ", ", setting.key, setting.value);
+    }
+    if (!settings.empty()) settings += ")";
+    file.Fail(BlamedSweepKey(sweep, e.what()),
+              fmt::format("the first run{} is rejected: {}", settings, e.what()));
   }
-  const PbdScenario pbd_scenario = ReadPbdScenario(scenario);
-  scenario.CheckAllKeysUsed();
-  const PbdRunResult result = RunPbdScenario(pbd_scenario);
-  const nlohmann::json j = PbdRunJson(pbd_scenario, result, sweep.scenario);
-  WriteRunFolder(run_dir, j, {{"trajectory.csv", PbdTrajectoryCsv(pbd_scenario, result)}});
-  return j;
 }
 
 bool RowSucceeded(const nlohmann::json& status) {
@@ -144,7 +139,7 @@ nlohmann::json SweepEntry(const SweepScenario& sweep, std::int64_t index, const 
   nlohmann::json row;
   try {
     const fs::path run_dir = sweep.run_folders ? out_dir / "runs" / hash : fs::path();
-    const nlohmann::json summary = RunSweepPoint(sweep, sweep.Overrides(index), run_dir);
+    const nlohmann::json summary = PrepareSweepPoint(sweep, sweep.Overrides(index))(run_dir);
     row = {{"status", summary.value("termination", "completed")},
            {"message", summary.value("message", "")}};
     for (const std::string& key : sweep.collect) row[key] = SummaryValue(summary, key);
