@@ -203,12 +203,15 @@ WindowRates FastestRates(const OcpWindowModel& model, Eigen::Index frames) {
     k.setZero();
     c.setZero();
     for (const control::NetworkSpring& sp : model.springs) {
-      const Eigen::Vector3d d = x[static_cast<std::size_t>(sp.b)] - x[static_cast<std::size_t>(sp.a)];
+      const Eigen::Vector3d d =
+          x[static_cast<std::size_t>(sp.b)] - x[static_cast<std::size_t>(sp.a)];
       if (!(d.norm() > 0.0)) continue;
       const Eigen::Vector3d u = d.normalized();
       Eigen::VectorXd b = Eigen::VectorXd::Zero(3 * m);
-      if (sp.a < m) b.segment<3>(3 * sp.a) -= u / std::sqrt(model.nodes[static_cast<std::size_t>(sp.a)].mass);
-      if (sp.b < m) b.segment<3>(3 * sp.b) += u / std::sqrt(model.nodes[static_cast<std::size_t>(sp.b)].mass);
+      if (sp.a < m)
+        b.segment<3>(3 * sp.a) -= u / std::sqrt(model.nodes[static_cast<std::size_t>(sp.a)].mass);
+      if (sp.b < m)
+        b.segment<3>(3 * sp.b) += u / std::sqrt(model.nodes[static_cast<std::size_t>(sp.b)].mass);
       k.noalias() += sp.stiffness * b * b.transpose();
       c.noalias() += sp.damping * b * b.transpose();
     }
@@ -226,8 +229,8 @@ WindowRates FastestRates(const OcpWindowModel& model, Eigen::Index frames) {
 // and γ per frame. Only
 // the ratio γ / weight matters (scaling both scales the cost), and in seconds both are per-sample
 // quantities times the rate, so the same γ serves every rate (docs/mocap.md).
-void MakeWindowProblem(const Recording& in, const Recording& base, const OcpWindow& w, const OcpFillOptions& o, const OcpWindowModel& model,
-                       OcpWindowProblem& p) {
+void MakeWindowProblem(const Recording& in, const Recording& base, const OcpWindow& w,
+                       const OcpFillOptions& o, const OcpWindowModel& model, OcpWindowProblem& p) {
   const Eigen::Index frames = w.last - w.first + 1;
   const int m = static_cast<int>(w.free.size());
   const control::SpringNetwork network(3, model.nodes, model.springs);
