@@ -32,7 +32,7 @@ TEST(MocapOcpWindow, FirstIterateOfAWellHeldMarkerIsThePriorsOrder) {
   // backward march grew by that factor every step.
   const Recording truth = testing::RigidBodies(1, 6, 120, 100.0);
   Recording in = truth;
-  const Gap gap = testing::Hide(in, 2, 40, 79);
+  testing::Hide(in, 2, 40, 79);
   OcpFillOptions o;
   const MarkerNetwork net = BuildMarkerNetwork(in, o.network);
   const internal::OcpWindow w{30, 89, {2}};
@@ -48,9 +48,13 @@ TEST(MocapOcpWindow, FirstIterateOfAWellHeldMarkerIsThePriorsOrder) {
   const int nz = 6;
   for (int n = 0; n < p.steps; ++n) {
     const auto block = f.segment(2 * nz * n, 2 * nz);
-    if (n >= 1) EXPECT_LT(block.segment(0, 3).lpNorm<Eigen::Infinity>(), 1e-12) << n;
+    if (n >= 1) {
+      EXPECT_LT(block.segment(0, 3).lpNorm<Eigen::Infinity>(), 1e-12) << n;
+    }
     EXPECT_LT(block.segment(nz, 3).lpNorm<Eigen::Infinity>(), 1e-12) << n;
-    if (n == 0) EXPECT_LT(block.segment(nz + 3, 3).lpNorm<Eigen::Infinity>(), 1e-12);
+    if (n == 0) {
+      EXPECT_LT(block.segment(nz + 3, 3).lpNorm<Eigen::Infinity>(), 1e-12);
+    }
   }
   Eigen::VectorXd y;
   int iterations = 0;
@@ -64,7 +68,7 @@ TEST(MocapOcpWindow, FirstIterateOfAWellHeldMarkerIsThePriorsOrder) {
 TEST(MocapOcpWindow, RealWindowsStartFromThePriorAndConverge) {
   // Eb015pr.c3d: four markers hidden together from frame 0 (the first iterate's residual was
   // 9.223e18 = 2⁶³), and one marker alone in the middle (1.1e43 before the retry).
-  const Recording in = ReadRecording(MocapData("Eb015pr.c3d"));
+  const Recording in = ReadRecording(testing::MocapData("Eb015pr.c3d"));
   GapFillOptions prior;
   prior.method = GapFillMethod::kOcp;
   prior.ocp.optimal_control = false;
