@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +13,7 @@
 
 #include "moreau/common/error.h"
 #include "moreau/control/continuation.h"
+#include "moreau/control/initial_guess.h"
 
 namespace moreau::mocap::internal {
 namespace {
@@ -173,19 +176,68 @@ OcpWindowModel BuildWindowModel(const Recording& base, const MarkerNetwork& net,
   return model;
 }
 
+// The fastest rates of the window's dynamics linearised along the prior, per frame: the largest
+// eigenvalues k of the stiffness K = Σ_s κ_s b_s b_sᵀ and c of the damping C = Σ_s ξ_s b_s b_sᵀ
+// over the free nodes' positions (b_s: ±u_s / √m at the spring's free ends, u_s its direction),
+// the maxima over the window's frames. A node held by n springs has rates up to n times one
+// spring's, so the time step follows these, not one spring's ω (docs/mocap.md, "Time step").
+struct WindowRates {
+  double stiffness = 0.0;  // k
+  double damping = 0.0;    // c
+};
+
+WindowRates FastestRates(const OcpWindowModel& model, Eigen::Index frames) {
+  const auto m = static_cast<Eigen::Index>(model.free_tracks.size());  // free nodes come first
+  WindowRates rates;
+  Eigen::MatrixXd k(3 * m, 3 * m), c(3 * m, 3 * m);
+  std::vector<Eigen::Vector3d> x(model.nodes.size());
+  Eigen::Vector3d v;
+  for (Eigen::Index f = 0; f < frames; ++f) {
+    for (std::size_t j = 0; j < model.nodes.size(); ++j) {
+      if (static_cast<Eigen::Index>(j) < m) {
+        x[j] = model.free_tracks[j]->x.row(f).transpose();
+      } else {
+        model.nodes[j].motion(static_cast<double>(f), x[j].data(), v.data());
+      }
+    }
+    k.setZero();
+    c.setZero();
+    for (const control::NetworkSpring& sp : model.springs) {
+      const Eigen::Vector3d d =
+          x[static_cast<std::size_t>(sp.b)] - x[static_cast<std::size_t>(sp.a)];
+      if (!(d.norm() > 0.0)) continue;
+      const Eigen::Vector3d u = d.normalized();
+      Eigen::VectorXd b = Eigen::VectorXd::Zero(3 * m);
+      if (sp.a < m)
+        b.segment<3>(3 * sp.a) -= u / std::sqrt(model.nodes[static_cast<std::size_t>(sp.a)].mass);
+      if (sp.b < m)
+        b.segment<3>(3 * sp.b) += u / std::sqrt(model.nodes[static_cast<std::size_t>(sp.b)].mass);
+      k.noalias() += sp.stiffness * b * b.transpose();
+      c.noalias() += sp.damping * b * b.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ek(k, Eigen::EigenvaluesOnly);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ec(c, Eigen::EigenvaluesOnly);
+    rates.stiffness = std::max(rates.stiffness, ek.eigenvalues().maxCoeff());
+    rates.damping = std::max(rates.damping, ec.eigenvalues().maxCoeff());
+  }
+  return rates;
+}
+
 // The window's tracking problem in solver units: lengths in ℓ, time in frames (a frame split into
-// `substeps` steps with ω Δt <= 0.5 and Δt <= max_step_frames), weights and γ per frame. Only
+// `substeps` steps with √k Δt <= 0.5, c Δt <= 1 (FastestRates) and Δt <= max_step_frames, so the
+// explicit step of the scheme damps every mode, and so does the costates' backward step), weights
+// and γ per frame. Only
 // the ratio γ / weight matters (scaling both scales the cost), and in seconds both are per-sample
 // quantities times the rate, so the same γ serves every rate (docs/mocap.md).
-void MakeWindowProblem(const Recording& in, const Recording& base, const MarkerNetwork& net,
-                       const OcpWindow& w, const OcpFillOptions& o, const OcpWindowModel& model,
-                       OcpWindowProblem& p) {
+void MakeWindowProblem(const Recording& in, const Recording& base, const OcpWindow& w,
+                       const OcpFillOptions& o, const OcpWindowModel& model, OcpWindowProblem& p) {
   const Eigen::Index frames = w.last - w.first + 1;
   const int m = static_cast<int>(w.free.size());
   const control::SpringNetwork network(3, model.nodes, model.springs);
-  const double omega = std::sqrt(net.stiffness / net.mass) / base.rate();
-  const int substeps =
-      static_cast<int>(std::ceil(std::max(1.0 / o.max_step_frames, omega / 0.5) - 1e-9));
+  const WindowRates rates = FastestRates(model, frames);
+  const int substeps = static_cast<int>(std::ceil(
+      std::max({1.0 / o.max_step_frames, std::sqrt(rates.stiffness) / 0.5, rates.damping / 1.0}) -
+      1e-9));
   const double horizon = static_cast<double>(frames - 1);
   Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
   for (int j = 0; j < m; ++j) {
@@ -205,24 +257,25 @@ void MakeWindowProblem(const Recording& in, const Recording& base, const MarkerN
   p.steps = static_cast<int>(frames - 1) * substeps;
 }
 
-// Warm start at (stiffness scale, γ): the prior trajectory (positions and Hermite velocities) and
-// the dual from one backward sweep (section 7.1).
+// Warm start at (stiffness scale, γ): the prior trajectory, the controls at rest on it and the
+// costates the scheme gives for them (control::FittedControlStart; docs/mocap.md, "The first
+// iterate").
 Eigen::VectorXd WarmStart(const OcpWindowProblem& p, double stiffness_scale, double gamma) {
   const OcpWindowModel& model = *p.model;
   const control::ProblemFamily family = [&p](double) { return *p.target; };
   const control::TrackingProblem start =
       control::ContinuationProblem(family, 1.0, stiffness_scale, gamma);
   const control::PontryaginDiscretization disc(start, p.steps);
-  Eigen::MatrixXd z(start.network().state_size(), p.steps + 1);
+  const auto m = static_cast<Eigen::Index>(model.free_tracks.size());
+  Eigen::MatrixXd x(3 * m, p.steps + 1);
+  Eigen::Vector3d v;
   for (int n = 0; n <= p.steps; ++n) {
-    for (std::size_t j = 0; j < model.free_tracks.size(); ++j) {
-      model.free_tracks[j]->At(static_cast<double>(n) / p.substeps, z.col(n).data() + 6 * j,
-                               z.col(n).data() + 6 * j + 3);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      model.free_tracks[static_cast<std::size_t>(j)]->At(static_cast<double>(n) / p.substeps,
+                                                         x.col(n).data() + 3 * j, v.data());
     }
   }
-  Eigen::VectorXd y;
-  control::FixedPointSweep(disc, z, control::FixedPointOptions{}, y);
-  return y;
+  return control::FittedControlStart(disc, x);
 }
 
 }  // namespace
@@ -238,7 +291,7 @@ void MakeOcpWindowProblem(const Recording& in, const Recording& base, const Mark
   p.model = model;
   p.anchors = model->anchors;
   p.springs = static_cast<int>(model->springs.size());
-  MakeWindowProblem(in, base, net, w, o, *model, p);
+  MakeWindowProblem(in, base, w, o, *model, p);
   p.continuation = control::ContinuationOptions{};
   p.continuation.gamma_start = o.gamma_start;
   p.continuation.newton = o.newton;

@@ -52,8 +52,9 @@ struct OcpFillOptions {
   double prior_weight = 10.0;    // w on the prior inside a gap (>= 0; 0: no prior)
   double gamma =
       0.01;  // target γ of the regularised Hamiltonian (per frame, like the weights; > 0)
-  double gamma_start = 0.01;       // first solve at this γ, then continuation (>= gamma)
-  double max_step_frames = 1.0;    // time step Δt <= this many frames and ω Δt <= 0.5 (> 0)
+  double gamma_start = 0.01;     // first solve at this γ, then continuation (>= gamma)
+  double max_step_frames = 1.0;  // Δt <= this many frames, and √k Δt <= 0.5, c Δt <= 1 for the
+                                 // window's fastest rates k, c (docs/mocap.md) (> 0)
   double stiffness_start = 0.25;   // retry: continuation in κ, ξ from this scale (0, 1]
   double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
   double guard_ratio = 1.5;        // keep the solved fill only if its distance disagreement E is

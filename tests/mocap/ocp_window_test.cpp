@@ -1,0 +1,100 @@
+// One window of the optimal-control fill: the time step follows the network's fastest rates and
+// the first Newton iterate starts from the prior with a residual of the prior's order, on a
+// synthetic body and on real windows that used to start from 10¹² and 2⁶³ (an ulp of costates
+// that the backward march had blown up to 2⁹³ and 2¹¹⁵).
+#include "mocap/ocp_window.h"
+
+#include <gtest/gtest.h>
+
+#include "mocap/io_test_util.h"
+#include "mocap/ocp_test_util.h"
+#include "moreau/control/pontryagin.h"
+#include "moreau/mocap/gap_fill.h"
+#include "moreau/mocap/recording_io.h"
+
+namespace moreau::mocap {
+namespace {
+
+// ‖F‖_∞ of the window's first iterate, on the problem it is made for (s = 1, γ = gamma_start).
+double FirstResidual(const internal::OcpWindowProblem& p, Eigen::VectorXd* residual = nullptr) {
+  const control::TrackingProblem start = p.target->WithGamma(p.continuation.gamma_start);
+  const control::PontryaginDiscretization disc(start, p.steps);
+  control::PontryaginWorkspace ws;
+  Eigen::VectorXd r;
+  const double norm = control::EvaluateResidual(disc, p.warm_start, ws, r);
+  if (residual != nullptr) *residual = r;
+  return norm;
+}
+
+TEST(MocapOcpWindow, FirstIterateOfAWellHeldMarkerIsThePriorsOrder) {
+  // A marker held by five springs: damping summed over them is ~5× one spring's, which the old
+  // step (ω Δt <= 0.5 for one spring) made an explicit step with |1 + Δt μ| > 1, and the costates'
+  // backward march grew by that factor every step.
+  const Recording truth = testing::RigidBodies(1, 6, 120, 100.0);
+  Recording in = truth;
+  testing::Hide(in, 2, 40, 79);
+  OcpFillOptions o;
+  const MarkerNetwork net = BuildMarkerNetwork(in, o.network);
+  const internal::OcpWindow w{30, 89, {2}};
+  internal::OcpWindowProblem p;
+  internal::MakeOcpWindowProblem(in, truth, net, w, o, p);  // the prior: the truth
+  ASSERT_GE(p.springs, 5);
+  Eigen::VectorXd f;
+  const double first = FirstResidual(p, &f);
+  EXPECT_LT(first, 0.05);
+  EXPECT_LT(p.warm_start.lpNorm<Eigen::Infinity>(), 10.0);
+  // The invariants of the first iterate (control::FittedControlStart): per block n the position
+  // rows of F^z vanish for n >= 1, the λ rows of F^ρ for every n, the ζ rows of F^ρ at n = 0.
+  const int nz = 6;
+  for (int n = 0; n < p.steps; ++n) {
+    const auto block = f.segment(2 * nz * n, 2 * nz);
+    if (n >= 1) {
+      EXPECT_LT(block.segment(0, 3).lpNorm<Eigen::Infinity>(), 1e-12) << n;
+    }
+    EXPECT_LT(block.segment(nz, 3).lpNorm<Eigen::Infinity>(), 1e-12) << n;
+    if (n == 0) {
+      EXPECT_LT(block.segment(nz + 3, 3).lpNorm<Eigen::Infinity>(), 1e-12);
+    }
+  }
+  Eigen::VectorXd y;
+  int iterations = 0;
+  const control::ContinuationSummary cs = internal::SolveOcpWindowProblem(p, o, y, iterations);
+  ASSERT_TRUE(cs.ok()) << cs.message;
+  EXPECT_EQ(cs.path.front().stiffness_scale, 1.0);  // the first attempt, no retry
+  EXPECT_LE(iterations, 10);
+  EXPECT_LE(cs.last_newton.final_residual, o.newton.residual_tolerance);
+}
+
+TEST(MocapOcpWindow, RealWindowsStartFromThePriorAndConverge) {
+  // Eb015pr.c3d: four markers hidden together from frame 0 (the first iterate's residual was
+  // 9.223e18 = 2⁶³), and one marker alone in the middle (1.1e43 before the retry).
+  const Recording in = ReadRecording(testing::MocapData("Eb015pr.c3d"));
+  GapFillOptions prior;
+  prior.method = GapFillMethod::kOcp;
+  prior.ocp.optimal_control = false;
+  Recording base;
+  FillGaps(in, FindGaps(in), prior, &base);
+  const OcpFillOptions o;
+  const MarkerNetwork net = BuildMarkerNetwork(in, o.network);
+  auto marker = [&](const std::string& label) {
+    return static_cast<int>(std::find(in.labels().begin(), in.labels().end(), label) -
+                            in.labels().begin());
+  };
+  const internal::OcpWindow windows[] = {
+      {0, 51, {marker("LFT1"), marker("LTH1"), marker("PV1"), marker("PV3")}},
+      {338, 359, {marker("PV2")}}};
+  for (const internal::OcpWindow& w : windows) {
+    internal::OcpWindowProblem p;
+    internal::MakeOcpWindowProblem(in, base, net, w, o, p);
+    EXPECT_LT(FirstResidual(p), 1.0) << w.first;
+    Eigen::VectorXd y;
+    int iterations = 0;
+    const control::ContinuationSummary cs = internal::SolveOcpWindowProblem(p, o, y, iterations);
+    ASSERT_TRUE(cs.ok()) << w.first << ": " << cs.message;
+    EXPECT_EQ(cs.path.front().stiffness_scale, 1.0) << w.first;
+    EXPECT_LE(iterations, 15) << w.first;
+  }
+}
+
+}  // namespace
+}  // namespace moreau::mocap
