@@ -136,7 +136,7 @@ const FieldList<OcpFillOptions>& OcpFillOptions::Fields() {
         .Number("gamma_start", &O::gamma_start, Range::Positive(), "per frame",
                 "first solve at this γ (≥ gamma), then continuation")
         .Number("max_step_frames", &O::max_step_frames, Range::Positive(), "frames",
-                "time step Δt ≤ this and ω Δt ≤ 0.5")
+                "time step Δt ≤ this, and √k Δt ≤ 0.5, c Δt ≤ 1 for the fastest rates")
         .Number("stiffness_start", &O::stiffness_start, Range::LeftOpen(0, 1), "",
                 "retry: continuation in κ, ξ from this scale")
         .Number("retry_gamma_start", &O::retry_gamma_start, Range::Positive(), "per frame",
