@@ -1,9 +1,11 @@
-"""A cell colony: disks of two sizes with hard volume exclusion (PBD through the particle core)
-drift toward a nutrient source and swirl around it, by a force written in Python.
+"""A growing cell colony written in Python: cells grow and divide by the population's built-in
+rules (hard volume exclusion by PBD), climb a chemoattractant gradient by a force written in numpy,
+and switch type by a rule written in numpy once they have been exposed to enough attractant.
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/python/cell_colony.py [OUT_DIR]
 
-Writes OUT_DIR/colony.png (default out/python_cell_colony): the colony at t = 0 and t = T.
+Writes OUT_DIR/colony.png (default out/python_cell_colony): the colony at three times, coloured
+by type, and the counts per type against time.
 """
 import pathlib
 import sys
@@ -14,44 +16,95 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import moreau  # noqa: E402
+from moreau import particles  # noqa: E402
 
-out = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "out/python_cell_colony")
-out.mkdir(parents=True, exist_ok=True)
+# Two types: quiescent cells grow and divide slowly; activated cells divide faster.
+cell = particles.AgentType(name="cell", radius=0.5, growth_rate=0.01, division_radius=0.7071,
+                           division_rate=0.05, max_contacts=5)
+active = particles.AgentType(name="activated", radius=0.5, growth_rate=0.02,
+                             division_radius=0.7071, division_rate=0.1, max_contacts=5)
+rules = particles.PopulationRules(types=[cell, active], interval=5, seed=3, relax=True,
+                                  relax_tolerance=0.01)
+# The attractant a cell has taken up: daughters share it (split).
+rules.variables = [particles.AgentVariable("exposure", 0.0, "split")]
 
-n = 300
-rng = np.random.default_rng(1)
-radius = np.where(rng.random(n) < 0.3, 0.15, 0.1)  # two cell types
-model = moreau.particles.ParticleModel(dimension=2, radius=radius)
-lo, hi = [-4.0, -4.0, 0.0], [4.0, 4.0, 0.0]
-x0 = moreau.particles.random_sequential_addition(model, lo, hi, seed=3)
-
-
-def chemotaxis_and_swirl(x):
-    """Drift (size 2N): speed 1 toward the origin, saturating near it, plus a rotation whose
-    rate is larger for the small cells. x is a read-only view of the state (no copy)."""
-    p = x.reshape(-1, 2)
-    d = np.sqrt((p**2).sum(axis=1, keepdims=True) + 1.0)
-    swirl = np.where(radius[:, None] < 0.12, 0.4, 0.1) * np.stack([-p[:, 1], p[:, 0]], axis=1)
-    return (-p / d + swirl / d).ravel()
+SOURCE = np.array([12.0, 0.0])  # the attractant's source
+LENGTH = 6.0  # its decay length: c(x) = exp(−|x − source| / LENGTH)
+CHI = 2.0  # chemotactic sensitivity: drift χ ∇c / (1 + |∇c| / G0), saturating
+G0 = 0.05
+THRESHOLD = 8.0  # exposure at which a cell is activated
 
 
-T = 6.0
-# PNGS: sweeps until the projections stop moving, so the packed colony keeps its cells apart.
-x, summary = moreau.pbd.simulate(chemotaxis_and_swirl, moreau.pbd.ParticleConstraints(model),
-                                 x0.ravel(), T, h=0.01, method="pngs", reltol=1e-6,
-                                 abstol=1e-9, max_sweeps=200)
-print(summary.brief_report())
+def concentration(x):
+    return np.exp(-np.linalg.norm(x - SOURCE, axis=1) / LENGTH)
 
-fig, axes = plt.subplots(1, 2, figsize=(10, 5))
-for ax, state, title in ((axes[0], x0.ravel(), "t = 0"), (axes[1], x, f"t = {T:g}")):
-    p = state.reshape(-1, 2)
-    for (cx, cy), r in zip(p, radius):
-        ax.add_patch(plt.Circle((cx, cy), r, color="tab:orange" if r > 0.12 else "tab:green"))
-    ax.set_xlim(-4.5, 4.5)
-    ax.set_ylim(-4.5, 4.5)
-    ax.set_aspect("equal")
-    ax.set_title(title)
-fig.suptitle(f"cell colony, {n} cells: largest overlap {summary.max_violation:.1e}")
-fig.savefig(out / "colony.png", dpi=120)
-print(f"wrote {out / 'colony.png'}")
+
+def chemotaxis(pop, velocity):
+    """The drift before every step: up the gradient of c, saturating (all cells at once)."""
+    x = pop.positions
+    d = SOURCE - x
+    r = np.linalg.norm(d, axis=1, keepdims=True) + 1e-12
+    grad = concentration(x)[:, None] / LENGTH * d / r  # ∇c points to the source
+    g = np.linalg.norm(grad, axis=1, keepdims=True)
+    velocity[:] = CHI * grad / (1.0 + g / G0)
+
+
+def activation(pop, divide, die):
+    """At every rule step: take up attractant; activate the cells above the threshold."""
+    exposure = pop.variable("exposure")
+    exposure += concentration(pop.positions) * pop.rules.interval * 0.02
+    pop.types[exposure >= THRESHOLD] = 1
+
+
+T = 90.0
+
+
+def make(user_code=True):
+    """The colony at t = 0: one cell at the origin; with or without the user code."""
+    pop = particles.Population(rules, ["cell"], [[0.0, 0.0]],
+                               forces=particles.Forces(diffusion=1e-4), h=0.02, seed=3)
+    if user_code:
+        pop.drift = chemotaxis
+        pop.rule = activation
+    return pop
+
+
+def main():
+    out = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "out/python_cell_colony")
+    out.mkdir(parents=True, exist_ok=True)
+    pop = make()
+    snapshots, history = [], []
+
+    def observe(p):
+        history.append((p.time, *np.bincount(p.types, minlength=2)))
+        if p.step_count in (0, 2250, 4500):
+            snapshots.append((p.time, p.positions.copy(), p.radii.copy(), p.types.copy()))
+
+    summary = pop.run(T, observe)
+    print(f"{summary.termination}: {pop.count} cells ({summary.births} births) in "
+          f"{summary.total_seconds:.2f} s; largest overlap {pop.max_pair_overlap():.2e}")
+
+    fig, axes = plt.subplots(1, 4, figsize=(17, 4.2))
+    for ax, (t, x, r, types) in zip(axes, snapshots):
+        for (cx, cy), radius, kind in zip(x, r, types):
+            ax.add_patch(plt.Circle((cx, cy), radius,
+                                    color="tab:red" if kind == 1 else "tab:blue", lw=0))
+        ax.plot(*SOURCE, "k*", ms=12)
+        ax.set_xlim(-12, 14)
+        ax.set_ylim(-13, 13)
+        ax.set_aspect("equal")
+        ax.set_title(f"t = {t:g}: {len(x)} cells")
+    h = np.array(history)
+    axes[3].plot(h[:, 0], h[:, 1], color="tab:blue", label="cell")
+    axes[3].plot(h[:, 0], h[:, 2], color="tab:red", label="activated")
+    axes[3].set_xlabel("time")
+    axes[3].set_ylabel("cells")
+    axes[3].legend()
+    fig.suptitle("a colony climbing an attractant gradient (★), cells activated by their uptake")
+    fig.tight_layout()
+    fig.savefig(out / "colony.png", dpi=110)
+    print(f"wrote {out / 'colony.png'}")
+
+
+if __name__ == "__main__":
+    main()

@@ -27,7 +27,7 @@ PopulationView Population::View() {
   view.time = engine_.time();
   view.rule_dt = static_cast<double>(rules_.interval) * engine_.options().h;
   view_positions_.resize(static_cast<std::size_t>(geometry_.dimension) * agents_.size());
-  engine_.CopyPositions(view_positions_);
+  if (!agents_.empty()) engine_.CopyPositions(view_positions_);  // none left: the engine is stale
   view.positions = view_positions_;
   view.agents = agents_;
   for (std::vector<double>& values : variables_) view.variables.emplace_back(values);

@@ -118,3 +118,11 @@ def test_types_by_name_and_bad_names():
     assert list(p.types) == [1, 0] and list(p.radii) == [0.3, 0.5]
     with pytest.raises(ValueError, match="unknown type 'c'"):
         particles.Population(rules, ["c"], [[0.0, 0.0]])
+
+
+def test_an_extinct_population_has_empty_views():
+    p = line(n=2, interval=1)
+    p.rule = lambda pop, divide, die: die.__setitem__(slice(None), True)
+    s = p.step(3)
+    assert p.count == 0 and s.deaths == 2 and "no agents left" in s.message
+    assert p.positions.shape == (0, 2) and p.ids.shape == (0,) and p.observe()["count"] == 0

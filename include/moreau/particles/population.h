@@ -219,7 +219,10 @@ class Population {
   PopulationSummary Run(double T, const PopulationObserver& observer = {});
 
   const std::vector<Agent>& agents() const { return agents_; }
-  std::vector<double> Positions() const { return engine_.Positions(); }  // k·N, index order
+  // k·N, index order (empty when no agent is left).
+  std::vector<double> Positions() const {
+    return agents_.empty() ? std::vector<double>{} : engine_.Positions();
+  }
   // The user variable `index` of every agent (index order); declared in rules().variables.
   std::span<const double> variable(std::size_t index) const { return variables_.at(index); }
   // The index of the variable called `name`; InputError "unknown variable 'x' (variables: …)".
