@@ -8,11 +8,11 @@
 #include <limits>
 #include <numeric>
 
+#include "mocap/evaluate_internal.h"
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
-#include "mocap/evaluate_internal.h"
 
 namespace moreau::mocap {
 
@@ -93,8 +93,8 @@ std::vector<int> ChooseGroup(const Eigen::MatrixXd& spread, int first, int count
 // The first frame a gap of `length` frames may take and how many positions follow it, by the
 // placement; InputError when the gap does not fit with `margin` observed frames beside it.
 std::pair<std::int64_t, std::int64_t> GapPositions(const Recording& truth,
-                                                   const EvaluationOptions& options,
-                                                   std::size_t g, std::int64_t length) {
+                                                   const EvaluationOptions& options, std::size_t g,
+                                                   std::int64_t length) {
   const std::int64_t margin = options.fill.baseline.interpolation.samples_per_side;
   const std::int64_t frames = truth.frames();
   const bool interior = options.placement == GapPlacement::kInterior;
@@ -106,10 +106,14 @@ std::pair<std::int64_t, std::int64_t> GapPositions(const Recording& truth,
         options.gap_seconds[g], length, frames, margin, interior ? "each side" : "one side"));
   }
   switch (options.placement) {
-    case GapPlacement::kInterior: return {margin, left};
-    case GapPlacement::kStart: return {0, 1};
-    case GapPlacement::kEnd: return {frames - length, 1};
-    case GapPlacement::kAny: return {0, frames - length + 1};
+    case GapPlacement::kInterior:
+      return {margin, left};
+    case GapPlacement::kStart:
+      return {0, 1};
+    case GapPlacement::kEnd:
+      return {frames - length, 1};
+    case GapPlacement::kAny:
+      return {0, frames - length + 1};
   }
   MOREAU_ASSERT(false);
 }
@@ -145,9 +149,14 @@ EvaluationRow MeasureRow(const Recording& truth, const Recording& filled, const 
                          std::size_t j, const RigidPartners& partners, GapStatus status,
                          const EvaluationOptions& options, GapFillMethod method) {
   const Gap& gap = trial.gaps[j];
-  EvaluationRow row{method, options.gap_seconds[trial.length_index], gap.length(), trial.trial,
-                    gap.marker, gap.first, kNaN, kNaN, status, kNaN, kNaN, kNaN, kNaN, kNaN,
-                    kNaN, kNaN};
+  EvaluationRow row{method,       options.gap_seconds[trial.length_index],
+                    gap.length(), trial.trial,
+                    gap.marker,   gap.first,
+                    kNaN,         kNaN,
+                    status,       kNaN,
+                    kNaN,         kNaN,
+                    kNaN,         kNaN,
+                    kNaN,         kNaN};
   if (status != GapStatus::kFilled) return row;
   const PositionError position = PositionErrorInGap(truth, filled, gap);
   row.mean_error = position.mean;
@@ -197,7 +206,8 @@ void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
       rows[k * k_markers + j] = MeasureRow(truth, work, trial, j, partners[j], fills[j].status,
                                            options, options.methods[k]);
     }
-    each_filled([&](const Gap& gap, std::int64_t f, std::size_t) { work.ClearPoint(f, gap.marker); });
+    each_filled(
+        [&](const Gap& gap, std::int64_t f, std::size_t) { work.ClearPoint(f, gap.marker); });
   }
   for (const Gap& gap : trial.gaps) {
     for (std::int64_t f = gap.first; f <= gap.last; ++f) {

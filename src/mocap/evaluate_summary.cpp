@@ -60,7 +60,8 @@ EvaluationStatistics StatisticsOfRows(EvaluationStatistics stats,
       StatisticsOf(rows, [](const EvaluationRow& r) { return r.velocity_error; });
   stats.acceleration_error =
       StatisticsOf(rows, [](const EvaluationRow& r) { return r.acceleration_error; });
-  stats.velocity_jump = StatisticsOf(rows, [](const EvaluationRow& r) { return r.velocity_jump(); });
+  stats.velocity_jump =
+      StatisticsOf(rows, [](const EvaluationRow& r) { return r.velocity_jump(); });
   stats.distance_deviation =
       StatisticsOf(rows, [](const EvaluationRow& r) { return r.distance_deviation; });
   stats.distance_z = StatisticsOf(rows, [](const EvaluationRow& r) { return r.distance_z; });
@@ -172,12 +173,9 @@ nlohmann::json EvaluationSummary::ToJson() const {
                             {"p90_error", number(s.percentile_90)},
                             {"gaps", s.gaps}};
     const std::pair<const char*, const MeasureStatistics*> measures[] = {
-        {"max_error", &s.max_error},
-        {"p90_error", &s.p90_error},
-        {"velocity_error", &s.velocity_error},
-        {"acceleration_error", &s.acceleration_error},
-        {"velocity_jump", &s.velocity_jump},
-        {"distance_deviation", &s.distance_deviation},
+        {"max_error", &s.max_error},           {"p90_error", &s.p90_error},
+        {"velocity_error", &s.velocity_error}, {"acceleration_error", &s.acceleration_error},
+        {"velocity_jump", &s.velocity_jump},   {"distance_deviation", &s.distance_deviation},
         {"distance_z", &s.distance_z}};
     for (const auto& [name, m] : measures) {
       entry["measures"][name] = {{"mean", number(m->mean)}, {"p90", number(m->p90)}};

@@ -20,8 +20,7 @@ constexpr double kCutoff = 6.0;
 // |H(e^{iω})|² of the section from its coefficients.
 double SectionPower(const Biquad& s, double frequency_hz, double rate_hz) {
   const std::complex<double> z = std::polar(1.0, -2.0 * M_PI * frequency_hz / rate_hz);
-  const std::complex<double> h =
-      (s.b0 + s.b1 * z + s.b2 * z * z) / (1.0 + s.a1 * z + s.a2 * z * z);
+  const std::complex<double> h = (s.b0 + s.b1 * z + s.b2 * z * z) / (1.0 + s.a1 * z + s.a2 * z * z);
   return std::norm(h);
 }
 
@@ -102,7 +101,8 @@ TEST(FilterAndDifferentiate, CentralDifferencesOfAnAnalyticTrajectory) {
   }
   // Constant acceleration: the zero-lag filter keeps it exactly in the interior.
   Eigen::Matrix3Xd q(3, 400);
-  for (int i = 0; i < 400; ++i) q.col(i) = Eigen::Vector3d(1.0, -2.0, 4.5) * 0.5 * (i * h) * (i * h);
+  for (int i = 0; i < 400; ++i)
+    q.col(i) = Eigen::Vector3d(1.0, -2.0, 4.5) * 0.5 * (i * h) * (i * h);
   const FilteredKinematics kq = FilterAndDifferentiate(q, kRate, kCutoff);
   for (int i = 150; i < 250; ++i) {
     ASSERT_LT((kq.acceleration.col(i) - Eigen::Vector3d(1.0, -2.0, 4.5)).norm(), 1e-6) << i;
@@ -132,8 +132,8 @@ TEST(FillMeasures, PositionAndFilteredDerivativeErrors) {
   const Gap g{0, 40, 59};
   const PositionError exact = PositionErrorInGap(truth, truth, g);
   EXPECT_EQ(exact.max, 0.0);
-  const PositionError offset =
-      PositionErrorInGap(truth, FilledWith(truth, g, [](auto) { return Eigen::Vector3d(3, 4, 0); }), g);
+  const PositionError offset = PositionErrorInGap(
+      truth, FilledWith(truth, g, [](auto) { return Eigen::Vector3d(3, 4, 0); }), g);
   EXPECT_NEAR(offset.mean, 5.0, 1e-12);
   EXPECT_NEAR(offset.p90, 5.0, 1e-12);
   EXPECT_NEAR(offset.max, 5.0, 1e-12);
@@ -146,11 +146,14 @@ TEST(FillMeasures, PositionAndFilteredDerivativeErrors) {
     const double s = std::sin(M_PI * static_cast<double>(f - 39) / 21.0);
     return Eigen::Vector3d(2.0 * s, -s, 0.5 * s * s);
   };
-  const DerivativeError e = FilteredDerivativeErrorInGap(truth, FilledWith(truth, g, bump), g, kCutoff);
+  const DerivativeError e =
+      FilteredDerivativeErrorInGap(truth, FilledWith(truth, g, bump), g, kCutoff);
   const Recording other = Moving(800.0);
-  const DerivativeError e2 = FilteredDerivativeErrorInGap(other, FilledWith(other, g, bump), g, kCutoff);
+  const DerivativeError e2 =
+      FilteredDerivativeErrorInGap(other, FilledWith(other, g, bump), g, kCutoff);
   const DerivativeError e3 = FilteredDerivativeErrorInGap(
-      truth, FilledWith(truth, g, [&](auto f) { return Eigen::Vector3d(2.0 * bump(f)); }), g, kCutoff);
+      truth, FilledWith(truth, g, [&](auto f) { return Eigen::Vector3d(2.0 * bump(f)); }), g,
+      kCutoff);
   EXPECT_GT(e.velocity_mean, 0.0);
   EXPECT_GT(e.acceleration_max, e.acceleration_mean);
   EXPECT_NEAR(e2.velocity_mean, e.velocity_mean, 1e-9 * e.velocity_mean);
@@ -174,8 +177,8 @@ TEST(FillMeasures, VelocityJumpAtTheGapEnds) {
   const VelocityJump none = VelocityJumpAtGapEnds(line, g);
   EXPECT_NEAR(none.start, 0.0, 1e-9);
   EXPECT_NEAR(none.end, 0.0, 1e-9);
-  const VelocityJump jump =
-      VelocityJumpAtGapEnds(FilledWith(line, g, [](auto) { return Eigen::Vector3d(0, 0.3, 0.4); }), g);
+  const VelocityJump jump = VelocityJumpAtGapEnds(
+      FilledWith(line, g, [](auto) { return Eigen::Vector3d(0, 0.3, 0.4); }), g);
   EXPECT_NEAR(jump.start, 0.5 * kRate, 1e-9);
   EXPECT_NEAR(jump.end, 0.5 * kRate, 1e-9);
   const VelocityJump edge = VelocityJumpAtGapEnds(truth, Gap{0, 0, 9});
@@ -210,7 +213,8 @@ TEST(FillMeasures, RigidPartnersAndTheirDistanceDeviation) {
   // An offset of length 2 away from the first partner changes that distance by exactly 2 and the
   // others by at most 2 (triangle inequality).
   const auto away = [&](std::int64_t f) {
-    return Eigen::Vector3d(2.0 * (truth.point(f, 0) - truth.point(f, partners.markers[0])).normalized());
+    return Eigen::Vector3d(2.0 *
+                           (truth.point(f, 0) - truth.point(f, partners.markers[0])).normalized());
   };
   const DistanceDeviation off = PartnerDistanceDeviation(FilledWith(truth, g, away), g, partners);
   EXPECT_GT(off.mean, 2.0 / 3.0 - 1e-9);

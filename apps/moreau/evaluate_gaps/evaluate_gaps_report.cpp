@@ -93,11 +93,9 @@ std::string EvaluationTable(const mocap::EvaluationSummary& summary) {
 }
 
 std::string DynamicsTable(const mocap::EvaluationSummary& summary) {
-  return MethodTable(summary, "acc. / jump",
-                     [](const mocap::EvaluationStatistics& s) {
-                       return fmt::format("{:.3g} / {:.3g}", s.acceleration_error.mean,
-                                          s.velocity_jump.mean);
-                     });
+  return MethodTable(summary, "acc. / jump", [](const mocap::EvaluationStatistics& s) {
+    return fmt::format("{:.3g} / {:.3g}", s.acceleration_error.mean, s.velocity_jump.mean);
+  });
 }
 
 int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
@@ -118,9 +116,10 @@ int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
              settings.evaluation.trials, settings.evaluation.gap_seconds.size(),
              settings.evaluation.methods.size(), summary.total_seconds);
   fmt::print("{}", EvaluationTable(summary));
-  fmt::print("acceleration error ({}/s², filtered at {} Hz) / velocity jump at the ends ({}/s), "
-             "means:\n{}",
-             summary.units, settings.evaluation.filter_hz, summary.units, DynamicsTable(summary));
+  fmt::print(
+      "acceleration error ({}/s², filtered at {} Hz) / velocity jump at the ends ({}/s), "
+      "means:\n{}",
+      summary.units, settings.evaluation.filter_hz, summary.units, DynamicsTable(summary));
   fmt::print("wrote {}/evaluation.csv, summary.json, errors.png\n", out.dir().string());
   return 0;
 }

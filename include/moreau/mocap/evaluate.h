@@ -78,9 +78,9 @@ struct EvaluationRow {
   double mean_error = 0.0;       // position error, mean over the gap (recording units)
   double max_error = 0.0;        // position error, maximum over the gap (recording units)
   GapStatus status = GapStatus::kFilled;
-  double p90_error = 0.0;           // position error, 90th percentile over the gap (units)
-  double velocity_error = 0.0;      // filtered velocity error, mean over the gap (units / s)
-  double acceleration_error = 0.0;  // filtered acceleration error, mean (units / s²)
+  double p90_error = 0.0;            // position error, 90th percentile over the gap (units)
+  double velocity_error = 0.0;       // filtered velocity error, mean over the gap (units / s)
+  double acceleration_error = 0.0;   // filtered acceleration error, mean (units / s²)
   double velocity_jump_start = 0.0;  // units / s; NaN for a gap at the recording's start
   double velocity_jump_end = 0.0;    // units / s; NaN for a gap at the recording's end
   double distance_deviation = 0.0;   // units: mean |d − mean observed| over gap and partners
