@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 
+#include "mocap/evaluate_internal.h"
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
 #include "moreau/common/stopwatch.h"
@@ -19,11 +20,12 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// One drawn gap: which gap length, which trial, where.
+// One drawn trial: which gap length, which trial, the hidden markers' gaps (same frames, the
+// group's first marker first).
 struct Trial {
   std::size_t length_index = 0;
   int trial = 0;
-  Gap gap;
+  std::vector<Gap> gaps;
 };
 
 void CheckComplete(const Recording& truth) {
@@ -39,196 +41,216 @@ void CheckComplete(const Recording& truth) {
   }
 }
 
+// The options that depend on the recording: the filter below its Nyquist frequency, enough
+// markers for a group.
+void CheckAgainstRecording(const Recording& truth, const EvaluationOptions& options) {
+  if (!(options.filter_hz < 0.5 * truth.rate())) {
+    throw InputError("evaluation.filter_hz",
+                     fmt::format("must be below the Nyquist frequency of the recording, {} Hz "
+                                 "(got {})",
+                                 0.5 * truth.rate(), options.filter_hz));
+  }
+  if (options.markers_per_gap > truth.markers()) {
+    throw InputError("evaluation.markers_per_gap",
+                     fmt::format("the recording has {} markers (got {})", truth.markers(),
+                                 options.markers_per_gap));
+  }
+}
+
+// The standard deviation of every pair's distance over the truth's frames (markers × markers).
+Eigen::MatrixXd DistanceSpreads(const Recording& truth) {
+  const int m = truth.markers();
+  Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(m, m);
+  for (int a = 0; a < m; ++a) {
+    for (int b = a + 1; b < m; ++b) {
+      spread(a, b) = spread(b, a) = MarkerDistanceStatistics(truth, a, b).sd;
+    }
+  }
+  return spread;
+}
+
+// `first` and the `count` − 1 markers added one at a time, each the one whose largest spread to
+// the markers already chosen is smallest (ties by index).
+std::vector<int> ChooseGroup(const Eigen::MatrixXd& spread, int first, int count) {
+  std::vector<int> group = {first};
+  while (static_cast<int>(group.size()) < count) {
+    int best = -1;
+    double best_spread = 0.0;
+    for (int c = 0; c < spread.rows(); ++c) {
+      if (std::find(group.begin(), group.end(), c) != group.end()) continue;
+      double largest = 0.0;
+      for (int g : group) largest = std::max(largest, spread(c, g));
+      if (best < 0 || largest < best_spread) {
+        best = c;
+        best_spread = largest;
+      }
+    }
+    group.push_back(best);
+  }
+  return group;
+}
+
+// The first frame a gap of `length` frames may take and how many positions follow it, by the
+// placement; InputError when the gap does not fit with `margin` observed frames beside it.
+std::pair<std::int64_t, std::int64_t> GapPositions(const Recording& truth,
+                                                   const EvaluationOptions& options, std::size_t g,
+                                                   std::int64_t length) {
+  const std::int64_t margin = options.fill.baseline.interpolation.samples_per_side;
+  const std::int64_t frames = truth.frames();
+  const bool interior = options.placement == GapPlacement::kInterior;
+  const std::int64_t left = frames - (interior ? 2 : 1) * margin - length + 1;
+  if (left < 1) {
+    throw InputError(fmt::format(
+        "evaluation.gap_seconds: a gap of {} s ({} frames) does not fit in {} frames with {} "
+        "observed frames on {}",
+        options.gap_seconds[g], length, frames, margin, interior ? "each side" : "one side"));
+  }
+  switch (options.placement) {
+    case GapPlacement::kInterior:
+      return {margin, left};
+    case GapPlacement::kStart:
+      return {0, 1};
+    case GapPlacement::kEnd:
+      return {frames - length, 1};
+    case GapPlacement::kAny:
+      return {0, frames - length + 1};
+  }
+  MOREAU_ASSERT(false);
+}
+
 std::vector<Trial> DrawTrials(const Recording& truth, const EvaluationOptions& options,
                               std::vector<std::int64_t>* lengths) {
-  const std::int64_t margin = options.fill.baseline.interpolation.samples_per_side;
+  const Eigen::MatrixXd spread =
+      options.markers_per_gap > 1 ? DistanceSpreads(truth) : Eigen::MatrixXd();
   SplitMix64 rng(options.seed);
   std::vector<Trial> trials;
   for (std::size_t g = 0; g < options.gap_seconds.size(); ++g) {
     const std::int64_t length =
         std::max<std::int64_t>(1, std::llround(options.gap_seconds[g] * truth.rate()));
-    const std::int64_t positions = truth.frames() - 2 * margin - length + 1;
-    if (positions < 1) {
-      throw InputError(
-          fmt::format("evaluation.gap_seconds: a gap of {} s ({} frames) does not "
-                      "fit in {} frames with {} observed frames on each side",
-                      options.gap_seconds[g], length, truth.frames(), margin));
-    }
+    const auto [lowest, positions] = GapPositions(truth, options, g, length);
     lengths->push_back(length);
     for (int t = 0; t < options.trials; ++t) {
       const auto marker = static_cast<int>(rng.Uniform01() * truth.markers());
       const auto first =
-          margin + static_cast<std::int64_t>(rng.Uniform01() * static_cast<double>(positions));
-      trials.push_back({g, t, Gap{marker, first, first + length - 1}});
+          lowest + static_cast<std::int64_t>(rng.Uniform01() * static_cast<double>(positions));
+      Trial trial{g, t, {}};
+      const std::vector<int> group = options.markers_per_gap > 1
+                                         ? ChooseGroup(spread, marker, options.markers_per_gap)
+                                         : std::vector<int>{marker};
+      for (int m : group) trial.gaps.push_back(Gap{m, first, first + length - 1});
+      trials.push_back(std::move(trial));
     }
   }
   return trials;
 }
 
-EvaluationRow Evaluate(const Recording& truth, const Recording& gapped, const Trial& trial,
-                       const EvaluationOptions& options, GapFillMethod method) {
-  GapFillOptions fill_options = options.fill;
-  fill_options.method = method;
-  const GapFill fill = FillGap(gapped, trial.gap, fill_options);
-  EvaluationRow row{method,
-                    options.gap_seconds[trial.length_index],
-                    trial.gap.length(),
-                    trial.trial,
-                    trial.gap.marker,
-                    trial.gap.first,
-                    kNaN,
-                    kNaN,
-                    fill.status};
-  if (fill.status == GapStatus::kFilled) {
-    double sum = 0.0, max = 0.0;
-    for (std::int64_t f = trial.gap.first; f <= trial.gap.last; ++f) {
-      const double e =
-          (fill.points.col(f - trial.gap.first) - truth.point(f, trial.gap.marker)).norm();
-      sum += e;
-      max = std::max(max, e);
-    }
-    row.mean_error = sum / static_cast<double>(trial.gap.length());
-    row.max_error = max;
-  }
+// The row of one hidden marker's gap; `filled` holds the method's fills of every hidden marker.
+EvaluationRow MeasureRow(const Recording& truth, const Recording& filled, const Trial& trial,
+                         std::size_t j, const RigidPartners& partners, GapStatus status,
+                         const EvaluationOptions& options, GapFillMethod method) {
+  const Gap& gap = trial.gaps[j];
+  EvaluationRow row{method,       options.gap_seconds[trial.length_index],
+                    gap.length(), trial.trial,
+                    gap.marker,   gap.first,
+                    kNaN,         kNaN,
+                    status,       kNaN,
+                    kNaN,         kNaN,
+                    kNaN,         kNaN,
+                    kNaN,         kNaN};
+  if (status != GapStatus::kFilled) return row;
+  const PositionError position = PositionErrorInGap(truth, filled, gap);
+  row.mean_error = position.mean;
+  row.max_error = position.max;
+  row.p90_error = position.p90;
+  const DerivativeError derivative =
+      FilteredDerivativeErrorInGap(truth, filled, gap, options.filter_hz);
+  row.velocity_error = derivative.velocity_mean;
+  row.acceleration_error = derivative.acceleration_mean;
+  const VelocityJump jump = VelocityJumpAtGapEnds(filled, gap);
+  row.velocity_jump_start = jump.start;
+  row.velocity_jump_end = jump.end;
+  const DistanceDeviation distance = PartnerDistanceDeviation(filled, gap, partners);
+  row.distance_deviation = distance.mean;
+  row.distance_z = distance.z;
   return row;
 }
 
+// One trial with every method: rows[k K + j] for method k and hidden marker j. `work` is the
+// truth on entry and on return; in between the hidden markers' samples are cleared, and set to a
+// method's fills while they are measured.
+void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
+                   const EvaluationOptions& options, EvaluationRow* rows) {
+  for (const Gap& gap : trial.gaps) {
+    for (std::int64_t f = gap.first; f <= gap.last; ++f) work.ClearPoint(f, gap.marker);
+  }
+  std::vector<RigidPartners> partners;
+  for (const Gap& gap : trial.gaps) {
+    partners.push_back(FindRigidPartners(work, gap.marker, options.distance_partners));
+  }
+  const std::size_t k_markers = trial.gaps.size();
+  for (std::size_t k = 0; k < options.methods.size(); ++k) {
+    GapFillOptions fill_options = options.fill;
+    fill_options.method = options.methods[k];
+    const std::vector<GapFill> fills = FillGapList(work, trial.gaps, fill_options);
+    const auto each_filled = [&](const auto& apply) {
+      for (std::size_t j = 0; j < k_markers; ++j) {
+        if (fills[j].status != GapStatus::kFilled) continue;
+        const Gap& gap = trial.gaps[j];
+        for (std::int64_t f = gap.first; f <= gap.last; ++f) apply(gap, f, j);
+      }
+    };
+    each_filled([&](const Gap& gap, std::int64_t f, std::size_t j) {
+      work.SetPoint(f, gap.marker, fills[j].points.col(f - gap.first));
+    });
+    for (std::size_t j = 0; j < k_markers; ++j) {
+      rows[k * k_markers + j] = MeasureRow(truth, work, trial, j, partners[j], fills[j].status,
+                                           options, options.methods[k]);
+    }
+    each_filled(
+        [&](const Gap& gap, std::int64_t f, std::size_t) { work.ClearPoint(f, gap.marker); });
+  }
+  for (const Gap& gap : trial.gaps) {
+    for (std::int64_t f = gap.first; f <= gap.last; ++f) {
+      work.SetPoint(f, gap.marker, truth.point(f, gap.marker));
+    }
+  }
+}
+
 }  // namespace
-
-const FieldList<EvaluationOptions>& EvaluationOptions::Fields() {
-  using O = EvaluationOptions;
-  static const FieldList<O> list = [] {
-    FieldList<O> t;
-    t.Choices("methods", &O::methods, GapFillMethodNameTable(), 1, "the methods compared")
-        .Numbers("gap_seconds", &O::gap_seconds, Range::Positive(), 1, "s", "gap durations")
-        .Integer("trials", &O::trials, Range::AtLeast(1), "", "trials per gap length")
-        .Integer("seed", &O::seed, Range::Any(), "", "seed of the drawn gaps (SplitMix64)")
-        .Integer("threads", &O::threads, Range::NonNegative(), "",
-                 "OpenMP threads (0: the default); results do not depend on it");
-    return t;
-  }();
-  return list;
-}
-
-void EvaluationOptions::Validate() const {
-  Fields().Validate(*this);
-  fill.Validate();
-}
-
-nlohmann::json EvaluationOptions::ToJson() const {
-  nlohmann::json names = nlohmann::json::array();
-  for (GapFillMethod m : methods) names.push_back(std::string(ToString(m)));
-  nlohmann::json fill_json = fill.ToJson();
-  fill_json.erase("method");
-  return {{"methods", names}, {"gap_seconds", gap_seconds}, {"trials", trials},
-          {"seed", seed},     {"threads", threads},         {"fill", fill_json}};
-}
-
-double Percentile(std::vector<double> values, double p) {
-  if (values.empty()) return kNaN;
-  std::sort(values.begin(), values.end());
-  const double rank = p / 100.0 * static_cast<double>(values.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(rank));
-  const std::size_t hi = std::min(lo + 1, values.size() - 1);
-  const double w = rank - static_cast<double>(lo);
-  return (1.0 - w) * values[lo] + w * values[hi];
-}
 
 EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOptions& options) {
   const Stopwatch total;
   options.Validate();
   CheckComplete(truth);
+  CheckAgainstRecording(truth, options);
   std::vector<std::int64_t> lengths;
   const std::vector<Trial> trials = DrawTrials(truth, options, &lengths);
-  const std::size_t n_methods = options.methods.size();
+  const std::size_t per_trial =
+      options.methods.size() * static_cast<std::size_t>(options.markers_per_gap);
 
   EvaluationSummary summary;
   summary.settings = options;
   summary.units = truth.units();
-  summary.rows.resize(trials.size() * n_methods);
+  summary.rows.resize(trials.size() * per_trial);
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   const auto n_trials = static_cast<std::int64_t>(trials.size());
 #pragma omp parallel num_threads(threads)
   {
-    Recording gapped = truth;  // per thread: the truth with one gap cleared at a time
+    Recording work = truth;  // per thread: the truth with one trial's gaps cleared at a time
 #pragma omp for schedule(dynamic)
     for (std::int64_t i = 0; i < n_trials; ++i) {
-      const Trial& trial = trials[static_cast<std::size_t>(i)];
-      for (std::int64_t f = trial.gap.first; f <= trial.gap.last; ++f) {
-        gapped.ClearPoint(f, trial.gap.marker);
-      }
-      for (std::size_t k = 0; k < n_methods; ++k) {
-        summary.rows[static_cast<std::size_t>(i) * n_methods + k] =
-            Evaluate(truth, gapped, trial, options, options.methods[k]);
-      }
-      for (std::int64_t f = trial.gap.first; f <= trial.gap.last; ++f) {
-        gapped.SetPoint(f, trial.gap.marker, truth.point(f, trial.gap.marker));
-      }
+      EvaluateTrial(truth, work, trials[static_cast<std::size_t>(i)], options,
+                    &summary.rows[static_cast<std::size_t>(i) * per_trial]);
     }
   }
-
-  for (std::size_t g = 0; g < lengths.size(); ++g) {
-    for (GapFillMethod method : options.methods) {
-      EvaluationStatistics stats{method, options.gap_seconds[g], lengths[g], 0, 0, 0, 0, 0};
-      std::vector<double> errors;
-      for (const EvaluationRow& row : summary.rows) {
-        if (row.method != method || row.gap_frames != lengths[g] ||
-            row.gap_seconds != options.gap_seconds[g]) {
-          continue;
-        }
-        ++stats.trials;
-        if (row.status == GapStatus::kFilled) {
-          errors.push_back(row.mean_error);
-        } else {
-          ++stats.failed;
-        }
-      }
-      stats.mean = errors.empty() ? kNaN
-                                  : std::accumulate(errors.begin(), errors.end(), 0.0) /
-                                        static_cast<double>(errors.size());
-      stats.median = Percentile(errors, 50.0);
-      stats.percentile_90 = Percentile(errors, 90.0);
-      summary.statistics.push_back(stats);
-    }
-  }
-  summary.message = fmt::format("{} methods × {} gap lengths × {} trials", n_methods,
+  summary.statistics = internal::EvaluationStatisticsOf(summary.rows, options, lengths);
+  summary.message = fmt::format("{} methods × {} gap lengths × {} trials", options.methods.size(),
                                 lengths.size(), options.trials);
+  if (options.markers_per_gap > 1) {
+    summary.message += fmt::format(" × {} markers", options.markers_per_gap);
+  }
   summary.total_seconds = total.Seconds();
   return summary;
-}
-
-nlohmann::json EvaluationSummary::ToJson() const {
-  // NaN (unfilled) is written as null.
-  const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nullptr; };
-  nlohmann::json j = SummaryJson(termination, message, total_seconds);
-  j["units"] = units;
-  nlohmann::json stats = nlohmann::json::array();
-  for (const EvaluationStatistics& s : statistics) {
-    stats.push_back({{"method", std::string(ToString(s.method))},
-                     {"gap_seconds", s.gap_seconds},
-                     {"gap_frames", s.gap_frames},
-                     {"trials", s.trials},
-                     {"failed", s.failed},
-                     {"mean_error", number(s.mean)},
-                     {"median_error", number(s.median)},
-                     {"p90_error", number(s.percentile_90)}});
-  }
-  j["statistics"] = std::move(stats);
-  nlohmann::json rows_json = nlohmann::json::array();
-  for (const EvaluationRow& r : rows) {
-    rows_json.push_back({{"method", std::string(ToString(r.method))},
-                         {"gap_seconds", r.gap_seconds},
-                         {"gap_frames", r.gap_frames},
-                         {"trial", r.trial},
-                         {"marker", r.marker},
-                         {"first_frame", r.first_frame},
-                         {"mean_error", number(r.mean_error)},
-                         {"max_error", number(r.max_error)},
-                         {"status", std::string(ToString(r.status))}});
-  }
-  j["rows"] = std::move(rows_json);
-  j["settings"] = settings.ToJson();
-  return j;
 }
 
 }  // namespace moreau::mocap

@@ -242,4 +242,12 @@ GapFill FillGap(const Recording& in, const Gap& gap, const GapFillOptions& optio
   return std::move(FillGapsByOcp(in, {gap}, options).fills.front());
 }
 
+std::vector<GapFill> FillGapList(const Recording& in, const std::vector<Gap>& gaps,
+                                 const GapFillOptions& options) {
+  if (options.method == GapFillMethod::kOcp) return FillGapsByOcp(in, gaps, options);
+  std::vector<GapFill> fills;
+  for (const Gap& gap : gaps) fills.push_back(FillGap(in, gap, options));
+  return fills;
+}
+
 }  // namespace moreau::mocap

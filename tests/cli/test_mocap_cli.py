@@ -275,6 +275,43 @@ def test_evaluate_gaps_writes_rows_statistics_and_figure(tmp_path):
     assert (out / "errors.png").stat().st_size > 0
 
 
+def test_evaluate_gaps_hides_a_segment_at_the_end_and_reports_every_measure(tmp_path):
+    out = tmp_path / "out"
+    r = run_cli("evaluate-gaps", DATA / "Qualisys.c3d", "--gap-seconds", "0.1", "--trials", 2,
+                "--methods", "spline,pca", "--markers-per-gap", 3, "--placement", "end",
+                "--set", "evaluation.filter_hz=8", "--out", out)
+    assert r.returncode == 0, r.stderr
+    assert "acc. / jump" in r.stdout
+    with open(out / "evaluation.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0].keys()) == EVALUATION_COLUMNS + [
+        "gap_seconds", "status", "p90_error", "velocity_error", "acceleration_error",
+        "velocity_jump_start", "velocity_jump_end", "distance_deviation", "distance_z"]
+    assert len(rows) == 2 * 2 * 3
+    for trial in ("0", "1"):
+        group = [x for x in rows if x["trial"] == trial]
+        assert len({x["marker"] for x in group}) == 3
+        assert {x["first_frame"] for x in group} == {str(340 - 20)}
+    for row in rows:
+        if row["method"] == "spline":  # no samples after the gap
+            assert row["status"] == "skipped_edge" and row["acceleration_error"] == ""
+        else:
+            assert row["status"] == "filled" and row["velocity_jump_end"] == ""
+            assert float(row["max_error"]) >= float(row["p90_error"]) >= 0
+            assert min(float(row[k]) for k in ("velocity_error", "acceleration_error",
+                                               "velocity_jump_start", "distance_z")) > 0
+    summary = json.loads((out / "summary.json").read_text())
+    evaluation = summary["settings"]["evaluation"]
+    assert (evaluation["markers_per_gap"], evaluation["placement"], evaluation["filter_hz"]) == \
+        (3, "end", 8.0)
+    pca = next(s for s in summary["statistics"] if s["method"] == "pca")
+    assert (pca["trials"], pca["gaps"], pca["failed"]) == (2, 6, 0)
+    values = [float(x["acceleration_error"]) for x in rows if x["method"] == "pca"]
+    assert math.isclose(pca["measures"]["acceleration_error"]["mean"], sum(values) / 6,
+                        rel_tol=1e-6)
+    assert pca["measures"]["velocity_jump"]["p90"] > 0
+
+
 def test_evaluate_gaps_same_seed_same_rows(tmp_path):
     def rows(seed, name):
         out = tmp_path / name
@@ -337,6 +374,9 @@ def test_fill_gaps_missing_gaps_file_exits_2(tmp_path):
 @pytest.mark.parametrize("extra,words", [
     (["--methods", "linear,cubic"], ["evaluation.methods", "cubic"]),
     (["--trials", "0"], ["evaluation.trials", "≥ 1"]),
+    (["--placement", "middle"], ["evaluation.placement", "middle"]),
+    (["--markers-per-gap", "56"], ["evaluation.markers_per_gap", "55 markers"]),
+    (["--set", "evaluation.filter_hz=100"], ["evaluation.filter_hz", "Nyquist"]),
     (["--gap-seconds", "0.1,-0.2"], ["gap_seconds", "-0.2"]),
     (["--gap-seconds", "2"], ["gap_seconds", "does not fit"]),  # the recording lasts 1.7 s
 ])

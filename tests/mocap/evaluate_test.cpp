@@ -137,11 +137,98 @@ TEST(EvaluateFillMethods, FailedFillsAreCountedAndWrittenAsNull) {
   EXPECT_EQ(j["settings"]["methods"][0], "rigid");
 }
 
-TEST(EvaluateFillMethods, PercentileInterpolatesBetweenOrderStatistics) {
-  EXPECT_DOUBLE_EQ(Percentile({4.0, 1.0, 3.0, 2.0}, 50.0), 2.5);
-  EXPECT_DOUBLE_EQ(Percentile({4.0, 1.0, 3.0, 2.0}, 90.0), 3.7);
-  EXPECT_DOUBLE_EQ(Percentile({5.0}, 90.0), 5.0);
-  EXPECT_TRUE(std::isnan(Percentile({}, 50.0)));
+TEST(EvaluateFillMethods, HidesOneSegmentTogetherAndEveryMethodFillsEachOfItsMarkers) {
+  // The walking body: 15 segments of 3 to 5 markers. Three markers hidden together are one
+  // segment (their mutual distances do not vary), share their frames, and each has its row.
+  const Recording body = testing::MakeWalkingRecording(240, 120.0, 5);
+  EvaluationOptions options;
+  options.methods = {GapFillMethod::kSpline, GapFillMethod::kPca};
+  options.gap_seconds = {0.1};
+  options.trials = 4;
+  options.markers_per_gap = 3;
+  const EvaluationSummary summary = EvaluateFillMethods(body, options);
+  ASSERT_EQ(summary.rows.size(), 4u * 2u * 3u);
+  for (std::size_t i = 0; i < summary.rows.size(); i += 6) {
+    for (std::size_t k = 0; k < 6; ++k) {
+      const EvaluationRow& row = summary.rows[i + k];
+      EXPECT_EQ(row.method, options.methods[k / 3]);
+      EXPECT_EQ(row.marker, summary.rows[i + k % 3].marker);
+      EXPECT_EQ(row.first_frame, summary.rows[i].first_frame);
+      EXPECT_EQ(row.status, GapStatus::kFilled);
+      EXPECT_TRUE(std::isfinite(row.acceleration_error) && std::isfinite(row.distance_z));
+      EXPECT_LE(row.p90_error, row.max_error);
+    }
+    const int a = summary.rows[i].marker, b = summary.rows[i + 1].marker,
+              c = summary.rows[i + 2].marker;
+    EXPECT_TRUE(a != b && b != c && a != c);
+    for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{a, c}}) {
+      EXPECT_LT(MarkerDistanceStatistics(body, p, q).sd, 1e-9) << p << " " << q;
+    }
+  }
+  for (const EvaluationStatistics& s : summary.statistics) {
+    EXPECT_EQ(s.trials, 4);
+    EXPECT_EQ(s.gaps, 12);
+    double sum = 0.0;
+    for (const EvaluationRow& row : summary.rows) {
+      if (row.method == s.method) sum += row.acceleration_error;
+    }
+    EXPECT_NEAR(s.acceleration_error.mean, sum / 12.0, 1e-12 * sum);
+  }
+}
+
+TEST(EvaluateFillMethods, NoFillSeesAnotherHiddenMarkersSamples) {
+  // Four markers on one rigid body: with one hidden, rigid has its three donors and is exact;
+  // with two hidden, two markers are left and rigid has no donors for either.
+  const Recording body = MakeRigidBodyRecording(4, 120, 100.0, 6);
+  EvaluationOptions options = SmallStudy();
+  options.methods = {GapFillMethod::kRigid, GapFillMethod::kLinear};
+  for (const EvaluationRow& row : EvaluateFillMethods(body, options).rows) {
+    EXPECT_EQ(row.status, GapStatus::kFilled);
+    if (row.method == GapFillMethod::kRigid) {
+      EXPECT_LT(row.max_error, 1e-8);
+    }
+  }
+  options.markers_per_gap = 2;
+  const EvaluationSummary two = EvaluateFillMethods(body, options);
+  ASSERT_EQ(two.rows.size(), 2u * 6u * 2u * 2u);
+  for (const EvaluationRow& row : two.rows) {
+    EXPECT_EQ(row.status,
+              row.method == GapFillMethod::kRigid ? GapStatus::kNoDonors : GapStatus::kFilled);
+  }
+}
+
+TEST(EvaluateFillMethods, GapsAtTheStartTheEndOrAnywhere) {
+  const Recording body = MakeRigidBodyRecording(6, 120, 100.0, 7);
+  EvaluationOptions options = SmallStudy();
+  options.methods = {GapFillMethod::kLinear, GapFillMethod::kPca};
+  options.placement = GapPlacement::kStart;
+  const EvaluationSummary start = EvaluateFillMethods(body, options);
+  options.placement = GapPlacement::kEnd;
+  const EvaluationSummary end = EvaluateFillMethods(body, options);
+  options.placement = GapPlacement::kAny;
+  options.threads = 1;
+  const EvaluationSummary any = EvaluateFillMethods(body, options);
+  options.threads = 3;
+  ExpectSameRows(any, EvaluateFillMethods(body, options));
+  const EvaluationSummary interior = EvaluateFillMethods(body, SmallStudy());
+  for (std::size_t i = 0; i < start.rows.size(); ++i) {
+    const EvaluationRow &s = start.rows[i], &e = end.rows[i];
+    EXPECT_EQ(s.first_frame, 0);
+    EXPECT_EQ(e.first_frame + e.gap_frames, 120);
+    EXPECT_EQ(s.marker, interior.rows[i / 2 * 4].marker);  // the same draws, placed elsewhere
+    EXPECT_GE(any.rows[i].first_frame, 0);
+    EXPECT_LE(any.rows[i].first_frame + any.rows[i].gap_frames, 120);
+    if (s.method == GapFillMethod::kLinear) {
+      EXPECT_EQ(s.status, GapStatus::kSkippedEdge);
+      EXPECT_EQ(e.status, GapStatus::kSkippedEdge);
+      continue;
+    }
+    EXPECT_EQ(s.status, GapStatus::kFilled);
+    EXPECT_TRUE(std::isnan(s.velocity_jump_start) && std::isfinite(s.velocity_jump_end));
+    EXPECT_TRUE(std::isfinite(e.velocity_jump_start) && std::isnan(e.velocity_jump_end));
+    EXPECT_EQ(s.velocity_jump(), s.velocity_jump_end);
+    EXPECT_TRUE(std::isfinite(s.velocity_error) && std::isfinite(e.acceleration_error));
+  }
 }
 
 TEST(EvaluateFillMethods, BadInputIsAnInputErrorNamingTheField) {
@@ -163,6 +250,16 @@ TEST(EvaluateFillMethods, BadInputIsAnInputErrorNamingTheField) {
   options = SmallStudy();
   options.fill.baseline.rigid.donors = 1;
   EXPECT_NE(message(options, line).find("rigid.donors: must be ≥ 3 (got 1)"), std::string::npos);
+  options = SmallStudy();
+  options.filter_hz = 50.0;  // the Nyquist frequency of 100 Hz
+  EXPECT_NE(message(options, line).find("evaluation.filter_hz: must be below"), std::string::npos);
+  options = SmallStudy();
+  options.markers_per_gap = 4;
+  EXPECT_NE(message(options, line).find("evaluation.markers_per_gap"), std::string::npos);
+  options = SmallStudy();
+  options.placement = GapPlacement::kStart;
+  options.gap_seconds = {0.37};  // 37 frames and 4 observed after them: 41 > 40
+  EXPECT_NE(message(options, line).find("on one side"), std::string::npos);
   Recording incomplete = line;
   incomplete.ClearPoint(3, 1);
   EXPECT_NE(message(SmallStudy(), incomplete).find("complete"), std::string::npos);

@@ -52,3 +52,8 @@ def test_evaluate_small():
     s = mocap.evaluate(r, methods=["linear", "spline"], gap_seconds=[0.1], trials=3, seed=2)
     d = s.to_dict()
     assert s.ok and d["settings"]["trials"] == 3
+    two = mocap.evaluate(r, methods=["spline"], gap_seconds=[0.1], trials=2, markers_per_gap=2,
+                         placement="any", filter_hz=5.0).to_dict()
+    assert len(two["rows"]) == 4 and two["settings"]["placement"] == "any"
+    assert two["statistics"][0]["gaps"] == 4
+    assert "acceleration_error" in two["statistics"][0]["measures"]

@@ -1,5 +1,6 @@
 // `moreau evaluate-gaps IN [--gap-seconds 0.1,0.2,0.5,1.0] [--trials N] [--seed S]
-// [--methods linear,spline,…] [--scenario FILE] [--set key=value …] [--out DIR]`: the gap-filling
+// [--methods linear,spline,…] [--markers-per-gap K] [--placement interior|start|end|any]
+// [--scenario FILE] [--set key=value …] [--out DIR]`: the gap-filling
 // literature's protocol on a complete recording (docs/mocap.md): evaluate_gaps_scenario →
 // EvaluateFillMethods → evaluate_gaps_report.
 #include <memory>
@@ -17,6 +18,8 @@ struct EvaluateGapsArgs : RecordingArgs {
   std::string trials;
   std::string seed;
   std::string methods;
+  std::string markers_per_gap;
+  std::string placement;
 
   // The dedicated flags as overrides of their keys.
   std::vector<std::string> FlagOverrides() const {
@@ -25,6 +28,8 @@ struct EvaluateGapsArgs : RecordingArgs {
     if (!trials.empty()) flags.push_back("evaluation.trials=" + trials);
     if (!seed.empty()) flags.push_back("evaluation.seed=" + seed);
     if (!methods.empty()) flags.push_back("evaluation.methods=\"" + methods + "\"");
+    if (!markers_per_gap.empty()) flags.push_back("evaluation.markers_per_gap=" + markers_per_gap);
+    if (!placement.empty()) flags.push_back("evaluation.placement=\"" + placement + "\"");
     return flags;
   }
 };
@@ -52,6 +57,11 @@ void AddEvaluateGapsCommand(CLI::App& app) {
   cmd->add_option("--seed", args->seed, "Seed of the draws (default 1)");
   cmd->add_option("--methods", args->methods,
                   "Methods compared, comma separated (default all: " + FillMethodNames() + ")");
+  cmd->add_option("--markers-per-gap", args->markers_per_gap,
+                  "Markers hidden together in each trial, the drawn one and its most rigid "
+                  "neighbours (default 1)");
+  cmd->add_option("--placement", args->placement,
+                  "Where gaps lie: interior, start, end or any (default interior)");
 }
 
 }  // namespace moreau::cli

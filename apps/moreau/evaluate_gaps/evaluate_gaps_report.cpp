@@ -29,12 +29,18 @@ std::string EvaluationCsv(const mocap::EvaluationSummary& summary,
   auto out = std::back_inserter(csv);
   fmt::format_to(out,
                  "method,gap_frames,trial,marker,first_frame,mean_error,max_error,gap_seconds,"
-                 "status\n");
+                 "status,p90_error,velocity_error,acceleration_error,velocity_jump_start,"
+                 "velocity_jump_end,distance_deviation,distance_z\n");
   for (const mocap::EvaluationRow& r : summary.rows) {
-    fmt::format_to(out, "{},{},{},{},{},{},{},{},{}\n", mocap::ToString(r.method), r.gap_frames,
+    fmt::format_to(out, "{},{},{},{},{},{},{},{},{}", mocap::ToString(r.method), r.gap_frames,
                    r.trial, CsvField(recording.labels()[static_cast<std::size_t>(r.marker)]),
                    r.first_frame, NumberOrEmpty(r.mean_error), NumberOrEmpty(r.max_error),
                    r.gap_seconds, mocap::ToString(r.status));
+    for (double x : {r.p90_error, r.velocity_error, r.acceleration_error, r.velocity_jump_start,
+                     r.velocity_jump_end, r.distance_deviation, r.distance_z}) {
+      fmt::format_to(out, ",{}", NumberOrEmpty(x));
+    }
+    fmt::format_to(out, "\n");
   }
   return fmt::to_string(csv);
 }
@@ -52,7 +58,12 @@ nlohmann::json EvaluationSummaryJson(const EvaluateGapsSettings& settings,
   return j;
 }
 
-std::string EvaluationTable(const mocap::EvaluationSummary& summary) {
+namespace {
+
+// "method × gap length": a header naming what the cells hold, then cell(s) per method and length.
+template <typename Cell>
+std::string MethodTable(const mocap::EvaluationSummary& summary, const std::string& what,
+                        Cell cell) {
   const mocap::EvaluationOptions& o = summary.settings;
   std::string table = fmt::format("{:<8}", "method");
   for (const mocap::EvaluationStatistics& s : summary.statistics) {
@@ -60,19 +71,31 @@ std::string EvaluationTable(const mocap::EvaluationSummary& summary) {
     table += fmt::format(" {:>20}", fmt::format("{} s ({} fr)", s.gap_seconds, s.gap_frames));
   }
   table += fmt::format("\n{:<8}", "");
-  for (std::size_t g = 0; g < o.gap_seconds.size(); ++g) {
-    table += fmt::format(" {:>20}", fmt::format("mean / p90 ({})", summary.units));
-  }
+  for (std::size_t g = 0; g < o.gap_seconds.size(); ++g) table += fmt::format(" {:>20}", what);
   for (mocap::GapFillMethod method : o.methods) {
     table += fmt::format("\n{:<8}", mocap::ToString(method));
     for (const mocap::EvaluationStatistics& s : summary.statistics) {
-      if (s.method != method) continue;
-      std::string cell = fmt::format("{:.3g} / {:.3g}", s.mean, s.percentile_90);
-      if (s.failed > 0) cell += fmt::format(" ({} failed)", s.failed);
-      table += fmt::format(" {:>20}", cell);
+      if (s.method == method) table += fmt::format(" {:>20}", cell(s));
     }
   }
   return table + "\n";
+}
+
+}  // namespace
+
+std::string EvaluationTable(const mocap::EvaluationSummary& summary) {
+  return MethodTable(summary, fmt::format("mean / p90 ({})", summary.units),
+                     [](const mocap::EvaluationStatistics& s) {
+                       std::string cell = fmt::format("{:.3g} / {:.3g}", s.mean, s.percentile_90);
+                       if (s.failed > 0) cell += fmt::format(" ({} failed)", s.failed);
+                       return cell;
+                     });
+}
+
+std::string DynamicsTable(const mocap::EvaluationSummary& summary) {
+  return MethodTable(summary, "acc. / jump", [](const mocap::EvaluationStatistics& s) {
+    return fmt::format("{:.3g} / {:.3g}", s.acceleration_error.mean, s.velocity_jump.mean);
+  });
 }
 
 int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
@@ -93,6 +116,10 @@ int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
              settings.evaluation.trials, settings.evaluation.gap_seconds.size(),
              settings.evaluation.methods.size(), summary.total_seconds);
   fmt::print("{}", EvaluationTable(summary));
+  fmt::print(
+      "acceleration error ({}/s², filtered at {} Hz) / velocity jump at the ends ({}/s), "
+      "means:\n{}",
+      summary.units, settings.evaluation.filter_hz, summary.units, DynamicsTable(summary));
   fmt::print("wrote {}/evaluation.csv, summary.json, errors.png\n", out.dir().string());
   return 0;
 }

@@ -1,6 +1,8 @@
-// What `moreau evaluate-gaps` writes: evaluation.csv (one row per method and trial),
-// summary.json (per method and gap length: mean, median and 90th percentile of the per-gap mean
-// error; the settings) and errors.png; and the table it prints (method × gap length).
+// What `moreau evaluate-gaps` writes: evaluation.csv (one row per method, trial and hidden
+// marker), summary.json (per method and gap length: mean, median and 90th percentile of the
+// per-gap mean error, and the mean and 90th percentile of every other measure; the settings) and
+// errors.png (position and acceleration errors against gap length); and the tables it prints
+// (method × gap length).
 #pragma once
 
 #include <string>
@@ -13,8 +15,11 @@
 
 namespace moreau::cli {
 
-// Header method,gap_frames,trial,marker,first_frame,mean_error,max_error,gap_seconds,status;
-// marker is the label, errors in the recording's units (empty when the gap was not filled).
+// Header method,gap_frames,trial,marker,first_frame,mean_error,max_error,gap_seconds,status,
+// p90_error,velocity_error,acceleration_error,velocity_jump_start,velocity_jump_end,
+// distance_deviation,distance_z (EvaluationRow); marker is the label, lengths in the
+// recording's units, times in seconds; a measure is empty when the gap was not filled or the
+// measure does not exist there.
 std::string EvaluationCsv(const mocap::EvaluationSummary& summary,
                           const mocap::Recording& recording);
 
@@ -26,6 +31,9 @@ nlohmann::json EvaluationSummaryJson(const EvaluateGapsSettings& settings,
 
 // "method × gap length: mean / p90" in the recording's units.
 std::string EvaluationTable(const mocap::EvaluationSummary& summary);
+
+// "method × gap length": the means of the filtered acceleration error and of the velocity jump.
+std::string DynamicsTable(const mocap::EvaluationSummary& summary);
 
 // Writes DIR (staged, committed only once everything is written), prints the table and returns
 // the exit code (0).

@@ -1,6 +1,8 @@
 // The settings of `moreau evaluate-gaps` in one field table: evaluation.methods,
 // evaluation.gap_seconds, evaluation.trials, evaluation.seed, evaluation.threads,
-// fill.max_gap_seconds, each method's block (interpolation.*, rigid.*, pca.*) and read.*.
+// evaluation.filter_hz, evaluation.markers_per_gap, evaluation.placement,
+// evaluation.distance_partners, fill.max_gap_seconds, each method's block (interpolation.*,
+// rigid.*, pca.*) and read.*.
 #pragma once
 
 #include <nlohmann/json.hpp>

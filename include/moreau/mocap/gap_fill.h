@@ -63,4 +63,12 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps,
 // One gap: FillGap (fill.h) for a baseline method; for ocp the gap alone through FillGaps.
 GapFill FillGap(const Recording& in, const Gap& gap, const GapFillOptions& options);
 
+// Every gap of `gaps` (each consistent with `in`, as FillGap asks), one GapFill per gap in input
+// order, without writing a recording: FillGap per gap for a baseline method; for ocp the gaps
+// together, as FillGaps solves them (gaps close in time and joined by springs share a window).
+// The fills use only what `in` holds: the samples of every gap are missing while any is filled.
+// For one gap this is FillGap, bit for bit.
+std::vector<GapFill> FillGapList(const Recording& in, const std::vector<Gap>& gaps,
+                                 const GapFillOptions& options);
+
 }  // namespace moreau::mocap
