@@ -244,7 +244,7 @@ GapFill FillGap(const Recording& in, const Gap& gap, const GapFillOptions& optio
 
 std::vector<GapFill> FillGapList(const Recording& in, const std::vector<Gap>& gaps,
                                  const GapFillOptions& options) {
-  if (options.method == GapFillMethod::kOcp) return FillGapsByOcp(in, gaps, options);
+  if (options.method == GapFillMethod::kOcp) return FillGapsByOcp(in, gaps, options).fills;
   std::vector<GapFill> fills;
   for (const Gap& gap : gaps) fills.push_back(FillGap(in, gap, options));
   return fills;
