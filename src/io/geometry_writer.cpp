@@ -61,8 +61,9 @@ void WriteGeometryVtp(const std::filesystem::path& path, const SceneGeometry& ge
   for (const GeometryCell& cell : geometry.cells) {
     if (cell.points.size() < 2 || cell.kind < 0 ||
         static_cast<std::size_t>(cell.kind) >= geometry.kind_names.size()) {
-      throw InputError(fmt::format("{}: a geometry cell needs 2 or more points and a kind in [0, {})",
-                                   path.string(), geometry.kind_names.size()));
+      throw InputError(
+          fmt::format("{}: a geometry cell needs 2 or more points and a kind in [0, {})",
+                      path.string(), geometry.kind_names.size()));
     }
     first.push_back(static_cast<std::int64_t>(points.size() / 3));
     for (const auto& p : cell.points) points.insert(points.end(), p.begin(), p.end());

@@ -289,9 +289,9 @@ void Hdf5TrajectoryWriter::WriteStringList(const StringList& list) {
   const hsize_t n = list.values.size();
   Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
   Check(space.get(), what);
-  Handle attribute(H5Acreate2(file_.get(), list.name.c_str(), type.get(), space.get(),
-                              H5P_DEFAULT, H5P_DEFAULT),
-                   H5Aclose);
+  Handle attribute(
+      H5Acreate2(file_.get(), list.name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+      H5Aclose);
   Check(attribute.get(), what);
   Check(H5Awrite(attribute.get(), type.get(), text.data()), what);
 }

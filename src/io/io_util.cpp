@@ -32,9 +32,10 @@ void ValidateFrame(const ParticleFrame& frame, const std::filesystem::path& file
     const PointArray& array = frame.arrays[a];
     if (array.name.empty() || array.name.find('/') != std::string_view::npos ||
         array.name == "radius" || array.name == "id") {
-      throw InputError(fmt::format("{}: array name '{}' must be non-empty, without '/', and not "
-                                   "radius or id",
-                                   where, array.name));
+      throw InputError(
+          fmt::format("{}: array name '{}' must be non-empty, without '/', and not "
+                      "radius or id",
+                      where, array.name));
     }
     if (array.components != 1 && array.components != 3) {
       throw InputError(fmt::format("{}: array {} has {} components (expected 1 or 3)", where,
@@ -78,9 +79,10 @@ void ValidateLists(const std::vector<StringList>& lists, std::span<const std::st
     for (const std::string_view t : taken) bad = bad || name == t;
     for (std::size_t b = 0; b < a; ++b) bad = bad || lists[b].name == name;
     if (bad) {
-      throw InputError(fmt::format("{}: string list name '{}' is empty, has a '/', is used twice "
-                                   "or is taken",
-                                   file.string(), name));
+      throw InputError(
+          fmt::format("{}: string list name '{}' is empty, has a '/', is used twice "
+                      "or is taken",
+                      file.string(), name));
     }
   }
 }

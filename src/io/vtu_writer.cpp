@@ -44,8 +44,8 @@ void AppendPointArrays(const ParticleFrame& frame, std::string& out) {
     const std::string name = internal::XmlEscape(a.name);
     const std::size_t values = n * static_cast<std::size_t>(a.components);
     if (a.type == PointArray::Type::kInt64) {
-      AppendDataArray("Int64", name.c_str(), a.components,
-                      static_cast<const std::int64_t*>(a.data), values, out);
+      AppendDataArray("Int64", name.c_str(), a.components, static_cast<const std::int64_t*>(a.data),
+                      values, out);
     } else {
       AppendDataArray("Float64", name.c_str(), a.components, static_cast<const double*>(a.data),
                       values, out);
@@ -75,7 +75,7 @@ class VtuSeriesWriter final : public TrajectoryWriter {
   std::string prefix_;
   std::filesystem::path pvd_path_;
   std::vector<StringList> lists_;
-  std::vector<internal::ArraySpec> specs_;  // the extra arrays, fixed by the first frame
+  std::vector<internal::ArraySpec> specs_;             // the extra arrays, fixed by the first frame
   std::vector<std::pair<double, std::string>> files_;  // (time, file name) per frame
   bool closed_ = false;
   // Workspace reused between frames.

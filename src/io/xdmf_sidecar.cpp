@@ -66,7 +66,8 @@ std::string XdmfSidecarText(const std::string& h5_name, int dimension, int posit
   out += "  <Domain>\n";
   out += "    <Grid Name=\"trajectory\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t f = 0; f < frames.size(); ++f) {
-    if (frames[f].count > 0) AppendFrameGrid(out, h5, dimension, position_bytes, f, frames[f], arrays);
+    if (frames[f].count > 0)
+      AppendFrameGrid(out, h5, dimension, position_bytes, f, frames[f], arrays);
   }
   out += "    </Grid>\n";
   out += "  </Domain>\n";

@@ -966,8 +966,8 @@ TEST(Hdf5Writer, PointArraysAndStringListsRoundTripPaddedWithViews) {
   for (std::size_t i = 0; i < age.size(); ++i) {
     EXPECT_TRUE(age[i] == age_padded[i] || (std::isnan(age[i]) && std::isnan(age_padded[i])));
   }
-  info = ReadDataset(file.get(), "/point_data/polarity", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE,
-                     polarity);
+  info =
+      ReadDataset(file.get(), "/point_data/polarity", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, polarity);
   EXPECT_EQ(info.dims, (std::vector<hsize_t>{4, 5, 3}));
   EXPECT_EQ(std::vector<double>(polarity.begin() + 15, polarity.begin() + 30), a.polarity[1]);
   ReadDataset(file.get(), "/xdmf/frame_000003/point_data/polarity", H5T_NATIVE_DOUBLE,

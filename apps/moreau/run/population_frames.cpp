@@ -14,8 +14,8 @@ void Lineage::Observe(const particles::Population& population) {
     // mother) right after the rule step of the division; the others were seen a rule step ago.
     if (a.age > 0.0 || row_.contains(a.id)) continue;
     row_.emplace(a.id, rows_.size());
-    rows_.push_back({a.id, static_cast<std::int64_t>(rows_.size()), a.mother, a.type,
-                     a.generation, t, std::nullopt});
+    rows_.push_back({a.id, static_cast<std::int64_t>(rows_.size()), a.mother, a.type, a.generation,
+                     t, std::nullopt});
   }
   const std::int64_t rule_steps = population.summary().rule_steps;
   if (rule_steps == rule_steps_) return;  // these departures are in already
@@ -27,7 +27,8 @@ void Lineage::Observe(const particles::Population& population) {
 void Lineage::End(const std::vector<std::int64_t>& ids, double t, const char* fate) {
   for (const std::int64_t id : ids) {
     const auto it = row_.find(id);
-    if (it == row_.end()) continue;  // never observed (cannot happen with an observer per rule step)
+    if (it == row_.end())
+      continue;  // never observed (cannot happen with an observer per rule step)
     rows_[it->second].end = t;
     rows_[it->second].fate = fate;
   }
@@ -50,9 +51,8 @@ namespace {
 // The array name of user variable `name`: the name, or "variable_NAME" ('/' as '_') when it is
 // one a frame uses already or has a '/'.
 std::string VariableArrayName(std::string name) {
-  constexpr std::string_view kTaken[] = {"radius",    "id",  "type",     "generation",
-                                         "divisions", "mother", "display_id", "age",
-                                         "polarity",  "contacts"};
+  constexpr std::string_view kTaken[] = {"radius", "id",         "type", "generation", "divisions",
+                                         "mother", "display_id", "age",  "polarity",   "contacts"};
   bool taken = name.find('/') != std::string::npos;
   for (const std::string_view t : kTaken) taken = taken || name == t;
   if (!taken && name.rfind("variable_", 0) != 0) return name;
@@ -106,21 +106,25 @@ void PopulationFrames::Write(const particles::Population& p, const Lineage& line
     for (const int c : p.engine().ContactCounts(p.rules().contact_factor)) contacts_.push_back(c);
   }
   using io::PointArray;
-  std::vector<PointArray> arrays{
-      PointArray::Int64("type", type_.data()),
-      PointArray::Int64("generation", generation_.data()),
-      PointArray::Int64("divisions", divisions_.data()),
-      PointArray::Int64("mother", mother_.data()),
-      PointArray::Int64("display_id", display_.data()),
-      PointArray::Float64("age", age_.data()),
-      PointArray::Float64("polarity", polarity_.data(), 3),
-      PointArray::Int64("contacts", contacts_.data())};
+  std::vector<PointArray> arrays{PointArray::Int64("type", type_.data()),
+                                 PointArray::Int64("generation", generation_.data()),
+                                 PointArray::Int64("divisions", divisions_.data()),
+                                 PointArray::Int64("mother", mother_.data()),
+                                 PointArray::Int64("display_id", display_.data()),
+                                 PointArray::Float64("age", age_.data()),
+                                 PointArray::Float64("polarity", polarity_.data(), 3),
+                                 PointArray::Int64("contacts", contacts_.data())};
   for (std::size_t v = 0; v < variable_names_.size(); ++v) {
     arrays.push_back(PointArray::Float64(variable_names_[v], p.variable(v).data()));
   }
-  const io::ParticleFrame frame{p.engine().step(), p.engine().time(), p.engine().dimension(),
-                                x.data(),          ids_.data(),       radii_.data(),
-                                p.count(),         arrays};
+  const io::ParticleFrame frame{p.engine().step(),
+                                p.engine().time(),
+                                p.engine().dimension(),
+                                x.data(),
+                                ids_.data(),
+                                radii_.data(),
+                                p.count(),
+                                arrays};
   for (auto& writer : writers_) writer->Write(frame);
 }
 

@@ -95,7 +95,7 @@ PopulationRunResult RunPopulation(const ParticleScenario& scenario,
   lineage.Observe(population);
   frames.Write(population, lineage, false);
   frames.Close();
-  return {std::move(summary),  std::move(csv),      lineage.Csv(rules),
+  return {std::move(summary),   std::move(csv),      lineage.Csv(rules),
           scenario.output.hdf5, scenario.output.vtu, geometry};
 }
 

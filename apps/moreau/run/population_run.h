@@ -43,8 +43,8 @@ nlohmann::json PopulationRunJson(const ParticleScenario& scenario,
                                  const PopulationRunResult& result,
                                  const std::string& scenario_file);
 
-// Writes population.csv, agents.csv, lineage.csv and SUMMARY as summary.json into OUT and commits it. Returns
-// the brief report `moreau run` prints.
+// Writes population.csv, agents.csv, lineage.csv and SUMMARY as summary.json into OUT and commits
+// it. Returns the brief report `moreau run` prints.
 std::string ReportPopulationRun(const particles::Population& population,
                                 const PopulationRunResult& result, const nlohmann::json& summary,
                                 OutputDir& out);

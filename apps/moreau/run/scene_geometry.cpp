@@ -34,7 +34,9 @@ struct Box {
       hi[a] = std::max(hi[a], p[a] + r);
     }
   }
-  Point Centre() const { return {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])}; }
+  Point Centre() const {
+    return {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  }
 };
 
 // The point of wall w's boundary nearest p, and its unit normal (first k components).
@@ -103,7 +105,8 @@ std::vector<Point> WallPolygon(const Point& q, const Point& n, const Box& box) {
   axis_e[e] = 1.0;
   const Point u = Unit(Cross(n, axis_e)), v = Cross(n, u);
   std::sort(points.begin(), points.end(), [&](const Point& a, const Point& b) {
-    const Point da{a[0] - q[0], a[1] - q[1], a[2] - q[2]}, db{b[0] - q[0], b[1] - q[1], b[2] - q[2]};
+    const Point da{a[0] - q[0], a[1] - q[1], a[2] - q[2]},
+        db{b[0] - q[0], b[1] - q[1], b[2] - q[2]};
     return std::atan2(Dot(da, v), Dot(da, u)) < std::atan2(Dot(db, v), Dot(db, u));
   });
   return points;
@@ -155,7 +158,8 @@ io::SceneGeometry SceneOf(const particles::ParticleModel& model,
   }
   for (std::size_t s = 0; s < model.segments.size(); ++s) {
     const auto& seg = model.segments[s];
-    g.cells.push_back({{{seg.a[0], seg.a[1], 0.0}, {seg.b[0], seg.b[1], 0.0}}, kSegment,
+    g.cells.push_back({{{seg.a[0], seg.a[1], 0.0}, {seg.b[0], seg.b[1], 0.0}},
+                       kSegment,
                        static_cast<std::int64_t>(s)});
   }
   for (std::size_t s = 0; s < model.spheres.size(); ++s) {

@@ -27,8 +27,8 @@ struct PointArray {
   enum class Type { kFloat64, kInt64 };
   std::string_view name;  // not empty, no '/', unique in the frame, not "radius" or "id"
   Type type = Type::kFloat64;
-  int components = 1;           // c: 1 (a scalar) or 3 (a vector; z = 0 in 2D)
-  const void* data = nullptr;   // N·c values of `type` (may be null when N = 0)
+  int components = 1;          // c: 1 (a scalar) or 3 (a vector; z = 0 in 2D)
+  const void* data = nullptr;  // N·c values of `type` (may be null when N = 0)
 
   static PointArray Float64(std::string_view name, const double* values, int components = 1) {
     return {name, Type::kFloat64, components, values};
