@@ -12,46 +12,8 @@ import pytest
 
 from conftest import ROOT, run_cli
 
-# A colony that grows, divides and dies, and two agents past the exit plane (removed at the
-# first rule step).
-COLONY = """
-[problem]
-kind = "particles"
-dimension = 2
-count = 4
-T = 12.0
-seed = 5
-
-[initial]
-positions = [[-0.6, 0.0], [0.6, 0.0], [5.0, 0.0], [6.5, 0.0]]
-types = ["normal", "tumour", "normal", "normal"]
-
-[[types]]
-name = "normal"
-radius = 0.5
-growth_rate = 0.05
-division_radius = 0.7071
-division_rate = 0.1
-death_rate = 0.03
-
-[[types]]
-name = "tumour"
-radius = 0.5
-growth_rate = 0.08
-division_radius = 0.7071
-speed = 0.05
-persistence_time = 5.0
-
-[population]
-interval = 5
-exit_offset = 4.0
-
-[solver]
-h = 0.02
-
-[output]
-stride = 50
-"""
+COLONY_FILE = ROOT / "tests/cli/abm_colony.toml"
+COLONY = COLONY_FILE.read_text()
 
 ARRAYS = {"type": (), "generation": (), "divisions": (), "mother": (), "display_id": (),
           "age": (), "polarity": (3,), "contacts": ()}
@@ -60,10 +22,8 @@ ARRAYS = {"type": (), "generation": (), "divisions": (), "mother": (), "display_
 @pytest.fixture(scope="module")
 def colony(tmp_path_factory):
     folder = tmp_path_factory.mktemp("colony")
-    scenario = folder / "colony.toml"
-    scenario.write_text(COLONY)
     out = folder / "out"
-    r = run_cli("run", scenario, "--out", out)
+    r = run_cli("run", COLONY_FILE, "--out", out)
     assert r.returncode == 0, r.stderr
     return out
 

@@ -1,6 +1,6 @@
-"""An agent-based run's outputs as ParaView reads them: a small colony (growing, dividing, dying)
-written by `moreau run`, its trajectory.xdmf opened with the three XDMF readers and vtu/frame.pvd
-with the PVD reader, every agent array (type, generation, divisions, mother, display_id, age,
+"""An agent-based run's outputs as ParaView reads them: a small colony (growing, dividing, dying,
+leaving; tests/cli/abm_colony.toml) written by `moreau run`, its trajectory.xdmf opened with the
+three XDMF readers and vtu/frame.pvd with the PVD reader, every agent array (type, generation, divisions, mother, display_id, age,
 polarity, contacts) compared with h5py's view of trajectory.h5; and geometry.vtp of the crowd
 example (its room and door) opened with ParaView's XML PolyData reader."""
 import subprocess
@@ -9,51 +9,16 @@ import h5py
 import numpy as np
 import pytest
 
-from conftest import CLI, XDMF_READERS, paraview_read
+from conftest import CLI, ROOT, XDMF_READERS, paraview_read
 
-COLONY = """
-[problem]
-kind = "particles"
-dimension = 2
-count = 2
-T = 10.0
-seed = 4
-
-[initial]
-positions = [[-0.6, 0.0], [0.6, 0.0]]
-types = ["normal", "tumour"]
-
-[[types]]
-name = "normal"
-radius = 0.5
-growth_rate = 0.05
-division_radius = 0.7071
-death_rate = 0.02
-
-[[types]]
-name = "tumour"
-radius = 0.5
-growth_rate = 0.08
-division_radius = 0.7071
-speed = 0.05
-
-[population]
-interval = 5
-
-[solver]
-h = 0.02
-
-[output]
-stride = 100
-"""
 ARRAYS = ("type", "generation", "divisions", "mother", "display_id", "age", "polarity", "contacts")
 
 
 @pytest.fixture(scope="module")
 def colony(tmp_path_factory):
     folder = tmp_path_factory.mktemp("abm_colony")
-    (folder / "colony.toml").write_text(COLONY)
-    r = subprocess.run([CLI, "run", str(folder / "colony.toml"), "--out", str(folder / "out")],
+    r = subprocess.run([CLI, "run", str(ROOT / "tests/cli/abm_colony.toml"), "--out",
+                        str(folder / "out")],
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     return folder / "out"
@@ -73,12 +38,15 @@ def test_paraview_reads_every_agent_array(colony, colony_paraview, reader):
         counts, time = f["count"][:], f["time"][:]
         data = {name: f["point_data"][name][:] for name in ARRAYS}
     result = colony_paraview[reader]
-    np.testing.assert_array_equal(result["times"], time)  # no empty frame here
+    # The sidecar leaves empty frames out; the VTU series keeps them.
+    kept = np.arange(len(counts)) if reader == "PVDReader" else np.flatnonzero(counts > 0)
+    np.testing.assert_array_equal(result["times"], time[kept])
     assert len(set(counts.tolist())) > 1
-    for i, n in enumerate(counts):
+    for i, f in enumerate(kept):
+        n = counts[f]
         for name in ARRAYS:
             got = result[f"point_{name}_{i}"]
-            np.testing.assert_array_equal(got.reshape(data[name][i, :n].shape), data[name][i, :n])
+            np.testing.assert_array_equal(got.reshape(data[name][f, :n].shape), data[name][f, :n])
 
 
 def test_paraview_reads_the_room_and_its_door(example_runs, tmp_path_factory):
