@@ -1,5 +1,6 @@
 // Trajectory writers: HDF5 read back bit for bit through the HDF5 C API, the XDMF sidecar, the
-// VTU files decoded from base64, the PVD index, and the errors.
+// VTU files decoded from base64, the PVD index, extra point arrays and string lists, the errors;
+// and the scene geometry file (geometry.vtp).
 #include "moreau/io/trajectory.h"
 
 #include <gtest/gtest.h>
