@@ -69,7 +69,8 @@ void BM_Hdf5Trajectory(benchmark::State& state) {
                                             frames.positions[static_cast<std::size_t>(i)].data(),
                                             frames.ids.data(),
                                             frames.radii.data(),
-                                            kCount};
+                                            kCount,
+                                            {}};
       writer->Write(frame);
     }
     writer->Close();

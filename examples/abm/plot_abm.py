@@ -5,10 +5,11 @@ Usage:
   plot_abm.py count OUTPUT_PNG POPULATION_CSV [POPULATION_CSV ...]
       the count per type against time (log scale), one line per type and file
   plot_abm.py snapshot OUTPUT_PNG AGENTS_CSV
-      the agents (2D) as disks coloured by generation
-Exits with status 2 and a one-line message on bad usage or a bad file.
+      the agents (2D) as disks coloured by generation (an empty room: empty axes)
+Both draw empty inputs (no agents, no rows) as empty axes. Exits with status 2 and a one-line message on bad usage or a bad file.
 """
 import sys
+import warnings
 
 import matplotlib
 
@@ -28,9 +29,15 @@ def read_csv(path):
     try:
         with open(path) as f:
             header = f.readline().strip().split(",")
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        with warnings.catch_warnings():  # a header without rows is an empty table, not a warning
+            warnings.simplefilter("ignore", UserWarning)
+            data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     except (OSError, ValueError) as e:
         fail(f"{path}: {e}")
+    if data.size == 0:
+        data = np.zeros((0, len(header)))
+    if data.shape[1] != len(header):
+        fail(f"{path}: {data.shape[1]} columns, but the header names {len(header)}")
     return header, data
 
 
@@ -38,6 +45,8 @@ def plot_count(output, paths):
     fig, ax = plt.subplots(figsize=(6, 4))
     for path in paths:
         header, data = read_csv(path)
+        if "t" not in header:
+            fail(f"{path}: no column t")
         t = data[:, header.index("t")]
         for i, name in enumerate(header):
             if name.startswith("count_"):
@@ -54,6 +63,8 @@ def plot_snapshot(output, path):
     header, data = read_csv(path)
     if "z" in header:
         fail("the snapshot is 2D only")
+    if any(c not in header for c in ("x", "y", "r", "generation")):
+        fail(f"{path}: needs the columns x, y, r and generation")
     x, y, r = (data[:, header.index(c)] for c in ("x", "y", "r"))
     generation = data[:, header.index("generation")]
     fig, ax = plt.subplots(figsize=(7, 6))
@@ -61,8 +72,9 @@ def plot_snapshot(output, path):
                             linewidths=0)
     disks.set_array(generation)
     ax.add_collection(disks)
-    ax.set_xlim(x.min() - 1, x.max() + 1)
-    ax.set_ylim(y.min() - 1, y.max() + 1)
+    if len(x) > 0:
+        ax.set_xlim(x.min() - 1, x.max() + 1)
+        ax.set_ylim(y.min() - 1, y.max() + 1)
     ax.set_aspect("equal")
     fig.colorbar(disks, ax=ax, label="generation")
     ax.set_title(f"{len(x)} agents")

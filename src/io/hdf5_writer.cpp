@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/hdf5_handle.h"
 #include "io/io_util.h"
 #include "io/xdmf_sidecar.h"
 #include "moreau/common/error.h"
@@ -30,57 +31,11 @@ constexpr hsize_t kMinParticlesPerChunk = 64;
 // Rows past a frame's count read as these.
 constexpr double kMissingValue = std::numeric_limits<double>::quiet_NaN();
 constexpr std::int64_t kMissingId = -1;
+// Root attributes the writer sets itself (a string list may not take these names).
+constexpr std::string_view kRootAttributes[] = {"format", "format_version", "dimension", "count"};
 
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Handle() = default;
-  Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
-  Handle(Handle&& other) noexcept
-      : id_(std::exchange(other.id_, H5I_INVALID_HID)), closer_(other.closer_) {}
-  Handle& operator=(Handle&& other) noexcept {
-    if (this != &other) {
-      Reset();
-      id_ = std::exchange(other.id_, H5I_INVALID_HID);
-      closer_ = other.closer_;
-    }
-    return *this;
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() { Reset(); }
-
-  hid_t get() const { return id_; }
-  bool valid() const { return id_ >= 0; }
-  // Closes the identifier; returns false if HDF5 reported an error.
-  bool Reset() {
-    if (id_ < 0) return true;
-    const herr_t status = closer_(id_);
-    id_ = H5I_INVALID_HID;
-    return status >= 0;
-  }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-  Closer closer_ = nullptr;
-};
-
-herr_t KeepInnermostError(unsigned /*n*/, const H5E_error2_t* error, void* client_data) {
-  auto* text = static_cast<std::string*>(client_data);
-  if (text->empty() && error != nullptr && error->desc != nullptr) *text = error->desc;
-  return 0;
-}
-
-// The description of the innermost error on HDF5's current error stack (which it clears).
-std::string Hdf5ErrorText() {
-  std::string text;
-  const hid_t stack = H5Eget_current_stack();
-  if (stack >= 0) {
-    H5Ewalk2(stack, H5E_WALK_UPWARD, KeepInnermostError, &text);
-    H5Eclose_stack(stack);
-  }
-  return text.empty() ? std::string("unknown HDF5 error") : text;
-}
+using internal::Handle;
+using internal::Hdf5ErrorText;
 
 // Chunk shape {frames, particles} for per-frame records of `count` particles (at least
 // kMinParticlesPerChunk) of `bytes_per_particle` bytes each: about kChunkBytes, whole frames while
@@ -96,7 +51,8 @@ std::array<hsize_t, 2> ChunkShape(std::int64_t count, hsize_t bytes_per_particle
 
 class Hdf5TrajectoryWriter final : public TrajectoryWriter {
  public:
-  Hdf5TrajectoryWriter(const std::filesystem::path& path, const Hdf5TrajectoryOptions& options);
+  Hdf5TrajectoryWriter(const std::filesystem::path& path, const Hdf5TrajectoryOptions& options,
+                       const std::vector<StringList>& lists);
   ~Hdf5TrajectoryWriter() override {
     try {
       Close();
@@ -130,10 +86,13 @@ class Hdf5TrajectoryWriter final : public TrajectoryWriter {
   Handle CreateGroup(const std::string& name);
   void WriteAttribute(const char* name, hid_t file_type, hid_t memory_type, const void* value);
   void WriteStringAttribute(const char* name, const std::string& value);
+  // The root attribute list.name: an array of fixed-length strings.
+  void WriteStringList(const StringList& list);
   void CreateParticleDatasets(const ParticleFrame& frame);
   // Widens the particle axis to `count` rows (connectivity 0 … count−1 included).
   void GrowParticleAxis(std::int64_t count);
   void WriteFrameViews(std::size_t index, std::int64_t count);
+  void WriteArrays(const ParticleFrame& frame);
 
   std::filesystem::path path_;
   std::filesystem::path xdmf_path_;
@@ -141,6 +100,8 @@ class Hdf5TrajectoryWriter final : public TrajectoryWriter {
   hid_t position_type_;  // file type of /positions: float64 or float32
   Handle file_;
   Handle time_, step_, count_, positions_, ids_, radii_, connectivity_;
+  std::vector<internal::ArraySpec> specs_;  // the extra arrays, fixed by the first frame
+  std::vector<Handle> arrays_;              // /point_data/NAME, one per spec
   bool closed_ = false;
   bool has_particle_datasets_ = false;
   int dimension_ = 0;
@@ -150,7 +111,8 @@ class Hdf5TrajectoryWriter final : public TrajectoryWriter {
 };
 
 Hdf5TrajectoryWriter::Hdf5TrajectoryWriter(const std::filesystem::path& path,
-                                           const Hdf5TrajectoryOptions& options)
+                                           const Hdf5TrajectoryOptions& options,
+                                           const std::vector<StringList>& lists)
     : path_(path),
       xdmf_path_(std::filesystem::path(path).replace_extension(".xdmf")),
       options_(options),
@@ -164,6 +126,7 @@ Hdf5TrajectoryWriter::Hdf5TrajectoryWriter(const std::filesystem::path& path,
                     path_.string()));
   }
   internal::CheckParentDirectory(path_);
+  internal::ValidateLists(lists, kRootAttributes, path_);
   // The library never prints: errors are turned into exceptions below.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   // Each frame adds a group of virtual datasets that is written once and closed: evicting the
@@ -184,6 +147,7 @@ Hdf5TrajectoryWriter::Hdf5TrajectoryWriter(const std::filesystem::path& path,
   count_ = CreateExtensible(file, "count", H5T_STD_I64LE, {256}, 0, H5T_NATIVE_INT64, &no_count);
   WriteStringAttribute("format", kFormatName);
   WriteAttribute("format_version", H5T_STD_I32LE, H5T_NATIVE_INT, &kFormatVersion);
+  for (const StringList& list : lists) WriteStringList(list);
 }
 
 void Hdf5TrajectoryWriter::Check(std::int64_t status, const std::string& what) const {
@@ -310,6 +274,28 @@ void Hdf5TrajectoryWriter::WriteStringAttribute(const char* name, const std::str
   WriteAttribute(name, type.get(), type.get(), value.c_str());
 }
 
+void Hdf5TrajectoryWriter::WriteStringList(const StringList& list) {
+  const std::string what = fmt::format("attribute {}", list.name);
+  std::size_t width = 1;
+  for (const std::string& v : list.values) width = std::max(width, v.size() + 1);
+  std::vector<char> text(width * list.values.size(), '\0');
+  for (std::size_t i = 0; i < list.values.size(); ++i) {
+    std::copy(list.values[i].begin(), list.values[i].end(), text.begin() + i * width);
+  }
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  Check(type.get(), what);
+  Check(H5Tset_size(type.get(), width), what);
+  Check(H5Tset_strpad(type.get(), H5T_STR_NULLTERM), what);
+  const hsize_t n = list.values.size();
+  Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  Check(space.get(), what);
+  Handle attribute(
+      H5Acreate2(file_.get(), list.name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+      H5Aclose);
+  Check(attribute.get(), what);
+  Check(H5Awrite(attribute.get(), type.get(), text.data()), what);
+}
+
 void Hdf5TrajectoryWriter::CreateParticleDatasets(const ParticleFrame& frame) {
   const auto k = static_cast<hsize_t>(frame.dimension);
   const auto [frames_xk, rows_xk] = ChunkShape(frame.count, H5Tget_size(position_type_) * k);
@@ -323,6 +309,19 @@ void Hdf5TrajectoryWriter::CreateParticleDatasets(const ParticleFrame& frame) {
                             H5T_NATIVE_DOUBLE, &kMissingValue);
   connectivity_ = CreateExtensible(file, "connectivity", H5T_STD_I64LE, {4096}, 0, H5T_NATIVE_INT64,
                                    &kMissingId);
+  specs_ = internal::SpecsOf(frame.arrays);
+  if (!specs_.empty()) CreateGroup("/point_data");
+  for (const internal::ArraySpec& a : specs_) {
+    const bool integer = a.type == PointArray::Type::kInt64;
+    const auto c = static_cast<hsize_t>(a.components);
+    const auto [frames_a, rows_a] = ChunkShape(frame.count, 8 * c);
+    std::vector<hsize_t> chunk{frames_a, rows_a};
+    if (c > 1) chunk.push_back(c);
+    arrays_.push_back(CreateExtensible(
+        file, ("point_data/" + a.name).c_str(), integer ? H5T_STD_I64LE : H5T_IEEE_F64LE, chunk,
+        c > 1 ? 1 : 0, integer ? H5T_NATIVE_INT64 : H5T_NATIVE_DOUBLE,
+        integer ? static_cast<const void*>(&kMissingId) : &kMissingValue));
+  }
   CreateGroup("/xdmf");
   WriteAttribute("dimension", H5T_STD_I32LE, H5T_NATIVE_INT, &frame.dimension);
   WriteAttribute("count", H5T_STD_I64LE, H5T_NATIVE_INT64, &rows_);
@@ -353,6 +352,34 @@ void Hdf5TrajectoryWriter::WriteFrameViews(std::size_t index, std::int64_t count
   CreateView(g, "radii", H5T_IEEE_F64LE, "/radii", {frames, rows}, {f, 0}, {1, n});
   CreateView(g, "ids", H5T_STD_I64LE, "/ids", {frames, rows}, {f, 0}, {1, n});
   CreateView(g, "connectivity", H5T_STD_I64LE, "/connectivity", {rows}, {0}, {n});
+  if (specs_.empty()) return;
+  Handle point_data = CreateGroup(name + "/point_data");
+  for (const internal::ArraySpec& a : specs_) {
+    const hid_t type = a.type == PointArray::Type::kInt64 ? H5T_STD_I64LE : H5T_IEEE_F64LE;
+    const std::string source = "/point_data/" + a.name;
+    if (a.components == 1) {
+      CreateView(point_data.get(), a.name.c_str(), type, source.c_str(), {frames, rows}, {f, 0},
+                 {1, n});
+    } else {
+      CreateView(point_data.get(), a.name.c_str(), type, source.c_str(), {frames, rows, 3},
+                 {f, 0, 0}, {1, n, 3});
+    }
+  }
+}
+
+void Hdf5TrajectoryWriter::WriteArrays(const ParticleFrame& frame) {
+  const hsize_t f = frames_.size(), frames = f + 1, rows = static_cast<hsize_t>(rows_);
+  const auto n = static_cast<hsize_t>(frame.count);
+  for (std::size_t i = 0; i < specs_.size(); ++i) {
+    const PointArray& a = frame.arrays[i];
+    const hid_t memory = a.type == PointArray::Type::kInt64 ? H5T_NATIVE_INT64 : H5T_NATIVE_DOUBLE;
+    const std::string name = "point_data/" + specs_[i].name;
+    if (a.components == 1) {
+      WriteBlock(arrays_[i], name.c_str(), memory, {frames, rows}, {f, 0}, {1, n}, a.data);
+    } else {
+      WriteBlock(arrays_[i], name.c_str(), memory, {frames, rows, 3}, {f, 0, 0}, {1, n, 3}, a.data);
+    }
+  }
 }
 
 void Hdf5TrajectoryWriter::Write(const ParticleFrame& frame) {
@@ -369,6 +396,8 @@ void Hdf5TrajectoryWriter::Write(const ParticleFrame& frame) {
         "{}: frame at step {} has dimension {}, but the trajectory was started in dimension {} "
         "(an HDF5 trajectory keeps k fixed)",
         path_.string(), frame.step, frame.dimension, dimension_));
+  } else {
+    internal::CheckSameArrays(specs_, frame, path_);
   }
   if (frame.count > rows_) GrowParticleAxis(frame.count);
   const hsize_t f = frames_.size(), frames = f + 1, rows = static_cast<hsize_t>(rows_);
@@ -380,6 +409,7 @@ void Hdf5TrajectoryWriter::Write(const ParticleFrame& frame) {
              frame.positions);
   WriteBlock(ids_, "ids", H5T_NATIVE_INT64, {frames, rows}, {f, 0}, {1, n}, frame.ids);
   WriteBlock(radii_, "radii", H5T_NATIVE_DOUBLE, {frames, rows}, {f, 0}, {1, n}, frame.radii);
+  WriteArrays(frame);
   WriteFrameViews(frames_.size(), frame.count);
   // Keep the file readable up to this frame even if the run stops without Close().
   Check(H5Fflush(file_.get(), H5F_SCOPE_LOCAL), "flush");
@@ -394,10 +424,12 @@ void Hdf5TrajectoryWriter::Close() {
   for (Handle* h : {&time_, &step_, &count_, &positions_, &ids_, &radii_, &connectivity_, &file_}) {
     ok = h->Reset() && ok;
   }
+  for (Handle& h : arrays_) ok = h.Reset() && ok;
   Check(ok ? 0 : -1, "closing the file");
-  internal::WriteWholeFile(xdmf_path_, internal::XdmfSidecarText(
-                                           path_.filename().string(), dimension_,
-                                           static_cast<int>(H5Tget_size(position_type_)), frames_));
+  internal::WriteWholeFile(
+      xdmf_path_,
+      internal::XdmfSidecarText(path_.filename().string(), dimension_,
+                                static_cast<int>(H5Tget_size(position_type_)), frames_, specs_));
 }
 
 }  // namespace
@@ -424,8 +456,9 @@ void Hdf5TrajectoryOptions::Validate() const {
 }
 
 std::unique_ptr<TrajectoryWriter> MakeHdf5Writer(const std::filesystem::path& path,
-                                                 const Hdf5TrajectoryOptions& options) {
-  return std::make_unique<Hdf5TrajectoryWriter>(path, options);
+                                                 const Hdf5TrajectoryOptions& options,
+                                                 const std::vector<StringList>& lists) {
+  return std::make_unique<Hdf5TrajectoryWriter>(path, options, lists);
 }
 
 }  // namespace moreau::io

@@ -28,6 +28,63 @@ void ValidateFrame(const ParticleFrame& frame, const std::filesystem::path& file
   if (!std::isfinite(frame.time)) {
     throw InputError(fmt::format("{} has a non-finite time {}", where, frame.time));
   }
+  for (std::size_t a = 0; a < frame.arrays.size(); ++a) {
+    const PointArray& array = frame.arrays[a];
+    if (array.name.empty() || array.name.find('/') != std::string_view::npos ||
+        array.name == "radius" || array.name == "id") {
+      throw InputError(
+          fmt::format("{}: array name '{}' must be non-empty, without '/', and not "
+                      "radius or id",
+                      where, array.name));
+    }
+    if (array.components != 1 && array.components != 3) {
+      throw InputError(fmt::format("{}: array {} has {} components (expected 1 or 3)", where,
+                                   array.name, array.components));
+    }
+    if (frame.count > 0 && array.data == nullptr) {
+      throw InputError(fmt::format("{}: array {} is null", where, array.name));
+    }
+    for (std::size_t b = 0; b < a; ++b) {
+      if (frame.arrays[b].name == array.name) {
+        throw InputError(fmt::format("{}: array name {} is used twice", where, array.name));
+      }
+    }
+  }
+}
+
+std::vector<ArraySpec> SpecsOf(std::span<const PointArray> arrays) {
+  std::vector<ArraySpec> specs;
+  for (const PointArray& a : arrays) specs.push_back({std::string(a.name), a.type, a.components});
+  return specs;
+}
+
+void CheckSameArrays(const std::vector<ArraySpec>& first, const ParticleFrame& frame,
+                     const std::filesystem::path& file) {
+  bool same = first.size() == frame.arrays.size();
+  for (std::size_t a = 0; same && a < first.size(); ++a) {
+    same = first[a].name == frame.arrays[a].name && first[a].type == frame.arrays[a].type &&
+           first[a].components == frame.arrays[a].components;
+  }
+  if (!same) {
+    throw InputError(fmt::format("{}: frame at step {} has other point arrays than the first frame",
+                                 file.string(), frame.step));
+  }
+}
+
+void ValidateLists(const std::vector<StringList>& lists, std::span<const std::string_view> taken,
+                   const std::filesystem::path& file) {
+  for (std::size_t a = 0; a < lists.size(); ++a) {
+    const std::string& name = lists[a].name;
+    bool bad = name.empty() || name.find('/') != std::string::npos;
+    for (const std::string_view t : taken) bad = bad || name == t;
+    for (std::size_t b = 0; b < a; ++b) bad = bad || lists[b].name == name;
+    if (bad) {
+      throw InputError(
+          fmt::format("{}: string list name '{}' is empty, has a '/', is used twice "
+                      "or is taken",
+                      file.string(), name));
+    }
+  }
 }
 
 void CheckParentDirectory(const std::filesystem::path& file) {
@@ -108,6 +165,18 @@ void WriteWholeFile(const std::filesystem::path& file, std::string_view content)
     throw std::runtime_error(fmt::format("cannot write {}: {}", file.string(),
                                          std::strerror(write_ok ? errno : write_errno)));
   }
+}
+
+void AppendStringArray(const StringList& list, std::string& out) {
+  out += fmt::format(
+      "      <Array type=\"String\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">\n"
+      "       ",
+      XmlEscape(list.name), list.values.size());
+  for (const std::string& value : list.values) {
+    for (const char c : value) out += fmt::format(" {}", static_cast<unsigned char>(c));
+    out += " 0";
+  }
+  out += "\n      </Array>\n";
 }
 
 }  // namespace moreau::io::internal

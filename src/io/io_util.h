@@ -2,16 +2,37 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "moreau/io/trajectory.h"
 
 namespace moreau::io::internal {
 
 // Throws InputError (message starting with `file`) unless the frame has dimension 2 or 3,
-// count ≥ 0, non-null arrays when count > 0, and a finite time.
+// count ≥ 0, non-null arrays when count > 0, and a finite time; and unless its extra arrays have
+// good names (not empty, no '/', not radius or id, each once) and 1 or 3 components.
 void ValidateFrame(const ParticleFrame& frame, const std::filesystem::path& file);
+
+// What a writer keeps of an extra array of the first frame.
+struct ArraySpec {
+  std::string name;
+  PointArray::Type type = PointArray::Type::kFloat64;
+  int components = 1;
+};
+std::vector<ArraySpec> SpecsOf(std::span<const PointArray> arrays);
+
+// Throws InputError naming `file` unless `frame` has the extra arrays `first` has: the same
+// names, types and components in the same order.
+void CheckSameArrays(const std::vector<ArraySpec>& first, const ParticleFrame& frame,
+                     const std::filesystem::path& file);
+
+// Throws InputError naming `file` unless every list name is non-empty, without '/', used once and
+// none of `taken`.
+void ValidateLists(const std::vector<StringList>& lists, std::span<const std::string_view> taken,
+                   const std::filesystem::path& file);
 
 // Throws InputError naming `file` unless the directory that will hold it exists.
 void CheckParentDirectory(const std::filesystem::path& file);
@@ -28,5 +49,9 @@ void AppendBase64(const void* data, std::size_t size, std::string& out);
 // Writes `content` to `file` (created or truncated). Throws std::runtime_error
 // "cannot write FILE: reason" on any failure, including at close.
 void WriteWholeFile(const std::filesystem::path& file, std::string_view content);
+
+// Appends `list` as one FieldData string array, as VTK's XML writer stores a vtkStringArray in
+// ASCII: each string's bytes as numbers, each string ended by 0.
+void AppendStringArray(const StringList& list, std::string& out);
 
 }  // namespace moreau::io::internal

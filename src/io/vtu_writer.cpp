@@ -37,9 +37,25 @@ void AppendDataArray(const char* type, const char* name, int components, const T
   out += "\n        </DataArray>\n";
 }
 
+// The frame's extra arrays (PointArray) as point data.
+void AppendPointArrays(const ParticleFrame& frame, std::string& out) {
+  const auto n = static_cast<std::size_t>(frame.count);
+  for (const PointArray& a : frame.arrays) {
+    const std::string name = internal::XmlEscape(a.name);
+    const std::size_t values = n * static_cast<std::size_t>(a.components);
+    if (a.type == PointArray::Type::kInt64) {
+      AppendDataArray("Int64", name.c_str(), a.components, static_cast<const std::int64_t*>(a.data),
+                      values, out);
+    } else {
+      AppendDataArray("Float64", name.c_str(), a.components, static_cast<const double*>(a.data),
+                      values, out);
+    }
+  }
+}
+
 class VtuSeriesWriter final : public TrajectoryWriter {
  public:
-  VtuSeriesWriter(std::filesystem::path dir, std::string prefix);
+  VtuSeriesWriter(std::filesystem::path dir, std::string prefix, std::vector<StringList> lists);
   ~VtuSeriesWriter() override {
     try {
       Close();
@@ -58,6 +74,8 @@ class VtuSeriesWriter final : public TrajectoryWriter {
   std::filesystem::path dir_;
   std::string prefix_;
   std::filesystem::path pvd_path_;
+  std::vector<StringList> lists_;
+  std::vector<internal::ArraySpec> specs_;             // the extra arrays, fixed by the first frame
   std::vector<std::pair<double, std::string>> files_;  // (time, file name) per frame
   bool closed_ = false;
   // Workspace reused between frames.
@@ -67,8 +85,14 @@ class VtuSeriesWriter final : public TrajectoryWriter {
   std::string text_;
 };
 
-VtuSeriesWriter::VtuSeriesWriter(std::filesystem::path dir, std::string prefix)
-    : dir_(std::move(dir)), prefix_(std::move(prefix)), pvd_path_(dir_ / (prefix_ + ".pvd")) {
+VtuSeriesWriter::VtuSeriesWriter(std::filesystem::path dir, std::string prefix,
+                                 std::vector<StringList> lists)
+    : dir_(std::move(dir)),
+      prefix_(std::move(prefix)),
+      pvd_path_(dir_ / (prefix_ + ".pvd")),
+      lists_(std::move(lists)) {
+  constexpr std::string_view kTaken[] = {"TimeValue", "step"};
+  internal::ValidateLists(lists_, kTaken, pvd_path_);
   if (prefix_.empty() || prefix_.find('/') != std::string::npos) {
     throw InputError(
         fmt::format("VTU series prefix '{}' must be a non-empty file name without '/'", prefix_));
@@ -94,6 +118,8 @@ void VtuSeriesWriter::Write(const ParticleFrame& frame) {
     throw InputError(fmt::format("{}: frame at step {} has time {} before the previous frame's {}",
                                  path.string(), frame.step, frame.time, files_.back().first));
   }
+  if (files_.empty()) specs_ = internal::SpecsOf(frame.arrays);
+  internal::CheckSameArrays(specs_, frame, path);
   const auto n = static_cast<std::size_t>(frame.count);
   const auto k = static_cast<std::size_t>(frame.dimension);
   points_.assign(3 * n, 0.0);
@@ -123,11 +149,13 @@ void VtuSeriesWriter::Write(const ParticleFrame& frame) {
       "      <DataArray type=\"Int64\" Name=\"step\" NumberOfTuples=\"1\" "
       "format=\"ascii\">{}</DataArray>\n",
       frame.step);
+  for (const StringList& list : lists_) internal::AppendStringArray(list, out);
   out += "    </FieldData>\n";
   out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
   out += "      <PointData Scalars=\"radius\">\n";
   AppendDataArray("Float64", "radius", 1, frame.radii, n, out);
   AppendDataArray("Int64", "id", 1, frame.ids, n, out);
+  AppendPointArrays(frame, out);
   out += "      </PointData>\n";
   out += "      <Points>\n";
   AppendDataArray("Float64", "Points", 3, points_.data(), 3 * n, out);
@@ -169,8 +197,9 @@ std::string VtuSeriesWriter::PvdText() const {
 }  // namespace
 
 std::unique_ptr<TrajectoryWriter> MakeVtuSeriesWriter(const std::filesystem::path& dir,
-                                                      const std::string& prefix) {
-  return std::make_unique<VtuSeriesWriter>(dir, prefix);
+                                                      const std::string& prefix,
+                                                      const std::vector<StringList>& lists) {
+  return std::make_unique<VtuSeriesWriter>(dir, prefix, lists);
 }
 
 }  // namespace moreau::io

@@ -18,7 +18,8 @@ std::string HdfItem(const std::string& dimensions, const char* number_type, cons
 }
 
 void AppendFrameGrid(std::string& out, const std::string& h5, int k, int position_bytes,
-                     std::size_t index, const XdmfFrame& frame) {
+                     std::size_t index, const XdmfFrame& frame,
+                     const std::vector<ArraySpec>& arrays) {
   const std::string group = XdmfFrameGroup(index);
   const std::string n = std::to_string(frame.count);
   out += fmt::format("      <Grid Name=\"frame_{:06d}\" GridType=\"Uniform\">\n", index);
@@ -38,6 +39,15 @@ void AppendFrameGrid(std::string& out, const std::string& h5, int k, int positio
   out += "        <Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\">\n";
   out += HdfItem(n, "Int", h5, group, "ids");
   out += "        </Attribute>\n";
+  for (const ArraySpec& a : arrays) {
+    const std::string name = XmlEscape(a.name);
+    const bool vector = a.components > 1;
+    out += fmt::format("        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n",
+                       name, vector ? "Vector" : "Scalar");
+    out += HdfItem(vector ? n + " 3" : n, a.type == PointArray::Type::kInt64 ? "Int" : "Float", h5,
+                   group, ("point_data/" + name).c_str());
+    out += "        </Attribute>\n";
+  }
   out += "      </Grid>\n";
 }
 
@@ -46,7 +56,8 @@ void AppendFrameGrid(std::string& out, const std::string& h5, int k, int positio
 std::string XdmfFrameGroup(std::size_t index) { return fmt::format("/xdmf/frame_{:06d}", index); }
 
 std::string XdmfSidecarText(const std::string& h5_name, int dimension, int position_bytes,
-                            const std::vector<XdmfFrame>& frames) {
+                            const std::vector<XdmfFrame>& frames,
+                            const std::vector<ArraySpec>& arrays) {
   const std::string h5 = XmlEscape(h5_name);
   std::string out;
   out += "<?xml version=\"1.0\" ?>\n";
@@ -55,7 +66,8 @@ std::string XdmfSidecarText(const std::string& h5_name, int dimension, int posit
   out += "  <Domain>\n";
   out += "    <Grid Name=\"trajectory\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t f = 0; f < frames.size(); ++f) {
-    if (frames[f].count > 0) AppendFrameGrid(out, h5, dimension, position_bytes, f, frames[f]);
+    if (frames[f].count > 0)
+      AppendFrameGrid(out, h5, dimension, position_bytes, f, frames[f], arrays);
   }
   out += "    </Grid>\n";
   out += "  </Domain>\n";

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "io/io_util.h"
+
 namespace moreau::io::internal {
 
 // One frame as the sidecar lists it.
@@ -23,8 +25,10 @@ std::string XdmfFrameGroup(std::size_t index);
 // on them, while plain items open in the XDMF 2 and both XDMF 3 readers. Frames with N = 0 are
 // left out (the XDMF 2 reader crashes on every form of empty grid tried); the grid of frame f
 // keeps the name frame_FFFFFF.
-// `position_bytes` (8 or 4) is the Precision of the positions' items.
+// `position_bytes` (8 or 4) is the Precision of the positions' items. Each of `arrays` is one
+// more node attribute (Scalar, or Vector of 3 components) on the frame group's point_data/NAME.
 std::string XdmfSidecarText(const std::string& h5_name, int dimension, int position_bytes,
-                            const std::vector<XdmfFrame>& frames);
+                            const std::vector<XdmfFrame>& frames,
+                            const std::vector<ArraySpec>& arrays = {});
 
 }  // namespace moreau::io::internal

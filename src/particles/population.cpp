@@ -190,6 +190,13 @@ void Population::Stop(Termination termination, std::string message) {
   summary_.message = std::move(message);
 }
 
+// Agent `id` leaves now: counted as a removal or a death, listed, its id released.
+void Population::Depart(std::int64_t id, bool removed) {
+  ++(removed ? summary_.removals : summary_.deaths);
+  (removed ? last_removals_ : last_deaths_).push_back(id);
+  ids_.erase(id);
+}
+
 // The removal and death rules: true (counted, the id released) when agent a leaves now.
 bool Population::Leaves(const Agent& a, const double* xi, std::int64_t step) {
   const AgentType& type = rules_.types[static_cast<std::size_t>(a.type)];
@@ -206,8 +213,7 @@ bool Population::Leaves(const Agent& a, const double* xi, std::int64_t step) {
       !removed && type.death_rate > 0.0 &&
       Uniform(rules_.seed, Stream::kDeath, a.id, step) < -std::expm1(-type.death_rate * dt);
   if (!removed && !dies) return false;
-  ++(removed ? summary_.removals : summary_.deaths);
-  ids_.erase(a.id);
+  Depart(a.id, removed);
   return true;
 }
 
@@ -233,6 +239,7 @@ void Population::Divide(Agent a, const double* xi, std::int64_t step, std::vecto
   Agent daughter = a;
   daughter.id = ChildId(a.id, a.divisions);
   daughter.divisions = 0;
+  daughter.mother = a.id;
   if (!ids_.insert(daughter.id).second) {
     throw NumericalError(
         fmt::format("step {}: the daughter id {} of agent {} is in use (a hash "
@@ -288,8 +295,7 @@ void Population::ApplyRules() {
     if (!inhibited) a.radius += type.growth_rate * dt;
     a.age += dt;
     if (!die.empty() && die[i] != 0) {  // the user rule's death
-      ++summary_.deaths;
-      ids_.erase(a.id);
+      Depart(a.id, false);
       continue;
     }
     if (Leaves(a, xi, step)) continue;
@@ -349,7 +355,11 @@ bool Population::Step() {
       Stop(Termination::kNonFinite, engine_.summary().message);
       return false;
     }
-    if (engine_.step() % rules_.interval == 0) ApplyRules();
+    if (engine_.step() % rules_.interval == 0) {
+      last_deaths_.clear();
+      last_removals_.clear();
+      ApplyRules();
+    }
   } catch (const NumericalError& e) {
     Stop(Termination::kNonFinite, e.what());
   }

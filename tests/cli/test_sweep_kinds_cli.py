@@ -102,7 +102,8 @@ def test_run_folders_hold_what_the_run_writes_but_the_figures(tmp_path):
     (row,) = rows(tmp_path / "out")
     folder = tmp_path / "out/runs" / row["hash"]
     assert sorted(p.name for p in folder.iterdir()) == [
-        "agents.csv", "population.csv", "summary.json", "trajectory.h5", "trajectory.xdmf"]
+        "agents.csv", "geometry.vtp", "lineage.csv", "population.csv", "summary.json",
+        "trajectory.h5", "trajectory.xdmf"]
     assert json.loads((folder / "summary.json").read_text())["removals"] == int(row["removals"])
 
 

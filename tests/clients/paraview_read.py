@@ -2,10 +2,12 @@
 
     pvbatch --force-offscreen-rendering paraview_read.py OUT_DIR READER:FILE [READER:FILE ...]
 
-READER is XDMFReader (XDMF 2), Xdmf3ReaderS, Xdmf3ReaderT or PVDReader. For each job k it writes
-OUT_DIR/k.npz: `times` (the reader's time steps), and per time step i `points_i` (N×3), `radius_i`,
-`id_i` and `cells_i` (the number of cells), read back through servermanager.Fetch. A reader that
-crashes ParaView ends the process: the caller sees the exit status and stderr.
+READER is XDMFReader (XDMF 2), Xdmf3ReaderS, Xdmf3ReaderT, PVDReader or XMLPolyDataReader. For
+each job k it writes OUT_DIR/k.npz: `times` (the reader's time steps), and per time step i
+`points_i` (N×3), `radius_i`, `id_i`, `cells_i` (the number of cells), `point_NAME_i` for every
+point array and `cell_NAME_i` for every cell array, read back through servermanager.Fetch (a file
+without time steps, such as geometry.vtp, is read once as step 0). A reader that crashes ParaView
+ends the process: the caller sees the exit status and stderr.
 """
 import sys
 
@@ -20,6 +22,8 @@ def open_reader(kind, path):
         return simple.XDMFReader(FileNames=[path])
     if kind == "PVDReader":
         return simple.PVDReader(FileName=path)
+    if kind == "XMLPolyDataReader":
+        return simple.XMLPolyDataReader(FileName=[path])
     return getattr(simple, kind)(FileName=[path])
 
 
@@ -28,8 +32,11 @@ def read_all_steps(kind, path):
     reader.UpdatePipelineInformation()
     times = [float(t) for t in reader.TimestepValues]
     arrays = {"times": np.array(times)}
-    for i, t in enumerate(times):
-        reader.UpdatePipeline(t)
+    for i, t in enumerate(times or [None]):
+        if t is None:
+            reader.UpdatePipeline()
+        else:
+            reader.UpdatePipeline(t)
         data = servermanager.Fetch(reader)
         if data.IsA("vtkMultiBlockDataSet"):  # the XDMF 2 reader may wrap a grid in a block
             data = data.GetBlock(0)
@@ -41,6 +48,11 @@ def read_all_steps(kind, path):
             array = data.GetPointData().GetArray(name)
             arrays[f"{name}_{i}"] = np.array(vtk_to_numpy(array)) if array is not None else np.zeros(0)
         arrays[f"cells_{i}"] = np.array(data.GetNumberOfCells())
+        for prefix, attributes in (("point", data.GetPointData()), ("cell", data.GetCellData())):
+            for a in range(attributes.GetNumberOfArrays()):
+                array = attributes.GetArray(a)
+                if array is not None:
+                    arrays[f"{prefix}_{array.GetName()}_{i}"] = np.array(vtk_to_numpy(array))
     simple.Delete(reader)
     return arrays
 

@@ -1,5 +1,6 @@
 // Trajectory writers: HDF5 read back bit for bit through the HDF5 C API, the XDMF sidecar, the
-// VTU files decoded from base64, the PVD index, and the errors.
+// VTU files decoded from base64, the PVD index, extra point arrays and string lists, the errors;
+// and the scene geometry file (geometry.vtp).
 #include "moreau/io/trajectory.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -30,6 +32,7 @@
 
 #include "io/io_util.h"
 #include "moreau/common/error.h"
+#include "moreau/io/geometry.h"
 
 namespace moreau::io {
 namespace {
@@ -896,6 +899,204 @@ TEST(IoUtil, XmlEscapeAndShortestDoubles) {
   for (const double v : {0.1, 1.0 / 3.0, 1e-300, -2.5, 4.9e-324, 1.7976931348623157e308}) {
     EXPECT_EQ(std::strtod(internal::FormatDouble(v).c_str(), nullptr), v);
   }
+}
+
+}  // namespace
+}  // namespace moreau::io
+
+// --- Extra point arrays and string lists --------------------------------------------------------
+
+namespace moreau::io {
+namespace {
+
+// The frames' extra arrays: "type" (int64), "age" (float64), "polarity" (3 × float64), with
+// values that tell frame f and row i apart.
+struct ArrayFrames {
+  FrameSet frames;
+  std::vector<std::vector<std::int64_t>> type;
+  std::vector<std::vector<double>> age, polarity;
+  std::vector<std::vector<PointArray>> arrays;
+
+  explicit ArrayFrames(const std::vector<std::int64_t>& counts)
+      : frames(RandomFramesWithCounts(2, counts, 31)) {
+    for (std::size_t f = 0; f < counts.size(); ++f) {
+      const auto n = static_cast<std::size_t>(counts[f]);
+      type.emplace_back(n);
+      age.emplace_back(n);
+      polarity.emplace_back(3 * n);
+      for (std::size_t i = 0; i < n; ++i) {
+        type[f][i] = static_cast<std::int64_t>(10 * f + i);
+        age[f][i] = 0.25 * static_cast<double>(i) + static_cast<double>(f);
+        polarity[f][3 * i] = static_cast<double>(i);
+        polarity[f][3 * i + 1] = -static_cast<double>(f);
+      }
+    }
+    for (std::size_t f = 0; f < counts.size(); ++f) {
+      arrays.push_back({PointArray::Int64("type", type[f].data()),
+                        PointArray::Float64("age", age[f].data()),
+                        PointArray::Float64("polarity", polarity[f].data(), 3)});
+    }
+  }
+  ParticleFrame frame(std::size_t f) const {
+    ParticleFrame out = frames.frame(f);
+    out.arrays = arrays[f];
+    return out;
+  }
+};
+
+const std::vector<StringList> kTypeNames{{"type_names", {"normal", "tumour"}}};
+
+TEST(Hdf5Writer, PointArraysAndStringListsRoundTripPaddedWithViews) {
+  TempDir dir;
+  const ArrayFrames a({3, 5, 0, 4});
+  const fs::path path = dir.path() / "agents.h5";
+  auto writer = MakeHdf5Writer(path, {}, kTypeNames);
+  for (std::size_t f = 0; f < 4; ++f) writer->Write(a.frame(f));
+  writer->Close();
+  H5 file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  ASSERT_GE(file.get(), 0);
+  std::vector<std::int64_t> type;
+  std::vector<double> age, polarity;
+  DatasetInfo info =
+      ReadDataset(file.get(), "/point_data/type", H5T_NATIVE_INT64, H5T_STD_I64LE, type);
+  EXPECT_EQ(info.dims, (std::vector<hsize_t>{4, 5}));
+  EXPECT_EQ(type, Padded(a.type, 5, 1, std::int64_t{-1}));
+  info = ReadDataset(file.get(), "/point_data/age", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, age);
+  EXPECT_EQ(info.dims, (std::vector<hsize_t>{4, 5}));
+  const std::vector<double> age_padded = Padded(a.age, 5, 1, std::nan(""));
+  for (std::size_t i = 0; i < age.size(); ++i) {
+    EXPECT_TRUE(age[i] == age_padded[i] || (std::isnan(age[i]) && std::isnan(age_padded[i])));
+  }
+  info =
+      ReadDataset(file.get(), "/point_data/polarity", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, polarity);
+  EXPECT_EQ(info.dims, (std::vector<hsize_t>{4, 5, 3}));
+  EXPECT_EQ(std::vector<double>(polarity.begin() + 15, polarity.begin() + 30), a.polarity[1]);
+  ReadDataset(file.get(), "/xdmf/frame_000003/point_data/polarity", H5T_NATIVE_DOUBLE,
+              H5T_IEEE_F64LE, polarity);
+  EXPECT_EQ(polarity, a.polarity[3]);
+  ReadDataset(file.get(), "/xdmf/frame_000001/point_data/type", H5T_NATIVE_INT64, H5T_STD_I64LE,
+              type);
+  EXPECT_EQ(type, a.type[1]);
+  // type_names: an array of two fixed-length strings.
+  H5 attribute(H5Aopen(file.get(), "type_names", H5P_DEFAULT), H5Aclose);
+  ASSERT_GE(attribute.get(), 0);
+  H5 space(H5Aget_space(attribute.get()), H5Sclose);
+  EXPECT_EQ(H5Sget_simple_extent_npoints(space.get()), 2);
+  H5 string_type(H5Aget_type(attribute.get()), H5Tclose);
+  const std::size_t width = H5Tget_size(string_type.get());
+  std::string names(2 * width, '\0');
+  ASSERT_GE(H5Aread(attribute.get(), string_type.get(), names.data()), 0);
+  EXPECT_EQ(names.substr(0, names.find('\0')), "normal");
+  EXPECT_EQ(std::string(names.c_str() + width), "tumour");
+  // The sidecar: three node attributes per non-empty frame (three of them).
+  const std::string xdmf = ReadText(dir.path() / "agents.xdmf");
+  EXPECT_EQ(XmlNestingError(xdmf), "");
+  EXPECT_EQ(CountOccurrences(xdmf, "<Attribute Name=\"type\" AttributeType=\"Scalar\""), 3u);
+  EXPECT_EQ(CountOccurrences(xdmf, "<Attribute Name=\"polarity\" AttributeType=\"Vector\""), 3u);
+  EXPECT_NE(xdmf.find("Dimensions=\"4 3\" NumberType=\"Float\" Precision=\"8\" "
+                      "Format=\"HDF\">agents.h5:/xdmf/frame_000003/point_data/polarity<"),
+            std::string::npos);
+  KeepSample(dir.path(), "agents");
+}
+
+TEST(Hdf5Writer, PointArraysKeepTheFirstFramesLayoutAndGoodNames) {
+  TempDir dir;
+  const ArrayFrames a({2, 2});
+  auto writer = MakeHdf5Writer(dir.path() / "t.h5");
+  writer->Write(a.frame(0));
+  ParticleFrame fewer = a.frame(1);
+  fewer.arrays = fewer.arrays.subspan(0, 2);
+  EXPECT_THROW(writer->Write(fewer), InputError);
+  ParticleFrame bad = a.frame(1);
+  std::vector<PointArray> arrays(bad.arrays.begin(), bad.arrays.end());
+  for (const char* name : {"radius", "id", "", "a/b"}) {
+    arrays[0].name = name;
+    bad.arrays = arrays;
+    EXPECT_THROW(writer->Write(bad), InputError) << name;
+  }
+  arrays[0].name = "age";  // used twice
+  bad.arrays = arrays;
+  EXPECT_THROW(writer->Write(bad), InputError);
+  arrays[0] = PointArray::Float64("velocity", a.age[1].data(), 2);
+  bad.arrays = arrays;
+  EXPECT_THROW(writer->Write(bad), InputError);
+  writer->Write(a.frame(1));
+  for (const char* name : {"format", "count", ""}) {
+    EXPECT_THROW(MakeHdf5Writer(dir.path() / "u.h5", {}, {{name, {}}}), InputError) << name;
+  }
+}
+
+TEST(VtuSeriesWriter, WritesPointArraysAndStringLists) {
+  TempDir dir;
+  const ArrayFrames a({3, 0, 4});
+  auto writer = MakeVtuSeriesWriter(dir.path(), "agents", kTypeNames);
+  for (std::size_t f = 0; f < 3; ++f) writer->Write(a.frame(f));
+  writer->Close();
+  ExpectVtuSeriesMatches(dir.path(), "agents", a.frames);
+  for (std::size_t f = 0; f < 3; ++f) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "agents_%06zu.vtu", f);
+    const std::string vtu = ReadText(dir.path() / name);
+    EXPECT_EQ(VtuArray<std::int64_t>(vtu, "type", "Int64", 1), a.type[f]);
+    EXPECT_EQ(VtuArray<double>(vtu, "age", "Float64", 1), a.age[f]);
+    EXPECT_EQ(VtuArray<double>(vtu, "polarity", "Float64", 3), a.polarity[f]);
+    // "normal" and "tumour" as VTK writes a string array: bytes as numbers, each ended by 0.
+    EXPECT_NE(vtu.find("<Array type=\"String\" Name=\"type_names\" NumberOfTuples=\"2\" "
+                       "format=\"ascii\">\n        110 111 114 109 97 108 0 116 117 109 111 117 "
+                       "114 0\n      </Array>"),
+              std::string::npos);
+  }
+  auto other = MakeVtuSeriesWriter(dir.path(), "other");
+  other->Write(a.frame(0));
+  EXPECT_THROW(other->Write(a.frames.frame(2)), InputError);  // the arrays left out
+  EXPECT_THROW(MakeVtuSeriesWriter(dir.path(), "x", {{"step", {}}}), InputError);
+}
+
+}  // namespace
+}  // namespace moreau::io
+
+// --- Scene geometry -----------------------------------------------------------------------------
+
+namespace moreau::io {
+namespace {
+
+// The text between the tags of the DataArray `name` that follows `from`.
+std::string AsciiArray(const std::string& text, const std::string& name, std::size_t from = 0) {
+  const std::size_t p = text.find("Name=\"" + name + "\"", from);
+  if (p == std::string::npos) return "missing";
+  const std::size_t body = text.find('>', p) + 1;
+  std::istringstream in(text.substr(body, text.find('<', body) - body));
+  std::string out, word;
+  while (in >> word) out += (out.empty() ? "" : " ") + word;
+  return out;
+}
+
+TEST(GeometryVtp, WritesLinesThenPolygonsWithTheirKinds) {
+  TempDir dir;
+  SceneGeometry g{{"wall", "sphere", "door"}, {}};
+  g.cells.push_back({{{0, 0, 0}, {2, 0, 0}}, 0, 4});
+  g.cells.push_back({{{1, 1, 0}, {1.5, 1, 0}, {1, 1.5, 0}}, 1, 7});
+  g.cells.push_back({{{2, 0.5, 0}, {2, 1.25, 0}}, 2, 0});
+  const fs::path path = dir.path() / "geometry.vtp";
+  WriteGeometryVtp(path, g);
+  const std::string vtp = ReadText(path);
+  EXPECT_EQ(XmlNestingError(vtp), "");
+  EXPECT_EQ(AttributeValue(vtp, "NumberOfPoints"), "7");
+  EXPECT_EQ(AttributeValue(vtp, "NumberOfLines"), "2");
+  EXPECT_EQ(AttributeValue(vtp, "NumberOfPolys"), "1");
+  EXPECT_EQ(AsciiArray(vtp, "kind"), "0 2 1");  // lines first, then the polygon
+  EXPECT_EQ(AsciiArray(vtp, "index"), "4 0 7");
+  EXPECT_EQ(AsciiArray(vtp, "Points"), "0 0 0 2 0 0 1 1 0 1.5 1 0 1 1.5 0 2 0.5 0 2 1.25 0");
+  const std::size_t lines = vtp.find("<Lines>"), polys = vtp.find("<Polys>");
+  EXPECT_EQ(AsciiArray(vtp, "connectivity", lines), "0 1 5 6");
+  EXPECT_EQ(AsciiArray(vtp, "offsets", lines), "2 4");
+  EXPECT_EQ(AsciiArray(vtp, "connectivity", polys), "2 3 4");
+  EXPECT_EQ(AsciiArray(vtp, "offsets", polys), "3");
+  EXPECT_NE(vtp.find("Name=\"kind_names\" NumberOfTuples=\"3\""), std::string::npos);
+  g.cells.push_back({{{0, 0, 0}}, 0, 0});  // one point
+  EXPECT_THROW(WriteGeometryVtp(path, g), InputError);
+  g.cells.back() = {{{0, 0, 0}, {1, 0, 0}}, 3, 0};  // no kind 3
+  EXPECT_THROW(WriteGeometryVtp(path, g), InputError);
 }
 
 }  // namespace

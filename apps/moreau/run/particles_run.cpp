@@ -15,6 +15,7 @@
 #include "moreau/io/trajectory.h"
 #include "moreau/particles/room.h"
 #include "progress.h"
+#include "run/scene_geometry.h"
 #include "signals.h"
 
 namespace moreau::cli {
@@ -42,6 +43,7 @@ class RunRecorder {
       std::filesystem::create_directories(dir);
       vtu_ = io::MakeVtuSeriesWriter(dir, "frame");
     }
+    geometry_ = WriteSceneGeometry(model_, scenario, out);
     if (scenario.room) evacuation_.emplace(*scenario.room, model_.count());
   }
 
@@ -93,8 +95,8 @@ class RunRecorder {
     if (vtu_) vtu_->Close();
     if (output_.snapshot_times.empty()) snapshots_.emplace_back(t, x);
     ParticleRunResult result{
-        summary,          std::move(x),   std::nullopt, "", std::move(snapshots_),
-        hdf5_ != nullptr, vtu_ != nullptr};
+        summary,          std::move(x),    std::nullopt, "", std::move(snapshots_),
+        hdf5_ != nullptr, vtu_ != nullptr, geometry_};
     if (evacuation_) {
       result.evacuated = evacuation_->out();
       result.evacuation_csv = std::move(evacuation_csv_);
@@ -112,7 +114,7 @@ class RunRecorder {
   void WriteFrame(std::int64_t step, double t, std::span<const double> x) {
     if (keep_frames_) kept_.push_back({step, t, std::vector<double>(x.begin(), x.end())});
     const io::ParticleFrame frame{
-        step, t, model_.dimension, x.data(), ids_.data(), model_.radius.data(), model_.count()};
+        step, t, model_.dimension, x.data(), ids_.data(), model_.radius.data(), model_.count(), {}};
     if (hdf5_) hdf5_->Write(frame);
     if (vtu_) vtu_->Write(frame);
   }
@@ -124,6 +126,7 @@ class RunRecorder {
   std::int64_t steps_;
   std::vector<std::int64_t> ids_;
   std::unique_ptr<io::TrajectoryWriter> hdf5_, vtu_;
+  bool geometry_ = false;  // geometry.vtp written
   std::optional<particles::EvacuationCount> evacuation_;
   std::string evacuation_csv_ = "t,out\n";
   std::vector<std::pair<double, std::vector<double>>> snapshots_;

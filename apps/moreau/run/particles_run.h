@@ -44,6 +44,7 @@ struct ParticleRunResult {
   std::vector<std::pair<double, std::vector<double>>> snapshots;  // (t, positions in id order)
   bool hdf5 = false;                                              // trajectory.h5 + .xdmf written
   bool vtu = false;                                               // vtu/frame.pvd written
+  bool geometry = false;  // geometry.vtp written (walls and obstacles)
 };
 
 // Runs the engine over [0, T] (with a progress bar on a terminal), writing the trajectory into

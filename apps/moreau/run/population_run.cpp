@@ -1,7 +1,6 @@
 #include "run/population_run.h"
 
 #include <filesystem>
-#include <memory>
 #include <optional>
 
 #include <fmt/format.h>
@@ -9,9 +8,10 @@
 #include "field_table.h"
 #include "moreau/common/hash.h"
 #include "moreau/common/steps.h"
-#include "moreau/io/trajectory.h"
 #include "progress.h"
 #include "run/particles_run.h"
+#include "run/population_frames.h"
+#include "run/scene_geometry.h"
 #include "signals.h"
 
 namespace moreau::cli {
@@ -47,50 +47,6 @@ std::string AgentsCsv(const particles::Population& p) {
   return csv;
 }
 
-// The trajectory frames (HDF5 + XDMF and/or VTU, both with a count that changes per frame): the
-// agents' positions, stable ids and radii at the rule steps that cross a multiple of the stride.
-class FrameWriter {
- public:
-  FrameWriter(OutputDir& out, const ParticleOutputSettings& output, std::int64_t stride)
-      : stride_(stride) {
-    if (output.hdf5) {
-      out.Stage("trajectory.xdmf");  // the sidecar the HDF5 writer completes at Close()
-      writers_.push_back(io::MakeHdf5Writer(out.Stage("trajectory.h5"), output.trajectory));
-    }
-    if (output.vtu) {
-      const std::filesystem::path dir = out.Stage("vtu");
-      std::filesystem::create_directories(dir);
-      writers_.push_back(io::MakeVtuSeriesWriter(dir, "frame"));
-    }
-  }
-  void Write(const particles::Population& p, bool force) {
-    const std::int64_t slot = p.engine().step() / stride_;
-    if (writers_.empty() || (!force && slot == last_slot_)) return;
-    last_slot_ = slot;
-    const std::vector<double> x = p.count() > 0 ? p.Positions() : std::vector<double>{};
-    ids_.clear();
-    radii_.clear();
-    for (const particles::Agent& a : p.agents()) {
-      ids_.push_back(a.id);
-      radii_.push_back(a.radius);
-    }
-    const io::ParticleFrame frame{p.engine().step(), p.engine().time(), p.engine().dimension(),
-                                  x.data(),          ids_.data(),       radii_.data(),
-                                  p.count()};
-    for (auto& writer : writers_) writer->Write(frame);
-  }
-  void Close() {
-    for (auto& writer : writers_) writer->Close();
-  }
-
- private:
-  std::int64_t stride_;
-  std::int64_t last_slot_ = -1;
-  std::vector<std::unique_ptr<io::TrajectoryWriter>> writers_;
-  std::vector<std::int64_t> ids_;
-  std::vector<double> radii_;
-};
-
 }  // namespace
 
 particles::Population SetUpPopulationRun(const ParticleScenario& scenario, const Scenario& file) {
@@ -110,9 +66,11 @@ PopulationRunResult RunPopulation(const ParticleScenario& scenario,
                                   particles::Population& population, OutputDir& out) {
   const particles::PopulationRules rules = scenario.MakeRules();
   const std::int64_t steps = StepCount(scenario.T, scenario.solver.h);
-  FrameWriter frames(
-      out, scenario.output,
+  PopulationFrames frames(
+      out, scenario,
       scenario.output.stride > 0 ? scenario.output.stride : std::max<std::int64_t>(1, steps / 100));
+  const bool geometry = WriteSceneGeometry(population.engine().model(), scenario, out);
+  Lineage lineage;
   std::string csv = CsvHeader(rules);
   std::int64_t observed = 0;
   std::int64_t recorded_step = -1;
@@ -124,7 +82,8 @@ PopulationRunResult RunPopulation(const ParticleScenario& scenario,
           csv += CsvRow(p.Observe());
           recorded_step = p.engine().step();
         }
-        frames.Write(p, false);
+        lineage.Observe(p);
+        frames.Write(p, lineage, false);
         progress.Update(p.engine().step());
         return !StopRequested();
       });
@@ -133,9 +92,11 @@ PopulationRunResult RunPopulation(const ParticleScenario& scenario,
   if (recorded_step != population.engine().step() || population.count() == 0) {
     csv += CsvRow(population.Observe());
   }
-  frames.Write(population, false);
+  lineage.Observe(population);
+  frames.Write(population, lineage, false);
   frames.Close();
-  return {std::move(summary), std::move(csv), scenario.output.hdf5, scenario.output.vtu};
+  return {std::move(summary),   std::move(csv),      lineage.Csv(rules),
+          scenario.output.hdf5, scenario.output.vtu, geometry};
 }
 
 nlohmann::json PopulationRunJson(const ParticleScenario& scenario,
@@ -157,15 +118,17 @@ std::string ReportPopulationRun(const particles::Population& population,
                                 OutputDir& out) {
   out.WriteText("population.csv", result.series_csv);
   out.WriteText("agents.csv", AgentsCsv(population));
+  out.WriteText("lineage.csv", result.lineage_csv);
   out.WriteText("summary.json", summary.dump(2) + "\n");
   out.Commit();
   const particles::PopulationSummary& s = result.summary;
   return fmt::format(
       "{}\nagents: {} (births {}, deaths {}, removals {}){}{}\n"
-      "wrote {}/summary.json, population.csv, agents.csv{}{}\n",
+      "wrote {}/summary.json, population.csv, agents.csv, lineage.csv{}{}{}\n",
       s.engine.BriefReport(), population.count(), s.births, s.deaths, s.removals,
       s.message.empty() ? "" : " — ", s.message, out.dir().string(),
-      result.hdf5 ? ", trajectory.h5 + .xdmf" : "", result.vtu ? ", vtu/frame.pvd" : "");
+      result.hdf5 ? ", trajectory.h5 + .xdmf" : "", result.vtu ? ", vtu/frame.pvd" : "",
+      result.geometry ? ", geometry.vtp" : "");
 }
 
 }  // namespace moreau::cli

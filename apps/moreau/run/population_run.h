@@ -2,7 +2,7 @@
 // population on its initial state, the run with the observables recorded every
 // population.record_every rule steps and the trajectory written as HDF5 and VTU frames (the
 // agent count changes), and what the run writes besides: population.csv, agents.csv,
-// summary.json.
+// lineage.csv, geometry.vtp (walls and obstacles), summary.json.
 #pragma once
 
 #include <cstdint>
@@ -23,9 +23,11 @@ particles::Population SetUpPopulationRun(const ParticleScenario& scenario, const
 
 struct PopulationRunResult {
   particles::PopulationSummary summary;
-  std::string series_csv;  // population.csv
-  bool hdf5 = false;       // trajectory.h5 + .xdmf written
-  bool vtu = false;        // vtu/frame.pvd written
+  std::string series_csv;   // population.csv
+  std::string lineage_csv;  // lineage.csv
+  bool hdf5 = false;        // trajectory.h5 + .xdmf written
+  bool vtu = false;         // vtu/frame.pvd written
+  bool geometry = false;    // geometry.vtp written
 };
 
 // Runs over [0, T] (with a progress bar on a terminal), writing the trajectory frames into
@@ -41,8 +43,8 @@ nlohmann::json PopulationRunJson(const ParticleScenario& scenario,
                                  const PopulationRunResult& result,
                                  const std::string& scenario_file);
 
-// Writes population.csv, agents.csv and SUMMARY as summary.json into OUT and commits it. Returns
-// the brief report `moreau run` prints.
+// Writes population.csv, agents.csv, lineage.csv and SUMMARY as summary.json into OUT and commits
+// it. Returns the brief report `moreau run` prints.
 std::string ReportPopulationRun(const particles::Population& population,
                                 const PopulationRunResult& result, const nlohmann::json& summary,
                                 OutputDir& out);

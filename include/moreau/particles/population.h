@@ -135,6 +135,7 @@ struct Agent {
   double radius = 0.5;
   double age = 0.0;              // time since its last division or the start
   Vec3 polarity{1.0, 0.0, 0.0};  // unit (first k components)
+  std::int64_t mother = -1;      // the id of the agent it divided from; −1 for an initial agent
 };
 
 // The id of the daughter born at a mother's `count`-th division: a pure function in [0, 2^62).
@@ -242,6 +243,10 @@ class Population {
   // The observables now (one pass over the candidate pairs for the contacts).
   PopulationObservables Observe() const;
   PopulationSummary summary() const;
+  // The ids of the agents that died (death rate or user rule) and of those removed (exit) at the
+  // last rule step, in index order; empty before the first.
+  const std::vector<std::int64_t>& last_deaths() const { return last_deaths_; }
+  const std::vector<std::int64_t>& last_removals() const { return last_removals_; }
 
  private:
   static ParticleModel ModelOf(const ParticleModel& geometry, const PopulationRules& rules,
@@ -252,6 +257,7 @@ class Population {
   void UpdatePolarity(std::size_t i, std::span<const double> x, std::span<const double> mean,
                       Agent* agent) const;
   bool Leaves(const Agent& a, const double* xi, std::int64_t step);
+  void Depart(std::int64_t id, bool removed);
   void Divide(Agent a, const double* xi, std::int64_t step, std::vector<Agent>* next,
               std::vector<double>* y);
   void Stop(Termination termination, std::string message);
@@ -275,6 +281,7 @@ class Population {
   PopulationSummary summary_;
   double overlap_before_ = 0.0;
   bool stopped_ = false;
+  std::vector<std::int64_t> last_deaths_, last_removals_;
 };
 
 }  // namespace moreau::particles
