@@ -1,7 +1,9 @@
 // The population's user code and user variables (population.h): the view over the population's
 // storage, the user drift before every step, the user rule before the built-in rules, and the
 // variables' inheritance at a division.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -41,14 +43,20 @@ void Population::ApplyDrift() {
   const std::size_t n_before = agents_.size();
   drift_(View(), velocity_);
   if (agents_.size() != n_before) throw InputError("drift", "must not change the agents");
-  for (std::size_t j = 0; j < size; ++j) {
-    if (!std::isfinite(velocity_[j])) {
-      throw NumericalError(fmt::format(
-          "step {}: the user drift gave a non-finite velocity ({}) to agent {} (id {})",
-          engine_.step(), velocity_[j], j / static_cast<std::size_t>(geometry_.dimension),
-          agents_[j / static_cast<std::size_t>(geometry_.dimension)].id));
-    }
-    if (!motility_.empty()) velocity_[j] += motility_[j];
+  bool finite = true;  // one pass without branches; the agent is looked for only on failure
+  for (const double v : velocity_) finite &= std::abs(v) <= std::numeric_limits<double>::max();
+  if (!finite) {
+    const auto j =
+        static_cast<std::size_t>(std::find_if(velocity_.begin(), velocity_.end(),
+                                              [](double v) { return !std::isfinite(v); }) -
+                                 velocity_.begin());
+    const std::size_t i = j / static_cast<std::size_t>(geometry_.dimension);
+    throw NumericalError(
+        fmt::format("step {}: the user drift gave a non-finite velocity ({}) to agent {} (id {})",
+                    engine_.step(), velocity_[j], i, agents_[i].id));
+  }
+  if (!motility_.empty()) {
+    for (std::size_t j = 0; j < size; ++j) velocity_[j] += motility_[j];
   }
   engine_.SetActiveVelocities(velocity_);
 }

@@ -392,8 +392,8 @@ PredictionOutcome Prediction::Predict(StepContext& context, std::int64_t step,
   // Without noise the loop makes no call, so its running maximum stays in a register; with noise
   // the batch's draw comes before its drift loop.
   const bool noise = parameters_.sigma > 0.0;
-  if (Plain(active)) {
-    PredictPlainDispatch(x, y, id, key, step, threads, &out.max_move, &out.bad_id,
+  if (Plain()) {
+    PredictPlainDispatch(x, y, id, key, active, step, threads, &out.max_move, &out.bad_id,
                          &out.max_coordinate, bound);
     return out;
   }

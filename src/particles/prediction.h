@@ -87,17 +87,17 @@ class Prediction {
                    const double* active, const double* mobility, std::int64_t step, int threads,
                    double* max_move, std::int64_t* bad_id, double* max_coordinate,
                    ExactBound* bound) const;
-  // The drift is at most the trap (every μ_i = 1, no attraction, propulsion, active velocity or
-  // wrap): the same arithmetic as PredictImpl in a loop without branches (prediction_plain.cpp); a
-  // batch with a non-finite row is looked at again row by row.
-  bool Plain(const double* active) const;
+  // The drift is at most the trap and active velocities (every μ_i = 1, no attraction,
+  // propulsion or wrap): the same arithmetic as PredictImpl in a loop without branches
+  // (prediction_plain.cpp); a batch with a non-finite row is looked at again row by row.
+  bool Plain() const;
   void PredictPlainDispatch(const double* x, double* y, const int* id, const std::int64_t* key,
-                            std::int64_t step, int threads, double* max_move, std::int64_t* bad_id,
-                            double* max_coordinate, ExactBound* bound) const;
-  template <int K, bool Noise, bool Trap, bool Bound>
+                            const double* active, std::int64_t step, int threads, double* max_move,
+                            std::int64_t* bad_id, double* max_coordinate, ExactBound* bound) const;
+  template <int K, bool Noise, bool Trap, bool Active, bool Bound>
   void PredictPlain(const double* x, double* y, const int* id, const std::int64_t* key,
-                    std::int64_t step, int threads, double* max_move, std::int64_t* bad_id,
-                    double* max_coordinate, ExactBound* bound) const;
+                    const double* active, std::int64_t step, int threads, double* max_move,
+                    std::int64_t* bad_id, double* max_coordinate, ExactBound* bound) const;
 
   DriftParameters parameters_;
   PeriodicBox box_;

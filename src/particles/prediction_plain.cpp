@@ -1,5 +1,5 @@
-// The prediction's loop for a drift of at most the trap (Prediction::Plain): no branches, the
-// general loop's arithmetic (prediction.cpp), tested bit for bit against it.
+// The prediction's loop for a drift of at most the trap and active velocities (Prediction::Plain):
+// no branches, the general loop's arithmetic (prediction.cpp), tested bit for bit against it.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,7 +43,8 @@ std::int64_t RescanFinite(const double* x, const double* y, const int* id, int b
 }
 
 #if defined(__SSE2__)
-// The constants of the plain prediction: F = −γ (x − c), y = x + h F (+ σ ξ), reach² of the bound.
+// The constants of the plain prediction: F = −γ (x − c), y = x + h (F + a) (+ σ ξ), a the active
+// velocity; reach² of the bound.
 struct PlainConstants {
   double g, h, sigma, reach2;
   double c[2];
@@ -69,9 +70,10 @@ struct Maxima2 {
 // (each the scalar sum dd₀² + dd₁²). Maxima are taken as max(new, kept), which keeps `kept` when
 // new is NaN, as std::max(kept, new) does. The slots [begin, end) two at a time; returns the first
 // slot left for the scalar loop.
-template <bool Noise, bool Trap, bool Bound>
+template <bool Noise, bool Trap, bool Active, bool Bound>
 [[gnu::always_inline]] inline int PredictPairs2(const PlainConstants& k,
                                                 const double* __restrict xs,
+                                                const double* __restrict act,
                                                 const double* __restrict rs, double* __restrict ys,
                                                 const double* xi, int begin, int end, Maxima2* m,
                                                 std::int64_t* far, bool* nonfinite) {
@@ -83,7 +85,8 @@ template <bool Noise, bool Trap, bool Bound>
   // Y of slot s stored; returns (Y − X)² and sets *e2 to (Y − R)² (Bound), *abs to |Y|.
   auto one = [&](int s, __m128d* e2, __m128d* abs) {
     const __m128d xv = _mm_loadu_pd(xs + 2 * s);
-    const __m128d v = Trap ? _mm_mul_pd(neg_g, _mm_sub_pd(xv, cv)) : _mm_setzero_pd();
+    __m128d v = Trap ? _mm_mul_pd(neg_g, _mm_sub_pd(xv, cv)) : _mm_setzero_pd();
+    if constexpr (Active) v = _mm_add_pd(v, _mm_loadu_pd(act + 2 * s));
     __m128d yv = _mm_add_pd(xv, _mm_mul_pd(hv, v));
     if constexpr (Noise) {
       const int i = s - begin;
@@ -121,18 +124,17 @@ template <bool Noise, bool Trap, bool Bound>
 
 }  // namespace
 
-bool Prediction::Plain(const double* active) const {
+bool Prediction::Plain() const {
   const DriftParameters& d = parameters_;
   bool wraps = false;
   for (int a = 0; a < box_.k; ++a) wraps = wraps || (box_.periodic[a] && d.trap);
-  return !d.any_constant && !d.propulsion && force_.empty() && uniform_mobility_ &&
-         active == nullptr && !wraps;
+  return !d.any_constant && !d.propulsion && force_.empty() && uniform_mobility_ && !wraps;
 }
 
-template <int K, bool Noise, bool Trap, bool Bound>
+template <int K, bool Noise, bool Trap, bool Active, bool Bound>
 void Prediction::PredictPlain(const double* x, double* y, const int* id, const std::int64_t* key,
-                              std::int64_t step, int threads, double* max_move,
-                              std::int64_t* bad_id, double* max_coordinate,
+                              const double* active, std::int64_t step, int threads,
+                              double* max_move, std::int64_t* bad_id, double* max_coordinate,
                               ExactBound* bound) const {
   const double gamma = parameters_.gamma, sigma = parameters_.sigma, h = h_;
   double center[K];
@@ -156,12 +158,14 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
     for (int a = 0; a < K; ++a) c[a] = center[a];
     const double* __restrict xs = x;
     const double* __restrict rs = ref;
+    const double* __restrict as = active;
     double* __restrict ys = y;
     auto row = [&](int s, int l) {
       double d2 = 0.0, e2 = 0.0, far = 0.0;
       for (int a = 0; a < K; ++a) {
         const double xa = xs[K * s + a];
-        const double v = Trap ? -g * (xa - c[a]) : 0.0;
+        double v = Trap ? -g * (xa - c[a]) : 0.0;
+        if constexpr (Active) v += as[K * s + a];
         double ya = xa + step_h * v;
         if constexpr (Noise) ya += noise_scale * xi[a * kNoiseBatch + (s - begin)];
         ys[K * s + a] = ya;
@@ -185,9 +189,9 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
 #if defined(__SSE2__)
     [[maybe_unused]] Maxima2 vec;
     if constexpr (K == 2) {
-      first =
-          PredictPairs2<Noise, Trap, Bound>({g, step_h, noise_scale, reach2, {c[0], c[1]}}, xs, rs,
-                                            ys, xi, begin, end, &vec, &batch_far, &nonfinite);
+      first = PredictPairs2<Noise, Trap, Active, Bound>(
+          {g, step_h, noise_scale, reach2, {c[0], c[1]}}, xs, as, rs, ys, xi, begin, end, &vec,
+          &batch_far, &nonfinite);
     }
 #endif
     for (; first + kLanes <= end; first += kLanes) {
@@ -214,9 +218,10 @@ void Prediction::PredictPlain(const double* x, double* y, const int* id, const s
 }
 
 void Prediction::PredictPlainDispatch(const double* x, double* y, const int* id,
-                                      const std::int64_t* key, std::int64_t step, int threads,
-                                      double* max_move, std::int64_t* bad_id,
-                                      double* max_coordinate, ExactBound* bound) const {
+                                      const std::int64_t* key, const double* active,
+                                      std::int64_t step, int threads, double* max_move,
+                                      std::int64_t* bad_id, double* max_coordinate,
+                                      ExactBound* bound) const {
   auto pick = [](bool b, auto f) {
     if (b) {
       f(std::true_type{});
@@ -228,9 +233,11 @@ void Prediction::PredictPlainDispatch(const double* x, double* y, const int* id,
     if constexpr (k > 1) {
       pick(parameters_.sigma > 0.0, [&](auto noise) {
         pick(parameters_.trap, [&](auto trap) {
-          pick(bound != nullptr, [&](auto b) {
-            PredictPlain<k, noise, trap, b>(x, y, id, key, step, threads, max_move, bad_id,
-                                            max_coordinate, bound);
+          pick(active != nullptr, [&](auto act) {
+            pick(bound != nullptr, [&](auto b) {
+              PredictPlain<k, noise, trap, act, b>(x, y, id, key, active, step, threads, max_move,
+                                                   bad_id, max_coordinate, bound);
+            });
           });
         });
       });
