@@ -141,7 +141,13 @@ void AddPopulationFields(FieldTable<PS>& t) {
           [](const PS& s) { return nlohmann::json(s.population.initial_types); },
           "type of every agent, or a list repeated over the agents (default: the first type)");
   t.Check("", [](const PS& s) {
-     if (s.is_population()) s.MakeRules().Validate();
+     if (!s.is_population()) return;
+     try {
+       s.MakeRules().Validate();
+     } catch (const InputError& e) {  // the adhesion's keys are population.adhesion.<a>.<b>
+       if (e.key().starts_with("adhesion")) throw e.Under("population");
+       throw;
+     }
    }).Check("initial.types", [](const PS& s) {
     if (!s.is_population()) {
       if (!s.population.initial_types.empty()) throw InputError("needs [[types]]");
