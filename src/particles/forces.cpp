@@ -45,9 +45,9 @@ void ValidateClassStiffness(const std::vector<double>& K) {
   for (int a = 0; a < c; ++a) {
     for (int b = 0; b < c; ++b) {
       if (!(at(a, b) >= 0.0) || !std::isfinite(at(a, b))) {
-        throw InputError(fmt::format(
-            "forces.attraction.class_stiffness[{}][{}] must be ≥ 0 and finite (got {})", a, b,
-            at(a, b)));
+        throw InputError(
+            fmt::format("forces.attraction.class_stiffness[{}][{}] must be ≥ 0 and finite (got {})",
+                        a, b, at(a, b)));
       }
       if (at(a, b) != at(b, a)) {
         throw InputError(

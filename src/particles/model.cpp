@@ -104,8 +104,8 @@ void ParticleModel::Validate() const {
   }
   for (std::size_t i = 0; i < adhesion_class.size(); ++i) {
     if (adhesion_class[i] < 0) {
-      throw InputError(fmt::format("adhesion class of particle {} must be ≥ 0 (got {})", i,
-                                   adhesion_class[i]));
+      throw InputError(
+          fmt::format("adhesion class of particle {} must be ≥ 0 (got {})", i, adhesion_class[i]));
     }
   }
   for (std::size_t i = 0; i < mobility.size(); ++i) {

@@ -152,8 +152,7 @@ Forces PopulationRules::WithAdhesion(Forces forces) const {
   return forces;
 }
 
-double SegregationIndex(std::span<const int> types,
-                        std::span<const std::pair<int, int>> contacts) {
+double SegregationIndex(std::span<const int> types, std::span<const std::pair<int, int>> contacts) {
   std::vector<int> touching(types.size(), 0), alike(types.size(), 0);
   for (const auto& [i, j] : contacts) {
     const auto ui = static_cast<std::size_t>(i), uj = static_cast<std::size_t>(j);

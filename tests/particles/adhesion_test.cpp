@@ -37,7 +37,7 @@ PopulationRules ThreeTypes() {
 TEST(Adhesion, TwoAgentsOfTypesABAttractWithTheirPairsStiffness) {
   const double h = 0.01, range = 0.3, g = 0.1, uniform = 0.45;
   const std::vector<std::pair<std::pair<int, int>, double>> cases = {
-      {{0, 0}, 3.0}, {{0, 1}, 0.7}, {{1, 0}, 0.7},    {{1, 1}, 1.1},
+      {{0, 0}, 3.0}, {{0, 1}, 0.7}, {{1, 0}, 0.7},     {{1, 1}, 1.1},
       {{1, 2}, 0.2}, {{2, 1}, 0.2}, {{0, 2}, uniform}, {{2, 2}, uniform}};
   for (const auto& [pair, k] : cases) {
     ParticleModel geometry;
@@ -162,9 +162,12 @@ TEST(Adhesion, BadMatrixOrPairsNameTheKey) {
   ParticleModel m;
   m.radius = {0.5, 0.5};
   m.adhesion_class = {0, 2};
-  ExpectInputError([&] { Engine(m, f, EngineOptions{}, std::vector<double>{0, 0, 2, 0}); },
-                   "adhesion class of particle 1 is 2, but forces.attraction.class_stiffness has "
-                   "2 classes");
+  ExpectInputError(
+      [&] {
+        Engine(m, f, EngineOptions{}, std::vector<double>{0, 0, 2, 0});
+      },
+      "adhesion class of particle 1 is 2, but forces.attraction.class_stiffness has "
+      "2 classes");
   m.adhesion_class = {0, -1};
   ExpectInputError([&] { m.Validate(); }, "adhesion class of particle 1 must be ≥ 0 (got -1)");
 

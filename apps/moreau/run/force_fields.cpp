@@ -96,8 +96,8 @@ particles::Forces ParticleScenario::MakeForces() const {
   }
   // population.adhesion alone: the pairs it does not name do not attract.
   if (in.attraction_stiffness || (in.attraction_range && !population.rules.adhesion.empty())) {
-    f.attraction = particles::PairAttraction{in.attraction_stiffness.value_or(0.0),
-                                             in.attraction_range.value_or(0.0), {}};
+    f.attraction = particles::PairAttraction{
+        in.attraction_stiffness.value_or(0.0), in.attraction_range.value_or(0.0), {}};
   }
   f.diffusion = in.diffusion;
   f.Validate();

@@ -96,8 +96,7 @@ void AddRuleFields(FieldTable<PS>& t) {
   // population.seed is not a key: the rules take problem.seed (MakeRules).
   t.Mount("population", [](auto& s) -> auto& { return s.population.rules; },
           particles::PopulationRules::Fields(), {{"seed", ""}});
-  t.Custom("population.adhesion", "<a>.<b> = number ≥ 0 (force/length)", ReadAdhesion,
-           EchoAdhesion,
+  t.Custom("population.adhesion", "<a>.<b> = number ≥ 0 (force/length)", ReadAdhesion, EchoAdhesion,
            "k_ab: the attraction's stiffness between types a and b (differential adhesion); "
            "pairs not given: forces.attraction_stiffness; range forces.attraction_range")
       .Check("population.adhesion", [](const PS& s) {
