@@ -87,6 +87,7 @@ void BindModel(py::module_& m) {
       .def_readwrite("dimension", &ParticleModel::dimension)
       .def_readwrite("radius", &ParticleModel::radius)
       .def_readwrite("mobility", &ParticleModel::mobility)
+      .def_readwrite("adhesion_class", &ParticleModel::adhesion_class)
       .def_readwrite("walls", &ParticleModel::walls)
       .def_readwrite("spheres", &ParticleModel::spheres)
       .def_readwrite("segments", &ParticleModel::segments)
@@ -148,7 +149,9 @@ void BindRoomAndForces(py::module_& m) {
   py::class_<PairAttraction>(m, "PairAttraction", "Short-range attraction between surfaces.")
       .def(py::init(&FromKwargs<PairAttraction>))
       .def_readwrite("stiffness", &PairAttraction::stiffness)
-      .def_readwrite("range", &PairAttraction::range);
+      .def_readwrite("range", &PairAttraction::range)
+      .def_readwrite("class_stiffness", &PairAttraction::class_stiffness,
+                     "C × C stiffnesses between adhesion classes, row-major (empty: stiffness)");
   py::class_<Forces>(m, "Forces", "The engine's drift and noise (keys of [forces]).")
       .def(py::init(&FromKwargs<Forces>))
       .def_readwrite("trap", &Forces::trap)
@@ -202,7 +205,9 @@ void BindEngineOptions(py::module_& m) {
   BindOptionsClass<PopulationRules>(m, "PopulationRules",
                                     "The population's rules: keys of [population]; types by name.")
       .def_readwrite("types", &PopulationRules::types)
-      .def_readwrite("variables", &PopulationRules::variables);
+      .def_readwrite("variables", &PopulationRules::variables)
+      .def_readwrite("adhesion", &PopulationRules::adhesion,
+                     "{(type a, type b): k_ab}: the attraction's stiffness per pair of types");
   BindSummary<EngineSummary>(m, "EngineSummary",
                              "How a run ended: termination, message, counters, *_seconds.")
       .def("brief_report", &EngineSummary::BriefReport);

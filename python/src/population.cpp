@@ -295,6 +295,7 @@ void RegisterPopulation(py::module_& m) {
             d["contacts"] = o.contacts;
             d["overlap"] = o.overlap;
             d["colony_radius"] = o.colony_radius;
+            d["segregation"] = o.segregation;
             d["births"] = o.births;
             d["deaths"] = o.deaths;
             d["removals"] = o.removals;

@@ -55,6 +55,7 @@ void Engine::Impl::Setup(std::span<const double> positions) {
   CheckParticleMemory(c.model.dimension, c.model.count(), c.options.memory_limit_bytes);
   c.model.Validate();
   forces.Validate();
+  CheckAdhesionClasses(c.model, forces);
   c.k = c.model.dimension;
   CheckEntries("initial state", "positions", positions.size(), c.k, c.model.count());
   if (c.options.check_initial_state) {
@@ -275,6 +276,7 @@ void Engine::Impl::Repopulate(std::span<const double> positions, std::span<const
         fmt::format("repopulate: the dimension must stay {} (got {})", c.k, c.model.dimension));
   }
   c.model.Validate();
+  CheckAdhesionClasses(c.model, forces);
   CheckParticleMemory(c.k, c.model.count(), c.options.memory_limit_bytes);
   CheckEntries("repopulate", "positions", positions.size(), c.k, c.model.count());
   if (!active.empty()) {

@@ -35,7 +35,66 @@ void ValidateWalkingSpeeds(const WalkingSpeeds& w, const std::optional<SelfPropu
   check(d.radius, "radius");
 }
 
+void ValidateClassStiffness(const std::vector<double>& K) {
+  const int c = static_cast<int>(std::lround(std::sqrt(static_cast<double>(K.size()))));
+  if (static_cast<std::size_t>(c) * static_cast<std::size_t>(c) != K.size()) {
+    throw InputError(fmt::format(
+        "forces.attraction.class_stiffness has {} entries: it must be C × C (a square)", K.size()));
+  }
+  const auto at = [&](int a, int b) { return K[static_cast<std::size_t>(a * c + b)]; };
+  for (int a = 0; a < c; ++a) {
+    for (int b = 0; b < c; ++b) {
+      if (!(at(a, b) >= 0.0) || !std::isfinite(at(a, b))) {
+        throw InputError(
+            fmt::format("forces.attraction.class_stiffness[{}][{}] must be ≥ 0 and finite (got {})",
+                        a, b, at(a, b)));
+      }
+      if (at(a, b) != at(b, a)) {
+        throw InputError(
+            fmt::format("forces.attraction.class_stiffness[{}][{}] ({}) must equal [{}][{}] ({}): "
+                        "the matrix must be symmetric",
+                        a, b, at(a, b), b, a, at(b, a)));
+      }
+    }
+  }
+}
+
+void ValidateAttraction(const PairAttraction& attraction) {
+  if (!(attraction.stiffness >= 0.0) || !std::isfinite(attraction.stiffness)) {
+    throw InputError(
+        fmt::format("forces.attraction.stiffness must be ≥ 0 (got {})", attraction.stiffness));
+  }
+  ValidateClassStiffness(attraction.class_stiffness);
+  if (!(attraction.range >= 0.0) || !std::isfinite(attraction.range) ||
+      (attraction.attracts() && !(attraction.range > 0.0))) {
+    throw InputError(fmt::format("forces.attraction.range must be > 0 (got {})", attraction.range));
+  }
+}
+
 }  // namespace
+
+int PairAttraction::classes() const {
+  return static_cast<int>(std::lround(std::sqrt(static_cast<double>(class_stiffness.size()))));
+}
+
+bool PairAttraction::attracts() const {
+  if (class_stiffness.empty()) return stiffness > 0.0;
+  return std::any_of(class_stiffness.begin(), class_stiffness.end(),
+                     [](double k) { return k > 0.0; });
+}
+
+void CheckAdhesionClasses(const ParticleModel& model, const Forces& forces) {
+  if (!forces.attraction || forces.attraction->class_stiffness.empty()) return;
+  const int c = forces.attraction->classes();
+  for (std::size_t i = 0; i < model.adhesion_class.size(); ++i) {
+    if (model.adhesion_class[i] >= c) {
+      throw InputError(
+          fmt::format("adhesion class of particle {} is {}, but "
+                      "forces.attraction.class_stiffness has {} classes",
+                      i, model.adhesion_class[i], c));
+    }
+  }
+}
 
 void Forces::Validate() const {
   auto finite3 = [](const Vec3& v) {
@@ -65,17 +124,7 @@ void Forces::Validate() const {
     }
   }
   ValidateWalkingSpeeds(walking, propulsion);
-  if (attraction) {
-    if (!(attraction->stiffness >= 0.0) || !std::isfinite(attraction->stiffness)) {
-      throw InputError(
-          fmt::format("forces.attraction.stiffness must be ≥ 0 (got {})", attraction->stiffness));
-    }
-    if (!(attraction->range >= 0.0) || !std::isfinite(attraction->range) ||
-        (attraction->stiffness > 0.0 && !(attraction->range > 0.0))) {
-      throw InputError(
-          fmt::format("forces.attraction.range must be > 0 (got {})", attraction->range));
-    }
-  }
+  if (attraction) ValidateAttraction(*attraction);
   if (!(diffusion >= 0.0) || !std::isfinite(diffusion)) {
     throw InputError(fmt::format("forces.diffusion must be ≥ 0 (got {})", diffusion));
   }
@@ -100,7 +149,7 @@ double WeidmannSpeedFactor(const DensitySpeed& law, double density) {
 
 double PairListWidening(const Forces& forces, double min_radius) {
   double widening = 0.0;
-  if (forces.attraction && forces.attraction->stiffness > 0.0) widening = forces.attraction->range;
+  if (forces.attraction && forces.attraction->attracts()) widening = forces.attraction->range;
   if (forces.propulsion && forces.walking.density) {
     widening = std::max(widening, forces.walking.density->radius - 2.0 * min_radius);
   }

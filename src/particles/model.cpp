@@ -98,6 +98,16 @@ void ParticleModel::Validate() const {
           fmt::format("stable id of particle {} must be in [0, 2^62) (got {})", i, stable_ids[i]));
     }
   }
+  if (!adhesion_class.empty() && adhesion_class.size() != radius.size()) {
+    throw InputError(fmt::format("adhesion_class has {} entries for {} particles",
+                                 adhesion_class.size(), radius.size()));
+  }
+  for (std::size_t i = 0; i < adhesion_class.size(); ++i) {
+    if (adhesion_class[i] < 0) {
+      throw InputError(
+          fmt::format("adhesion class of particle {} must be ≥ 0 (got {})", i, adhesion_class[i]));
+    }
+  }
   for (std::size_t i = 0; i < mobility.size(); ++i) {
     if (!(mobility[i] > 0.0) || !std::isfinite(mobility[i])) {
       throw InputError(fmt::format("mobility of particle {} must be > 0 (got {})", i, mobility[i]));

@@ -59,10 +59,12 @@ ParticleModel Population::ModelOf(const ParticleModel& geometry, const Populatio
   model.radius.resize(n);
   model.mobility.resize(n);
   model.stable_ids.resize(n);
+  model.adhesion_class.resize(n);  // the type: the row and column of the adhesion matrix
   for (std::size_t i = 0; i < n; ++i) {
     model.radius[i] = agents[i].radius;
     model.mobility[i] = rules.types[static_cast<std::size_t>(agents[i].type)].mobility;
     model.stable_ids[i] = agents[i].id;
+    model.adhesion_class[i] = agents[i].type;
   }
   return model;
 }
@@ -99,7 +101,8 @@ Population::Population(ParticleModel geometry, Forces forces, EngineOptions opti
     : geometry_(std::move(geometry)),
       rules_(std::move(rules)),
       agents_(InitialAgents(rules_, geometry_.dimension, types, rules_.seed)),
-      engine_(ModelOf(geometry_, rules_, agents_), std::move(forces), options, positions),
+      engine_(ModelOf(geometry_, rules_, agents_), rules_.WithAdhesion(std::move(forces)), options,
+              positions),
       last_positions_(positions.begin(), positions.end()) {
   for (const Agent& a : agents_) ids_.insert(a.id);
   for (const AgentVariable& v : rules_.variables)
@@ -409,8 +412,11 @@ PopulationObservables Population::Observe() const {
       d2 += (x[k * i + a] - centre[a]) * (x[k * i + a] - centre[a]);
     o.colony_radius = std::max(o.colony_radius, std::sqrt(d2) + agents_[i].radius);
   }
-  for (int c : engine_.ContactCounts(rules_.contact_factor)) o.contacts += c;
-  o.contacts /= 2;
+  const std::vector<std::pair<int, int>> contacts = engine_.Contacts(rules_.contact_factor);
+  o.contacts = static_cast<std::int64_t>(contacts.size());
+  std::vector<int> types(agents_.size());
+  for (std::size_t i = 0; i < agents_.size(); ++i) types[i] = agents_[i].type;
+  o.segregation = SegregationIndex(types, contacts);
   o.overlap = engine_.MaxPairOverlap();
   return o;
 }

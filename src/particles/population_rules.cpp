@@ -1,4 +1,5 @@
-// PopulationRules and PopulationSummary: validation, names, JSON; the daughter id.
+// PopulationRules and PopulationSummary: validation, names, JSON; the daughter id; the adhesion
+// matrix and the segregation index.
 #include <cmath>
 #include <set>
 
@@ -107,9 +108,68 @@ void PopulationRules::Validate() const {
     }
   }
   Fields().Validate(*this);
+  ValidateAdhesion();
   if (exit && exit->normal == Vec3{0.0, 0.0, 0.0}) {
     throw InputError("exit.normal", "must be non-zero");
   }
+}
+
+void PopulationRules::ValidateAdhesion() const {
+  for (const auto& [pair, k] : adhesion) {
+    const std::string key = "adhesion." + pair.first + "." + pair.second;
+    try {
+      (void)TypeIndex(pair.first);
+      (void)TypeIndex(pair.second);
+    } catch (const InputError& e) {
+      throw InputError(key, e.what());
+    }
+    if (!(k >= 0.0) || !std::isfinite(k)) {
+      throw InputError(key, fmt::format("must be ≥ 0 and finite (got {})", k));
+    }
+    const auto mirror = adhesion.find({pair.second, pair.first});
+    if (mirror != adhesion.end() && mirror->second != k) {
+      throw InputError(key, fmt::format("({}) differs from adhesion.{}.{} ({}): a pair has one "
+                                        "adhesion, give it once",
+                                        k, pair.second, pair.first, mirror->second));
+    }
+  }
+}
+
+Forces PopulationRules::WithAdhesion(Forces forces) const {
+  if (adhesion.empty()) return forces;
+  if (!forces.attraction || !(forces.attraction->range > 0.0)) {
+    throw InputError("adhesion", "needs the attraction's range ℓ > 0 (forces.attraction_range)");
+  }
+  const std::size_t c = types.size();
+  std::vector<double>& K = forces.attraction->class_stiffness;
+  K.assign(c * c, forces.attraction->stiffness);
+  for (const auto& [pair, k] : adhesion) {
+    const auto a = static_cast<std::size_t>(TypeIndex(pair.first));
+    const auto b = static_cast<std::size_t>(TypeIndex(pair.second));
+    K[a * c + b] = k;
+    K[b * c + a] = k;
+  }
+  return forces;
+}
+
+double SegregationIndex(std::span<const int> types, std::span<const std::pair<int, int>> contacts) {
+  std::vector<int> touching(types.size(), 0), alike(types.size(), 0);
+  for (const auto& [i, j] : contacts) {
+    const auto ui = static_cast<std::size_t>(i), uj = static_cast<std::size_t>(j);
+    const int same = types[ui] == types[uj] ? 1 : 0;
+    ++touching[ui];
+    ++touching[uj];
+    alike[ui] += same;
+    alike[uj] += same;
+  }
+  double sum = 0.0;
+  std::int64_t counted = 0;
+  for (std::size_t i = 0; i < types.size(); ++i) {
+    if (touching[i] == 0) continue;
+    sum += static_cast<double>(alike[i]) / touching[i];
+    ++counted;
+  }
+  return counted > 0 ? sum / static_cast<double>(counted) : 0.0;
 }
 
 int PopulationRules::TypeIndex(std::string_view name) const {
@@ -133,6 +193,7 @@ nlohmann::json PopulationRules::ToJson() const {
   j["relax_tolerance"] = relax_tolerance;
   j["relax_max_sweeps"] = relax_max_sweeps;
   j["max_count"] = max_count;
+  for (const auto& [pair, k] : adhesion) j["adhesion"][pair.first][pair.second] = k;
   for (const AgentVariable& v : variables) {
     j["variables"].push_back({{"name", v.name},
                               {"initial", v.initial},

@@ -43,9 +43,11 @@ DriftParameters::DriftParameters(const Forces& forces, int k, double h) {
     density = forces.walking.density.has_value();
     if (density) density_law = *forces.walking.density;
   }
-  if (forces.attraction && forces.attraction->stiffness > 0.0) {
+  if (forces.attraction && forces.attraction->attracts()) {
     attraction_stiffness = forces.attraction->stiffness;
     attraction_range = forces.attraction->range;
+    class_stiffness = forces.attraction->class_stiffness;
+    classes = forces.attraction->classes();
   }
   sigma = forces.diffusion > 0.0 ? std::sqrt(2.0 * forces.diffusion * h) : 0.0;
 }
@@ -100,11 +102,13 @@ void Prediction::Reorder(const std::vector<int>& perm, int threads) {
   GatherRows(perm, 1, threads, &speed_factor_, &scratch_);
 }
 
-template <int K, bool P>
-void Prediction::AttractionImpl(const double* x, const double* radius, const NeighbourList& list,
+template <int K, bool P, bool Matrix>
+void Prediction::AttractionImpl(const double* x, const double* radius, const int* id,
+                                const int* cls, double uniform, const NeighbourList& list,
                                 const Colouring& colouring, const CellList& cells,
                                 bool lexicographic, int threads) {
-  const double stiffness = parameters_.attraction_stiffness;
+  const double* matrix = parameters_.class_stiffness.data();
+  const int classes = parameters_.classes;
   const double range = parameters_.attraction_range;
   const int* row_start = list.row_start();
   const int* nbr = list.neighbours();
@@ -120,6 +124,8 @@ void Prediction::AttractionImpl(const double* x, const double* radius, const Nei
         const double r = std::sqrt(SquaredNorm<K>(u));
         const double g = r - (rs + radius[t]);
         if (!(g > 0.0 && g < range)) continue;
+        double stiffness = uniform;
+        if constexpr (Matrix) stiffness = matrix[classes * cls[id[s]] + cls[id[t]]];
         const double scale = stiffness * g * (1.0 - g / range) / r;
         for (int a = 0; a < K; ++a) {
           f[K * s + a] -= scale * u[a];
@@ -138,9 +144,23 @@ void Prediction::AttractionImpl(const double* x, const double* radius, const Nei
 
 void Prediction::Attraction(const StepContext& context) {
   const ParticleStore& store = *context.store;
+  const std::vector<int>& cls = context.model.adhesion_class;
+  const bool matrix = parameters_.classes > 0 && !cls.empty();
+  // A matrix without classes: every particle is of class 0.
+  const double uniform = parameters_.classes > 0 && cls.empty()
+                             ? parameters_.class_stiffness.front()
+                             : parameters_.attraction_stiffness;
   DispatchDimensionPeriodic(box_.k, box_.any, [&](auto k, auto p) {
-    AttractionImpl<k, p>(store.current.data(), store.radius.data(), context.list, context.colouring,
-                         context.cells, context.lexicographic, context.threads);
+    const auto run = [&](auto m) {
+      AttractionImpl<k, p, m>(store.current.data(), store.radius.data(), store.id.data(),
+                              cls.data(), uniform, context.list, context.colouring, context.cells,
+                              context.lexicographic, context.threads);
+    };
+    if (matrix) {
+      run(std::true_type());
+    } else {
+      run(std::false_type());
+    }
   });
 }
 

@@ -32,8 +32,10 @@ struct DriftParameters {
   bool density = false;   // Weidmann's factor on the walking speed
   DensitySpeed density_law;
   double attraction_stiffness = 0.0;
-  double attraction_range = 0.0;  // > 0 when the attraction is on
-  double sigma = 0.0;             // √(2 D h); 0 without noise
+  double attraction_range = 0.0;        // > 0 when the attraction is on
+  std::vector<double> class_stiffness;  // C × C (PairAttraction); empty: the one stiffness
+  int classes = 0;                      // C
+  double sigma = 0.0;                   // √(2 D h); 0 without noise
 
   DriftParameters(const Forces& forces, int k, double h);
 };
@@ -75,10 +77,12 @@ class Prediction {
   void Reorder(const std::vector<int>& perm, int threads);
 
  private:
-  template <int K, bool P>
-  void AttractionImpl(const double* x, const double* radius, const NeighbourList& list,
-                      const Colouring& colouring, const CellList& cells, bool lexicographic,
-                      int threads);
+  // Matrix: the stiffness of slots (s, t) is K[C cls[id[s]] + cls[id[t]]] (cls: the model's
+  // adhesion classes in id order), else `uniform`.
+  template <int K, bool P, bool Matrix>
+  void AttractionImpl(const double* x, const double* radius, const int* id, const int* cls,
+                      double uniform, const NeighbourList& list, const Colouring& colouring,
+                      const CellList& cells, bool lexicographic, int threads);
   template <int K, bool P>
   void LocalDensityImpl(const double* x, const NeighbourList& list, const Colouring& colouring,
                         const CellList& cells, bool lexicographic, int threads);

@@ -156,7 +156,7 @@ TEST(ParticleEngine, BitIdenticalForAnyThreadCount2d) {
   DisksSetup s = PeriodicSoup(1200, 0.45, 11);
   s.forces.diffusion = 0.05;
   s.forces.constant_force = {0.3, -0.1, 0.0};
-  s.forces.attraction = PairAttraction{2.0, 0.2};
+  s.forces.attraction = PairAttraction{2.0, 0.2, {}};
   s.model.mobility.assign(s.model.radius.size(), 1.0);
   for (std::size_t i = 0; i < s.model.mobility.size(); i += 3) s.model.mobility[i] = 0.5;
   std::vector<std::vector<double>> results;

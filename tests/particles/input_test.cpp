@@ -114,7 +114,7 @@ TEST(ParticleInput, OptionsAndForces) {
   f.diffusion = -1;
   ExpectInputError([&] { Make(TwoDisks(), kApart, f); }, "forces.diffusion must be ≥ 0");
   f = {};
-  f.attraction = PairAttraction{1.0, 0.0};
+  f.attraction = PairAttraction{1.0, 0.0, {}};
   ExpectInputError([&] { Make(TwoDisks(), kApart, f); }, "forces.attraction.range must be > 0");
   f = {};
   f.propulsion = SelfPropulsion{-1.0, {0, 0, 0}, std::nullopt, std::nullopt};

@@ -35,7 +35,7 @@ void CheckGridEqualsBruteForce(const Case& c) {
   const std::vector<double> x0 = RandomSequentialAddition(m, {0, 0, 0}, {L, L, L}, 5);
   Forces f;
   f.diffusion = 0.2;
-  if (c.attraction_range > 0) f.attraction = PairAttraction{1.0, c.attraction_range};
+  if (c.attraction_range > 0) f.attraction = PairAttraction{1.0, c.attraction_range, {}};
   for (const SweepOrder order : {SweepOrder::kColoured, SweepOrder::kLexicographic}) {
     EngineOptions o;
     o.h = 0.01;

@@ -126,3 +126,23 @@ def test_an_extinct_population_has_empty_views():
     s = p.step(3)
     assert p.count == 0 and s.deaths == 2 and "no agents left" in s.message
     assert p.positions.shape == (0, 2) and p.ids.shape == (0,) and p.observe()["count"] == 0
+
+
+def test_adhesion_per_pair_of_types_pulls_with_its_stiffness():
+    """Two touching-range agents of types (a, b), gap g: one step moves each by h k_ab g (1 − g/ℓ)
+    (forces.h); pairs the rules do not name take the uniform stiffness."""
+    types = [particles.AgentType(name=n) for n in ("dark", "light")]
+    rules = particles.PopulationRules(types=types, interval=1000,
+                                      adhesion={("dark", "dark"): 4.0, ("light", "dark"): 1.5})
+    assert rules.adhesion == {("dark", "dark"): 4.0, ("light", "dark"): 1.5}
+    forces = particles.Forces(attraction=particles.PairAttraction(stiffness=0.5, range=0.3))
+    g = 0.1
+    for pair, k in ((("dark", "dark"), 4.0), (("dark", "light"), 1.5), (("light", "light"), 0.5)):
+        p = particles.Population(rules, list(pair), np.array([[0.0, 0.0], [1.0 + g, 0.0]]),
+                                 forces=forces, h=0.01)
+        p.step(1)
+        assert p.positions[0, 0] == pytest.approx(0.01 * k * g * (1 - g / 0.3), rel=1e-13)
+        assert p.observe()["segregation"] == 0.0  # apart by g > 0.05: not touching
+    rules.adhesion = {("dark", "grey"): 1.0}
+    with pytest.raises(ValueError, match="adhesion.dark.grey: unknown type 'grey'"):
+        rules.validate()

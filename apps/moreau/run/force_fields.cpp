@@ -94,9 +94,10 @@ particles::Forces ParticleScenario::MakeForces() const {
     law.gamma = in.density_gamma.value_or(law.gamma);
     law.max_density = in.density_max.value_or(law.max_density);
   }
-  if (in.attraction_stiffness) {
-    f.attraction =
-        particles::PairAttraction{*in.attraction_stiffness, in.attraction_range.value_or(0.0)};
+  // population.adhesion alone: the pairs it does not name do not attract.
+  if (in.attraction_stiffness || (in.attraction_range && !population.rules.adhesion.empty())) {
+    f.attraction = particles::PairAttraction{
+        in.attraction_stiffness.value_or(0.0), in.attraction_range.value_or(0.0), {}};
   }
   f.diffusion = in.diffusion;
   f.Validate();

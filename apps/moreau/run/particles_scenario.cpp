@@ -318,8 +318,9 @@ void AddChecks(FieldTable<PS>& t) {
              })
       .Check("forces.attraction_range",
              [](const PS& s) {
-               if (s.forces.attraction_range && !s.forces.attraction_stiffness) {
-                 throw InputError("needs forces.attraction_stiffness");
+               if (s.forces.attraction_range && !s.forces.attraction_stiffness &&
+                   s.population.rules.adhesion.empty()) {
+                 throw InputError("needs forces.attraction_stiffness or population.adhesion");
                }
              })
       .Check("forces", [](const PS& s) { (void)s.MakeForces(); })

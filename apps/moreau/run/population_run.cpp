@@ -20,15 +20,17 @@ namespace {
 std::string CsvHeader(const particles::PopulationRules& rules) {
   std::string h = "step,t,count";
   for (const particles::AgentType& t : rules.types) h += ",count_" + t.name;
-  return h + ",mean_radius,contacts,overlap_before,overlap,colony_radius,births,deaths,removals\n";
+  return h +
+         ",mean_radius,contacts,overlap_before,overlap,colony_radius,births,deaths,removals,"
+         "segregation\n";
 }
 
 std::string CsvRow(const particles::PopulationObservables& o) {
   std::string row = fmt::format("{},{:.9g},{}", o.step, o.time, o.count);
   for (std::int64_t c : o.count_per_type) row += fmt::format(",{}", c);
-  return row + fmt::format(",{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{}\n", o.mean_radius, o.contacts,
-                           o.overlap_before, o.overlap, o.colony_radius, o.births, o.deaths,
-                           o.removals);
+  return row + fmt::format(",{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{},{:.9g}\n", o.mean_radius,
+                           o.contacts, o.overlap_before, o.overlap, o.colony_radius, o.births,
+                           o.deaths, o.removals, o.segregation);
 }
 
 // "id,type,generation,x,y[,z],r", one row per agent.

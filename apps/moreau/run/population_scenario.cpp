@@ -66,10 +66,46 @@ void ReadInitialTypes(Scenario& sc, PS& s, const std::string& key) {
   }
 }
 
+// [population.adhesion]: `a.b = k` (a table per type a, a number per type b); errors name
+// population.adhesion.a.b. The names are checked against the types by PopulationRules.
+void ReadAdhesion(Scenario& sc, PS& s, const std::string& key) {
+  const toml::node* node = sc.GetNode(key);
+  if (node == nullptr) return;
+  const toml::table* table = node->as_table();
+  if (table == nullptr) sc.Fail(key, "expected a table of type pairs (a.b = stiffness)");
+  for (const auto& [a, row] : *table) {
+    const std::string at = key + "." + std::string(a.str());
+    const toml::table* entries = row.as_table();
+    if (entries == nullptr) sc.Fail(at, "expected a table: <type>.<type> = stiffness");
+    for (const auto& [b, value] : *entries) {
+      const std::string pair = at + "." + std::string(b.str());
+      const auto k = value.value<double>();
+      if (!k) sc.Fail(pair, "expected a number (the stiffness k_ab)");
+      CheckRange(sc, pair, Range::NonNegative(), *k, fmt::format("{}", *k));
+      s.population.rules.adhesion[{std::string(a.str()), std::string(b.str())}] = *k;
+    }
+  }
+}
+
+nlohmann::json EchoAdhesion(const PS& s) {
+  const nlohmann::json j = s.population.rules.ToJson();
+  return j.contains("adhesion") ? j["adhesion"] : nlohmann::json();
+}
+
 void AddRuleFields(FieldTable<PS>& t) {
   // population.seed is not a key: the rules take problem.seed (MakeRules).
   t.Mount("population", [](auto& s) -> auto& { return s.population.rules; },
           particles::PopulationRules::Fields(), {{"seed", ""}});
+  t.Custom("population.adhesion", "<a>.<b> = number ≥ 0 (force/length)", ReadAdhesion, EchoAdhesion,
+           "k_ab: the attraction's stiffness between types a and b (differential adhesion); "
+           "pairs not given: forces.attraction_stiffness; range forces.attraction_range")
+      .Check("population.adhesion", [](const PS& s) {
+        if (s.population.rules.adhesion.empty()) return;
+        if (!s.is_population()) throw InputError("needs [[types]]");
+        if (!s.forces.attraction_range) {
+          throw InputError("needs forces.attraction_range (the range ℓ of the adhesion)");
+        }
+      });
 }
 
 }  // namespace
@@ -102,9 +138,15 @@ void AddPopulationFields(FieldTable<PS>& t) {
       .Custom(
           "initial.types", "name or names", ReadInitialTypes,
           [](const PS& s) { return nlohmann::json(s.population.initial_types); },
-          "type of every agent (default: the first type)");
+          "type of every agent, or a list repeated over the agents (default: the first type)");
   t.Check("", [](const PS& s) {
-     if (s.is_population()) s.MakeRules().Validate();
+     if (!s.is_population()) return;
+     try {
+       s.MakeRules().Validate();
+     } catch (const InputError& e) {  // the adhesion's keys are population.adhesion.<a>.<b>
+       if (e.key().starts_with("adhesion")) throw e.Under("population");
+       throw;
+     }
    }).Check("initial.types", [](const PS& s) {
     if (!s.is_population()) {
       if (!s.population.initial_types.empty()) throw InputError("needs [[types]]");
@@ -126,13 +168,16 @@ particles::PopulationRules ParticleScenario::MakeRules() const {
 std::vector<int> ParticleScenario::InitialTypes() const {
   const std::vector<std::string>& names = population.initial_types;
   const auto n = static_cast<std::size_t>(count);
-  if (names.size() > 1 && names.size() != n) {
-    throw InputError(
-        fmt::format("{} names for {} agents (give one name, or problem.count)", names.size(), n));
+  if (!names.empty() && n % names.size() != 0) {
+    throw InputError(fmt::format(
+        "{} names for {} agents (give one name, one per agent, or a list whose length divides "
+        "problem.count)",
+        names.size(), n));
   }
+  // A shorter list repeats: agent i gets names[i mod m].
   std::vector<int> types(n, 0);
   for (std::size_t i = 0; i < n && !names.empty(); ++i) {
-    types[i] = population.rules.TypeIndex(names[names.size() == 1 ? 0 : i]);
+    types[i] = population.rules.TypeIndex(names[i % names.size()]);
   }
   return types;
 }

@@ -5,10 +5,14 @@
 // with
 //   F_trap   = −γ (X_i − c)                       harmonic trap (the paper's disks: c = 0);
 //   F_const  = f                                  a constant force (gravity, a drift);
-//   F_attr,i = Σ_j k g_ij (1 − g_ij / ℓ) e_ij     short-range pair attraction between surfaces,
+//   F_attr,i = Σ_j k_ij g_ij (1 − g_ij / ℓ) e_ij  short-range pair attraction between surfaces,
 //              over pairs with gap g_ij = ‖X_i − X_j‖ − (r_i + r_j) in (0, ℓ), e_ij the unit vector
-//              from X_i to X_j (minimum image). The force rises linearly (stiffness k) from
-//              contact, peaks at g = ℓ/2 and is continuous, zero at and beyond ℓ.
+//              from X_i to X_j (minimum image). The force rises linearly (stiffness k_ij) from
+//              contact, peaks at g = ℓ/2 and is continuous, zero at and beyond ℓ. k_ij = k for
+//              every pair, or, with a class matrix (PairAttraction::class_stiffness), the entry
+//              K[c_i, c_j] for the particles' adhesion classes c_i, c_j (model.h; a population's
+//              agent types: differential adhesion). The work to pull a pair apart from contact is
+//              ∫_0^ℓ k_ij g (1 − g/ℓ) dg = k_ij ℓ² / 6.
 //   v_prop,i = v0 (T_i − X_i) / ‖T_i − X_i‖      self-propulsion at the desired speed v0 toward a
 //              target T_i: a point, or the nearest point of a target segment (a door); zero when
 //              ‖T_i − X_i‖ ≤ 1e−12 (already there). A velocity, not scaled by μ_i. With an exit
@@ -34,6 +38,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "moreau/particles/model.h"
 
@@ -83,7 +88,17 @@ struct WalkingSpeeds {
 
 struct PairAttraction {
   double stiffness = 0.0;  // k ≥ 0 (force per length)
-  double range = 0.0;      // ℓ > 0 when stiffness > 0 (length); widens the neighbour lists by ℓ
+  double range = 0.0;  // ℓ > 0 when any stiffness is > 0 (length); widens the neighbour lists by ℓ
+  // K: C × C stiffnesses (force per length) between adhesion classes, row-major, symmetric,
+  // entries ≥ 0 and finite; a pair of classes (a, b) attracts with K[a C + b] in place of k.
+  // Every particle's class (ParticleModel::adhesion_class) must be < C. Empty: k for every
+  // pair. A matrix whose entries all equal k gives the same bits as k alone.
+  std::vector<double> class_stiffness;
+
+  // C, the number of classes of class_stiffness (0 when empty).
+  int classes() const;
+  // Whether any pair attracts: k > 0, or some entry of K > 0.
+  bool attracts() const;
 };
 
 struct Forces {
@@ -94,9 +109,16 @@ struct Forces {
   std::optional<PairAttraction> attraction;
   double diffusion = 0.0;  // D ≥ 0 (length²/time), the same for every particle; 0: no noise
 
-  // Throws InputError naming the field ("forces.diffusion must be ≥ 0 (got -1)", …).
+  // Throws InputError naming the field ("forces.diffusion must be ≥ 0 (got -1)",
+  // "forces.attraction.class_stiffness[0][1] (0.5) must equal [1][0] (0.2): the matrix must be
+  // symmetric", …).
   void Validate() const;
 };
+
+// Throws InputError when a particle's adhesion class is outside the class matrix of `forces`
+// ("adhesion class of particle 7 is 2, but forces.attraction.class_stiffness has 2 classes");
+// nothing without a matrix.
+void CheckAdhesionClasses(const ParticleModel& model, const Forces& forces);
 
 // ξ ∈ R^k (k = 2 or 3 entries written to out) for (seed, id, step): the normals the engine adds.
 void GaussianNoise(std::uint64_t seed, std::int64_t id, std::int64_t step, int k, double* out);

@@ -54,6 +54,10 @@ struct ParticleModel {
   // they key the noise ξ(seed, stable id, step) in place of the index i, so a particle keeps its
   // noise stream when others are added or removed. Empty: the index i (a fixed population).
   std::vector<std::int64_t> stable_ids;
+  // The adhesion class c_i ≥ 0 of each particle: it picks the pair attraction's stiffness
+  // k_{c_i c_j} from forces.h PairAttraction::class_stiffness (a population's agent type). Empty:
+  // class 0 for all.
+  std::vector<int> adhesion_class;
   std::vector<Wall> walls;
   std::vector<SphereObstacle> spheres;
   std::vector<SegmentObstacle> segments;  // dimension 2 only
@@ -78,7 +82,9 @@ struct ParticleModel {
   //   "dimension must be 1, 2 or 3 (got 4)", "a particle model needs at least one particle",
   //   "radius of particle 12 must be > 0 (got -1)", "mobility of particle 3 must be > 0 (got 0)",
   //   "mobility has 5 entries for 6 particles", "stable_ids has 5 entries for 6 particles",
-  //   "stable id of particle 2 must be in [0, 2^62) (got -1)", "walls[2].normal must be non-zero",
+  //   "stable id of particle 2 must be in [0, 2^62) (got -1)",
+  //   "adhesion_class has 5 entries for 6 particles",
+  //   "adhesion class of particle 4 must be ≥ 0 (got -1)", "walls[2].normal must be non-zero",
   //   "spheres[1].radius must be > 0", "segments[0] needs a ≠ b",
   //   "segments need dimension 2 (segments[0] given in 3D)",
   //   "domain of periodic axis 1 needs lo < hi (got [0, 0))",

@@ -28,7 +28,9 @@
 //               this division), a pure function, so ids never depend on the order of events;
 //   motility    the engine adds the active velocity v0 p_i to agent i's drift until the next rule
 //               step (engine.h, Repopulate).
-// Adhesion between touching agents is the engine's pair attraction (forces.h, PairAttraction).
+// Adhesion between touching agents is the engine's pair attraction (forces.h, PairAttraction):
+// one stiffness k for all, or per pair of types k_ab (PopulationRules::adhesion, differential
+// adhesion), the agent's type being its adhesion class (model.h).
 // The new roster keeps the survivors in their previous order, each new daughter right after its
 // mother; the engine then rebuilds its lists once (Engine::Repopulate).
 //
@@ -39,11 +41,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -114,16 +118,31 @@ struct PopulationRules {
   double relax_tolerance = 1e-3;  // > 0
   int relax_max_sweeps = 10000;   // ≥ 1
   std::int64_t max_count = 0;     // stop (completed) once the count reaches it; 0: no cap
+  // Differential adhesion: the pair attraction's stiffness k_ab ≥ 0 (force per length, forces.h)
+  // between agents of the types named a and b, one entry per unordered pair ((a, b) and (b, a)
+  // are the same pair; giving both with different values is an error). Pairs not listed keep
+  // the uniform stiffness k of Forces::attraction (0 without one). Needs Forces::attraction with
+  // a range ℓ > 0, shared by all pairs. Scenario keys population.adhesion.<a>.<b>.
+  std::map<std::pair<std::string, std::string>, double> adhesion;
 
   // The scalar fields (interval, seed, axis, contact_factor, relax, …); the types are addressed
   // by name, types.<name>.<key> with the keys of AgentType::Fields().
   static const FieldList<PopulationRules>& Fields();
   // Throws InputError(key, reason) naming the field: ("types.cell.growth_rate", "must be ≥ 0
-  // (got -1)"), ("types", "the name 'cell' is used twice"), ("interval", "must be ≥ 1 (got 0)"), …
+  // (got -1)"), ("types", "the name 'cell' is used twice"), ("interval", "must be ≥ 1 (got 0)"),
+  // ("adhesion.cell.tumor", "unknown type 'tumor' (types: cell, tumour)"), …
   void Validate() const;
   // The index of the type called `name`; InputError "unknown type 'x' (types: a, b)".
   int TypeIndex(std::string_view name) const;
+  // The adhesion as the engine takes it: `forces` with its attraction's class matrix K
+  // (T × T over the type indices, row-major) from `adhesion`, the pairs not listed at the
+  // forces' uniform stiffness. `forces` unchanged when `adhesion` is empty. Throws InputError
+  // ("adhesion", "needs the attraction's range ℓ > 0 (forces.attraction_range)").
+  Forces WithAdhesion(Forces forces) const;
   nlohmann::json ToJson() const;
+
+ private:
+  void ValidateAdhesion() const;
 };
 
 // The state of one agent (index order = the engine's particle order).
@@ -141,6 +160,15 @@ struct Agent {
 // The id of the daughter born at a mother's `count`-th division: a pure function in [0, 2^62).
 std::int64_t ChildId(std::int64_t mother_id, int count);
 
+// The segregation index of a mixture of types: the mean, over the agents that touch at least
+// one other, of the fraction of the agents touching agent i that share its type,
+//   S = (1 / |A|) Σ_{i ∈ A} #{j ~ i : type_j = type_i} / #{j ~ i},   A = {i : #{j ~ i} > 0};
+// 0 when no agent touches another. Its expectation for a random mixture of large N with type
+// fractions φ_a is Σ_a φ_a² (0.5 for two types half and half); 1 when every contact joins agents of
+// one type (fully sorted). types: per agent its type; contacts: the touching pairs (i, j), agent
+// indices (Engine::Contacts). Summed in agent order: the same bits for the same input.
+double SegregationIndex(std::span<const int> types, std::span<const std::pair<int, int>> contacts);
+
 // The observables at one time.
 struct PopulationObservables {
   std::int64_t step = 0;
@@ -153,6 +181,7 @@ struct PopulationObservables {
                                 // population change, before any projection (pressure proxy)
   double overlap = 0.0;         // largest pair overlap now
   double colony_radius = 0.0;   // max_i ‖X_i − X̄‖ + r_i, X̄ the centroid
+  double segregation = 0.0;     // SegregationIndex of the touching pairs
   std::int64_t births = 0;      // so far
   std::int64_t deaths = 0;      // so far (rate)
   std::int64_t removals = 0;    // so far (exit)
