@@ -217,7 +217,7 @@ struct PopulationView {
   double rule_dt = 0.0;               // Δt = interval · h, the time between rule steps
   std::span<const double> positions;  // k·N, wrapped into the periodic domain
   // N agents. A rule may change radius (> 0), type (an index of the rules' types) and polarity;
-  // id, generation, divisions and age are the population's and must stay.
+  // id, generation, divisions, age and mother are the population's and must stay.
   std::span<Agent> agents;
   std::vector<std::span<double>> variables;  // per declared variable, N values
 };
