@@ -116,15 +116,14 @@ void WriteNameChunks(ParameterWriter& w, int group, std::string_view name,
   }
 }
 
-// POINT:ANGLES, FORCES, … and their units, for the types the recording holds.
+// POINT:ANGLES, FORCES, … for the types the recording holds, and the units it states.
 void WritePointTypes(ParameterWriter& w, const Recording& r) {
   for (const auto& group : c3d::kPointTypeParameters) {
     std::vector<std::string> names;
     for (int m = 0; m < r.markers(); ++m) {
       if (r.type(m) == group.type) names.push_back(r.labels()[static_cast<std::size_t>(m)]);
     }
-    if (names.empty()) continue;
-    WriteNameChunks(w, 1, group.labels, names);
+    if (!names.empty()) WriteNameChunks(w, 1, group.labels, names);
     const std::string& units = r.type_units(group.type);
     if (!units.empty()) w.Strings(1, group.units, {units}, true);
   }

@@ -49,7 +49,9 @@ TEST(PointTypes, PlugInGaitOutputsAreTypedAsTheFileListsThem) {
   EXPECT_EQ(r.type_units(PointType::kAngle), "deg");
   for (int m = 0; m < r.markers(); ++m) {
     const std::string& label = r.labels()[static_cast<std::size_t>(m)];
-    if (label.find("Angles") != std::string::npos) EXPECT_EQ(r.type(m), PointType::kAngle) << label;
+    if (label.find("Angles") != std::string::npos) {
+      EXPECT_EQ(r.type(m), PointType::kAngle) << label;
+    }
   }
   const RecordingInventory inv = TakeInventory(r);
   EXPECT_EQ(inv.markers, 54);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "moreau/common/random.h"
+#include "moreau/particles/checkpoint.h"
 #include "moreau/particles/engine.h"
 
 namespace moreau::particles {
