@@ -18,23 +18,9 @@ double MetresPerUnit(std::string_view units) {
 }
 
 std::string_view ToString(PointType type) {
-  switch (type) {
-    case PointType::kMarker:
-      return "marker";
-    case PointType::kAngle:
-      return "angle";
-    case PointType::kForce:
-      return "force";
-    case PointType::kMoment:
-      return "moment";
-    case PointType::kPower:
-      return "power";
-    case PointType::kScalar:
-      return "scalar";
-    case PointType::kReaction:
-      return "reaction";
-  }
-  return "marker";
+  static constexpr std::array<std::string_view, kPointTypeCount> kNames = {
+      "marker", "angle", "force", "moment", "power", "scalar", "reaction"};
+  return kNames.at(static_cast<std::size_t>(type));
 }
 
 std::array<PointType, kPointTypeCount> AllPointTypes() {
