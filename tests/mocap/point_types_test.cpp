@@ -5,6 +5,8 @@
 #include "mocap/c3d_format.h"
 #include "mocap/file_util.h"
 #include "mocap/io_test_util.h"
+#include "mocap/synthetic.h"
+#include "moreau/mocap/evaluate.h"
 #include "moreau/mocap/gap_fill.h"
 #include "moreau/mocap/inventory.h"
 #include "moreau/mocap/recording_io.h"
@@ -144,6 +146,23 @@ TEST(PointTypes, PlugInGaitFillTouchesMarkersOnly) {
       EXPECT_LE((back.point(f, m) - in.point(f, m)).cwiseAbs().maxCoeff(), 1e-6 * scale);
     }
   }
+}
+
+TEST(PointTypes, EvaluationHidesMarkersOnly) {
+  Recording body = testing::MakeRigidBodyRecording(6, 150, 100.0, 1);
+  body.set_type(1, PointType::kAngle);
+  body.set_type(4, PointType::kForce);
+  for (std::int64_t f = 0; f < 10; ++f) body.ClearPoint(f, 4);  // outputs may have holes
+  EvaluationOptions options;
+  options.methods = {GapFillMethod::kLinear, GapFillMethod::kRigid};
+  options.gap_seconds = {0.05, 0.2};
+  options.trials = 8;
+  options.seed = 3;
+  const EvaluationSummary summary = EvaluateFillMethods(body, options);
+  ASSERT_EQ(summary.rows.size(), 2u * 2u * 8u);
+  for (const EvaluationRow& row : summary.rows) EXPECT_TRUE(body.is_marker(row.marker));
+  options.markers_per_gap = 5;  // four markers
+  EXPECT_THROW(EvaluateFillMethods(body, options), InputError);
 }
 
 }  // namespace
