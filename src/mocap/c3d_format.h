@@ -7,6 +7,7 @@
 // the parameter section's fourth byte (83 + 1 Intel, 83 + 2 DEC/VAX, 83 + 3 SGI/MIPS).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -15,6 +16,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "moreau/mocap/recording.h"
 
 namespace moreau::mocap::c3d {
 
@@ -71,6 +74,21 @@ class ParameterSection {
   // spaces and NULs; empty when absent or not characters.
   std::vector<std::string> Strings(std::string_view group, std::string_view name) const;
 };
+
+// The POINT parameters that name the points of one model-output type and state its units.
+struct PointTypeParameters {
+  PointType type;
+  std::string_view labels;  // POINT:ANGLES, …
+  std::string_view units;   // POINT:ANGLE_UNITS, …
+};
+inline constexpr std::array<PointTypeParameters, 6> kPointTypeParameters = {{
+    {PointType::kAngle, "ANGLES", "ANGLE_UNITS"},
+    {PointType::kForce, "FORCES", "FORCE_UNITS"},
+    {PointType::kMoment, "MOMENTS", "MOMENT_UNITS"},
+    {PointType::kPower, "POWERS", "POWER_UNITS"},
+    {PointType::kScalar, "SCALARS", "SCALAR_UNITS"},
+    {PointType::kReaction, "REACTIONS", "REACTION_UNITS"},
+}};
 
 // Parses the parameter section starting at byte `start` of `file`. An item that runs outside the
 // file or points backwards ends the section with a warning (real writers leave such bytes).

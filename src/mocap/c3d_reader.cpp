@@ -140,16 +140,35 @@ DataLayout ReadLayout(const std::filesystem::path& path, const Header& header,
   return layout;
 }
 
-// POINT:LABELS, LABELS2, LABELS3, … (or DESCRIPTIONS…) concatenated, cut or padded to `count`.
-std::vector<std::string> ReadNames(const c3d::ParameterSection& p, std::string_view name,
-                                   std::int64_t count) {
+// POINT:NAME, NAME2, NAME3, … concatenated.
+std::vector<std::string> ReadNameList(const c3d::ParameterSection& p, std::string_view name) {
   std::vector<std::string> names = p.Strings("POINT", name);
   for (int k = 2; p.Find("POINT", fmt::format("{}{}", name, k)) != nullptr; ++k) {
     const auto more = p.Strings("POINT", fmt::format("{}{}", name, k));
     names.insert(names.end(), more.begin(), more.end());
   }
+  return names;
+}
+
+// POINT:LABELS, LABELS2, LABELS3, … (or DESCRIPTIONS…) concatenated, cut or padded to `count`.
+std::vector<std::string> ReadNames(const c3d::ParameterSection& p, std::string_view name,
+                                   std::int64_t count) {
+  std::vector<std::string> names = ReadNameList(p, name);
   names.resize(static_cast<std::size_t>(count));
   return names;
+}
+
+// The model outputs: a point whose label POINT:ANGLES, FORCES, … lists gets that type (names
+// that label no point are ignored), and the type's units from POINT:ANGLE_UNITS, ….
+void ReadPointTypes(const c3d::ParameterSection& p, Recording& recording) {
+  for (const auto& group : c3d::kPointTypeParameters) {
+    for (const std::string& name : ReadNameList(p, group.labels)) {
+      const int point = name.empty() ? -1 : recording.FindMarker(name);
+      if (point >= 0) recording.set_type(point, group.type);
+    }
+    const auto units = p.Strings("POINT", group.units);
+    if (!units.empty()) recording.set_type_units(group.type, units[0]);
+  }
 }
 
 std::string ReadUnits(const std::filesystem::path& path, const c3d::ParameterSection& p,
@@ -264,6 +283,7 @@ Recording ReadC3d(const std::filesystem::path& path, const ReadOptions& options,
                       ReadUnits(path, section, warnings));
   recording.descriptions() = ReadNames(section, "DESCRIPTIONS", layout.points);
   recording.set_first_frame(layout.first_frame);
+  ReadPointTypes(section, recording);
   SourceFormat& format = recording.format();
   format.container = "c3d";
   format.processor = std::string(c3d::ProcessorName(section.processor));

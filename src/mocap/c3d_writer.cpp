@@ -116,6 +116,19 @@ void WriteNameChunks(ParameterWriter& w, int group, std::string_view name,
   }
 }
 
+// POINT:ANGLES, FORCES, … for the types the recording holds, and the units it states.
+void WritePointTypes(ParameterWriter& w, const Recording& r) {
+  for (const auto& group : c3d::kPointTypeParameters) {
+    std::vector<std::string> names;
+    for (int m = 0; m < r.markers(); ++m) {
+      if (r.type(m) == group.type) names.push_back(r.labels()[static_cast<std::size_t>(m)]);
+    }
+    if (!names.empty()) WriteNameChunks(w, 1, group.labels, names);
+    const std::string& units = r.type_units(group.type);
+    if (!units.empty()) w.Strings(1, group.units, {units}, true);
+  }
+}
+
 std::string ParameterSectionBytes(const Recording& r, const std::filesystem::path& path,
                                   std::int64_t data_start) {
   const std::int64_t last = r.first_frame() + r.frames() - 1;
@@ -135,6 +148,7 @@ std::string ParameterSectionBytes(const Recording& r, const std::filesystem::pat
   std::vector<std::string> descriptions = r.descriptions();
   descriptions.resize(static_cast<std::size_t>(r.markers()));
   WriteNameChunks(w, 1, "DESCRIPTIONS", descriptions);
+  WritePointTypes(w, r);
   w.Group(2, "ANALOG");
   w.Int16s(2, "USED", {0});
   w.Float(2, "RATE", static_cast<float>(r.rate()));

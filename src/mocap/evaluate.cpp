@@ -31,7 +31,7 @@ struct Trial {
 void CheckComplete(const Recording& truth) {
   for (std::int64_t f = 0; f < truth.frames(); ++f) {
     for (int m = 0; m < truth.markers(); ++m) {
-      if (!truth.observed(f, m)) {
+      if (truth.is_marker(m) && !truth.observed(f, m)) {
         throw InputError(
             fmt::format("evaluation: the recording must be complete, but marker '{}' "
                         "is missing at frame {}",
@@ -50,10 +50,11 @@ void CheckAgainstRecording(const Recording& truth, const EvaluationOptions& opti
                                  "(got {})",
                                  0.5 * truth.rate(), options.filter_hz));
   }
-  if (options.markers_per_gap > truth.markers()) {
-    throw InputError("evaluation.markers_per_gap",
-                     fmt::format("the recording has {} markers (got {})", truth.markers(),
-                                 options.markers_per_gap));
+  const int markers = truth.CountPoints(PointType::kMarker);
+  if (options.markers_per_gap > markers) {
+    throw InputError(
+        "evaluation.markers_per_gap",
+        fmt::format("the recording has {} markers (got {})", markers, options.markers_per_gap));
   }
 }
 
@@ -70,14 +71,15 @@ Eigen::MatrixXd DistanceSpreads(const Recording& truth) {
 }
 
 // `first` and the `count` − 1 markers added one at a time, each the one whose largest spread to
-// the markers already chosen is smallest (ties by index).
-std::vector<int> ChooseGroup(const Eigen::MatrixXd& spread, int first, int count) {
+// the markers already chosen is smallest (ties by index); points of other types are never chosen.
+std::vector<int> ChooseGroup(const Recording& truth, const Eigen::MatrixXd& spread, int first,
+                             int count) {
   std::vector<int> group = {first};
   while (static_cast<int>(group.size()) < count) {
     int best = -1;
     double best_spread = 0.0;
     for (int c = 0; c < spread.rows(); ++c) {
-      if (std::find(group.begin(), group.end(), c) != group.end()) continue;
+      if (!truth.is_marker(c) || std::find(group.begin(), group.end(), c) != group.end()) continue;
       double largest = 0.0;
       for (int g : group) largest = std::max(largest, spread(c, g));
       if (best < 0 || largest < best_spread) {
@@ -122,6 +124,10 @@ std::vector<Trial> DrawTrials(const Recording& truth, const EvaluationOptions& o
                               std::vector<std::int64_t>* lengths) {
   const Eigen::MatrixXd spread =
       options.markers_per_gap > 1 ? DistanceSpreads(truth) : Eigen::MatrixXd();
+  std::vector<int> markers;  // the points that may be hidden
+  for (int m = 0; m < truth.markers(); ++m) {
+    if (truth.is_marker(m)) markers.push_back(m);
+  }
   SplitMix64 rng(options.seed);
   std::vector<Trial> trials;
   for (std::size_t g = 0; g < options.gap_seconds.size(); ++g) {
@@ -130,13 +136,14 @@ std::vector<Trial> DrawTrials(const Recording& truth, const EvaluationOptions& o
     const auto [lowest, positions] = GapPositions(truth, options, g, length);
     lengths->push_back(length);
     for (int t = 0; t < options.trials; ++t) {
-      const auto marker = static_cast<int>(rng.Uniform01() * truth.markers());
+      const int marker =
+          markers[static_cast<std::size_t>(rng.Uniform01() * static_cast<double>(markers.size()))];
       const auto first =
           lowest + static_cast<std::int64_t>(rng.Uniform01() * static_cast<double>(positions));
       Trial trial{g, t, {}};
-      const std::vector<int> group = options.markers_per_gap > 1
-                                         ? ChooseGroup(spread, marker, options.markers_per_gap)
-                                         : std::vector<int>{marker};
+      const std::vector<int> group =
+          options.markers_per_gap > 1 ? ChooseGroup(truth, spread, marker, options.markers_per_gap)
+                                      : std::vector<int>{marker};
       for (int m : group) trial.gaps.push_back(Gap{m, first, first + length - 1});
       trials.push_back(std::move(trial));
     }

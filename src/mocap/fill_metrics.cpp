@@ -218,7 +218,7 @@ RigidPartners FindRigidPartners(const Recording& observed, int marker, int count
   std::vector<std::pair<double, int>> order;
   std::vector<DistanceStatistics> stats(static_cast<std::size_t>(observed.markers()));
   for (int c = 0; c < observed.markers(); ++c) {
-    if (c == marker) continue;
+    if (c == marker || !observed.is_marker(c)) continue;
     stats[static_cast<std::size_t>(c)] = MarkerDistanceStatistics(observed, marker, c);
     if (stats[static_cast<std::size_t>(c)].frames >= std::max(1, min_frames)) {
       order.emplace_back(stats[static_cast<std::size_t>(c)].sd, c);

@@ -42,7 +42,10 @@ std::optional<double> MeanDistance(const Recording& in, int a, int b) {
 PcaMarkers ChooseMarkers(const Recording& in, const Gap& gap, const PcaFillOptions& o) {
   PcaMarkers all;
   for (int c = 0; c < in.markers(); ++c) {
-    if (c == gap.marker || !internal::ObservedThroughout(in, c, gap.first, gap.last)) continue;
+    if (c == gap.marker || !in.is_marker(c) ||
+        !internal::ObservedThroughout(in, c, gap.first, gap.last)) {
+      continue;
+    }
     if (auto d = MeanDistance(in, gap.marker, c)) {
       all.markers.push_back(c);
       all.distance.push_back(*d);

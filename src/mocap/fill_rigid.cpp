@@ -51,7 +51,8 @@ std::optional<double> DistanceSpread(const Recording& in, int a, int b, int min_
 std::vector<int> ChooseDonors(const Recording& in, const Gap& gap, const RigidFillOptions& o) {
   std::vector<std::pair<double, int>> candidates;
   for (int c = 0; c < in.markers(); ++c) {
-    if (c == gap.marker || !internal::ObservedThroughout(in, c, gap.first - 1, gap.last + 1)) {
+    if (c == gap.marker || !in.is_marker(c) ||
+        !internal::ObservedThroughout(in, c, gap.first - 1, gap.last + 1)) {
       continue;
     }
     if (auto spread = DistanceSpread(in, gap.marker, c, o.min_common_frames)) {

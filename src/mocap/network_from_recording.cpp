@@ -42,7 +42,7 @@ std::vector<PairStats> MeasurePairs(const Recording& rec) {
   for (std::int64_t f = 0; f < rec.frames(); ++f) {
     seen.clear();
     for (int k = 0; k < m; ++k) {
-      if (rec.observed(f, k)) seen.push_back(k);
+      if (rec.observed(f, k) && rec.is_marker(k)) seen.push_back(k);
     }
     for (std::size_t i = 0; i < seen.size(); ++i) {
       for (std::size_t j = i + 1; j < seen.size(); ++j) {
@@ -159,6 +159,13 @@ MarkerNetwork BuildMarkerNetwork(const Recording& rec, const MarkerNetworkOption
       if (a < 0 || b < 0) {
         throw InputError(fmt::format("{}: unknown marker label '{}'", key,
                                      a < 0 ? o.springs[i].first : o.springs[i].second));
+      }
+      for (const int point : {a, b}) {
+        if (!rec.is_marker(point)) {
+          throw InputError(fmt::format("{}: '{}' is a model output ({}), not a marker", key,
+                                       rec.labels()[static_cast<std::size_t>(point)],
+                                       ToString(rec.type(point))));
+        }
       }
       if (a == b)
         throw InputError(fmt::format("{}: joins marker '{}' to itself", key, o.springs[i].first));

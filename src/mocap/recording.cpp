@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -16,6 +17,17 @@ double MetresPerUnit(std::string_view units) {
   throw InputError(fmt::format("units must be mm, cm or m (got '{}')", units));
 }
 
+std::string_view ToString(PointType type) {
+  static constexpr std::array<std::string_view, kPointTypeCount> kNames = {
+      "marker", "angle", "force", "moment", "power", "scalar", "reaction"};
+  return kNames.at(static_cast<std::size_t>(type));
+}
+
+std::array<PointType, kPointTypeCount> AllPointTypes() {
+  return {PointType::kMarker, PointType::kAngle,  PointType::kForce,   PointType::kMoment,
+          PointType::kPower,  PointType::kScalar, PointType::kReaction};
+}
+
 bool IsLengthUnit(std::string_view units) { return units == "mm" || units == "cm" || units == "m"; }
 
 Recording::Recording(std::vector<std::string> labels, std::int64_t frames, double rate,
@@ -27,6 +39,7 @@ Recording::Recording(std::vector<std::string> labels, std::int64_t frames, doubl
   }
   (void)MetresPerUnit(units_);
   descriptions_.assign(labels_.size(), "");
+  types_.assign(labels_.size(), PointType::kMarker);
   const auto samples = static_cast<std::size_t>(frames) * labels_.size();
   positions_.assign(3 * samples, std::numeric_limits<double>::quiet_NaN());
   observed_.assign(samples, 0);
@@ -56,10 +69,28 @@ int Recording::FindMarker(std::string_view label) const {
   return -1;
 }
 
+int Recording::CountPoints(PointType type) const {
+  return static_cast<int>(std::count(types_.begin(), types_.end(), type));
+}
+
+const std::string& Recording::type_units(PointType type) const {
+  return type == PointType::kMarker ? units_ : type_units_[static_cast<std::size_t>(type)];
+}
+
+void Recording::set_type_units(PointType type, std::string units) {
+  if (type == PointType::kMarker) {
+    throw InputError("the units of markers are the recording's units; set them by ConvertUnits");
+  }
+  type_units_[static_cast<std::size_t>(type)] = std::move(units);
+}
+
 void Recording::ConvertUnits(std::string_view units) {
   const double factor = MetresPerUnit(units_) / MetresPerUnit(units);
   if (factor != 1.0) {
-    for (double& v : positions_) v *= factor;  // NaN stays NaN
+    for (std::size_t i = 0; i < positions_.size(); ++i) {
+      const std::size_t point = (i / 3) % labels_.size();
+      if (types_[point] == PointType::kMarker) positions_[i] *= factor;  // NaN stays NaN
+    }
   }
   units_ = std::string(units);
 }
@@ -73,6 +104,7 @@ std::int64_t Recording::ObservedCount(int marker) const {
 std::vector<Gap> FindGaps(const Recording& recording) {
   std::vector<Gap> gaps;
   for (int m = 0; m < recording.markers(); ++m) {
+    if (!recording.is_marker(m)) continue;
     std::int64_t f = 0;
     while (f < recording.frames()) {
       if (recording.observed(f, m)) {
@@ -97,6 +129,11 @@ void CheckGaps(const Recording& recording, const std::vector<Gap>& gaps) {
     if (gap.marker < 0 || gap.marker >= recording.markers()) {
       throw InputError(fmt::format("{}: marker out of range (the recording has {} markers)",
                                    where(), recording.markers()));
+    }
+    if (!recording.is_marker(gap.marker)) {
+      throw InputError(fmt::format("{}: point '{}' is a model output ({}), not a marker", where(),
+                                   recording.labels()[static_cast<std::size_t>(gap.marker)],
+                                   ToString(recording.type(gap.marker))));
     }
     if (gap.first < 0 || gap.last < gap.first || gap.last >= recording.frames()) {
       throw InputError(

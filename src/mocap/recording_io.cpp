@@ -63,15 +63,25 @@ void WriteRecording(const Recording& recording, const std::filesystem::path& pat
 
 RecordingInventory TakeInventory(const Recording& r, std::vector<std::string> warnings) {
   RecordingInventory inv;
-  inv.markers = r.markers();
+  for (const PointType type : AllPointTypes()) {
+    inv.point_counts[static_cast<std::size_t>(type)] = r.CountPoints(type);
+  }
+  inv.markers = r.CountPoints(PointType::kMarker);
   inv.frames = r.frames();
   inv.first_frame = r.first_frame();
   inv.rate = r.rate();
   inv.duration_seconds = r.rate() > 0.0 ? static_cast<double>(r.frames()) / r.rate() : 0.0;
   inv.units = r.units();
   inv.format = r.format();
-  inv.labels = r.labels();
-  for (int m = 0; m < r.markers(); ++m) inv.observed_samples.push_back(r.ObservedCount(m));
+  for (int m = 0; m < r.markers(); ++m) {
+    const std::string& label = r.labels()[static_cast<std::size_t>(m)];
+    if (r.is_marker(m)) {
+      inv.labels.push_back(label);
+      inv.observed_samples.push_back(r.ObservedCount(m));
+    } else {
+      inv.model_outputs.push_back({label, r.type(m), r.type_units(r.type(m)), r.ObservedCount(m)});
+    }
+  }
   for (const Gap& g : FindGaps(r)) {
     inv.gaps.push_back({r.labels()[static_cast<std::size_t>(g.marker)], g.first, g.last, g.length(),
                         static_cast<double>(g.length()) / r.rate()});
@@ -91,6 +101,17 @@ nlohmann::json RecordingInventory::ToJson() const {
   }
   std::int64_t observed = 0;
   for (std::int64_t n : observed_samples) observed += n;
+  nlohmann::json types = nlohmann::json::object();
+  for (const PointType type : AllPointTypes()) {
+    types[std::string(ToString(type))] = point_counts[static_cast<std::size_t>(type)];
+  }
+  nlohmann::json outputs = nlohmann::json::array();
+  for (const ModelOutputRow& o : model_outputs) {
+    outputs.push_back({{"label", o.label},
+                       {"type", ToString(o.type)},
+                       {"units", o.units},
+                       {"observed_samples", o.observed_samples}});
+  }
   return {{"markers", markers},
           {"frames", frames},
           {"first_frame", first_frame},
@@ -108,6 +129,8 @@ nlohmann::json RecordingInventory::ToJson() const {
           {"observed_samples", observed_samples},
           {"missing_samples", frames * markers - observed},
           {"gaps", gap_rows},
+          {"point_types", types},
+          {"model_outputs", outputs},
           {"warnings", warnings}};
 }
 

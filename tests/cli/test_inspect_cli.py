@@ -52,3 +52,19 @@ def test_inspect_missing_file_and_wrong_extension_exit_2(tmp_path):
         r = run_cli("inspect", path)
         assert r.returncode == 2, r.stderr
         assert str(path) in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_inspect_counts_model_outputs_apart_from_markers():
+    r = run_cli("inspect", DATA / "PlugInC3D.c3d", "--json")
+    assert r.returncode == 0, r.stderr
+    inv = json.loads(r.stdout)
+    assert inv["markers"] == 54 and len(inv["labels"]) == 54
+    outputs = inv["model_outputs"]
+    assert len(outputs) == 32
+    types = inv["point_types"]
+    assert types["marker"] == 54 and sum(types.values()) == 86
+    for name in ("angle", "force", "moment", "power", "scalar", "reaction"):
+        assert types[name] == sum(o["type"] == name for o in outputs)
+    assert all(g["marker"] in inv["labels"] for g in inv["gaps"])
+    text = run_cli("inspect", DATA / "PlugInC3D.c3d").stdout
+    assert "  markers: 54\n" in text and f"  model outputs: 32 (angles {types['angle']}," in text

@@ -387,3 +387,25 @@ def test_evaluate_gaps_bad_settings_exit_2_and_write_nothing(tmp_path, extra, wo
 def test_evaluate_gaps_needs_a_complete_recording(tmp_path):
     assert_rejected(["evaluate-gaps", DATA / "Vicon.c3d", "--trials", 2], tmp_path / "out",
                     "complete")
+
+
+def test_fill_gaps_fills_markers_only_and_keeps_model_outputs(tmp_path):
+    source = json.loads(run_cli("inspect", DATA / "PlugInC3D.c3d", "--json").stdout)
+    out = tmp_path / "out"
+    r = run_cli("fill-gaps", DATA / "PlugInC3D.c3d", "--method", "linear", "--out", out)
+    assert r.returncode == 0, r.stderr
+    report = json.loads((out / "report.json").read_text())
+    assert report["markers"] == 54
+    assert report["gaps"] and all(g["label"] in source["labels"] for g in report["gaps"])
+    filled = json.loads(run_cli("inspect", out / "filled.c3d", "--json").stdout)
+    assert filled["point_types"] == source["point_types"]
+    assert filled["model_outputs"] == source["model_outputs"]
+    points = read_csv_points(out / "filled.csv")
+    for o in source["model_outputs"]:
+        rows = [points[(f, o["label"])] for f in range(source["frames"])]
+        assert sum(p is not None for p in rows) == o["observed_samples"]
+    angle = next(o["label"] for o in source["model_outputs"] if o["type"] == "angle")
+    gaps = tmp_path / "gaps.csv"
+    gaps.write_text(f"marker,first_frame,last_frame\n{angle},10,12\n")
+    assert_rejected(["fill-gaps", DATA / "PlugInC3D.c3d", "--gaps", gaps], tmp_path / "rejected",
+                    "model output", "angle")

@@ -51,7 +51,7 @@ nlohmann::json EvaluationSummaryJson(const EvaluateGapsSettings& settings,
   nlohmann::json j = summary.ToJson();
   j.erase("rows");
   j["input"] = input;
-  j["markers"] = recording.markers();
+  j["markers"] = recording.CountPoints(mocap::PointType::kMarker);
   j["frames"] = recording.frames();
   j["rate"] = recording.rate();
   j["settings"] = EchoEvaluateGapsSettings(settings);

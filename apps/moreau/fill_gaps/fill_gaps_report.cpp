@@ -24,7 +24,7 @@ nlohmann::json FillGapsReportJson(const FillGapsSettings& settings, const FillGa
   j["units"] = r.units();
   j["rate"] = r.rate();
   j["frames"] = r.frames();
-  j["markers"] = r.markers();
+  j["markers"] = r.CountPoints(mocap::PointType::kMarker);
   j["samples_deleted"] = result.samples_deleted;
   for (std::size_t i = 0; i < result.errors.size(); ++i) {
     const auto& error = result.errors[i];

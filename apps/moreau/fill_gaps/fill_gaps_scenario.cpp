@@ -85,6 +85,11 @@ mocap::Gap ParseGapLine(const std::vector<std::string_view>& fields,
     }
     gap.marker = static_cast<int>(index);
   }
+  if (!recording.is_marker(gap.marker)) {
+    FailAt(where, "marker",
+           fmt::format("'{}' is a model output ({}), not a marker", fields[0],
+                       ToString(recording.type(gap.marker))));
+  }
   const std::int64_t last_frame = recording.frames() - 1;
   const char* names[] = {"first_frame", "last_frame"};
   std::int64_t frames[2] = {0, 0};

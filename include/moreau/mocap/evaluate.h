@@ -125,7 +125,8 @@ struct EvaluationSummary {
   nlohmann::json ToJson() const;
 };
 
-// Runs the protocol on `truth`, which must be complete (every sample observed), long enough for
+// Runs the protocol on `truth`, whose markers must be complete (every sample observed; points of
+// other types are never hidden, partners or donors and may have holes), long enough for
 // the longest gap plus the margins, with at least markers_per_gap markers and a rate above
 // 2 filter_hz. Throws InputError otherwise or for invalid options.
 EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOptions& options);

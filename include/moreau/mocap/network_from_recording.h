@@ -1,11 +1,12 @@
 // A mass–spring–damper network built from a recording: the model the optimal-control gap fill
 // steers (include/moreau/mocap/ocp_fill.h).
 //
-// Nodes are markers. For every pair of markers seen together in at least `min_common_frames`
-// frames the distance d_ab(f) is measured over those frames: mean, spread (standard deviation),
-// minimum and maximum. Each marker is joined to its `partners` most rigid partners (smallest
-// spread; a pair is a spring once, whichever end chose it), so a marker usually has more springs
-// than it chose. Rest-length bounds come from the observed range with a margin:
+// Nodes are markers (points of other types, recording.h, get no spring). For every pair of
+// markers seen together in at least `min_common_frames` frames the distance d_ab(f) is measured
+// over those frames: mean, spread (standard deviation), minimum and maximum. Each marker is joined
+// to its `partners` most rigid partners (smallest spread; a pair is a spring once, whichever end
+// chose it), so a marker usually has more springs than it chose. Rest-length bounds come from the
+// observed range with a margin:
 //   L− = max(0, d_min − m),  L+ = d_max + m,  m = bound_margin (d_max − d_min) + bound_floor
 //   d_mean.
 // Dynamics (units: the recording's length unit, seconds, unit

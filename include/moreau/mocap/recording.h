@@ -1,4 +1,11 @@
-// A motion-capture recording: M labelled markers sampled at F frames, with holes.
+// A motion-capture recording: M labelled points sampled at F frames, with holes.
+//
+// Points. Most points are markers (positions in `units`); a C3D file may also store model outputs
+// as points: joint angles, forces, moments, powers, scalars and ground reactions, named in its
+// POINT:ANGLES, FORCES, MOMENTS, POWERS, SCALARS and REACTIONS lists. Each point has a PointType
+// (markers unless set otherwise); marker work (gaps, fills, springs, donors, evaluation) uses
+// markers only and carries the other points through unchanged. markers() counts every point, so
+// that an index is a point index; CountPoints(PointType::kMarker) counts the markers.
 //
 // Positions are stored frame-major: marker m at frame f is the three doubles at
 // (f·M + m)·3 … (f·M + m)·3 + 2, in the recording's units (`units`). A sample is either observed
@@ -7,6 +14,7 @@
 // frame number of frame f is first_frame + f.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -16,6 +24,15 @@
 #include <Eigen/Core>
 
 namespace moreau::mocap {
+
+// What a point of a recording is. Only markers are positions in the recording's units.
+enum class PointType { kMarker, kAngle, kForce, kMoment, kPower, kScalar, kReaction };
+inline constexpr int kPointTypeCount = 7;
+
+// "marker", "angle", "force", "moment", "power", "scalar", "reaction".
+std::string_view ToString(PointType type);
+// Every type, in the order above.
+std::array<PointType, kPointTypeCount> AllPointTypes();
 
 // Where a recording came from, as far as its file says (for `moreau inspect` and round trips).
 struct SourceFormat {
@@ -43,6 +60,17 @@ class Recording {
   const std::vector<std::string>& descriptions() const { return descriptions_; }
   std::int64_t first_frame() const { return first_frame_; }
   void set_first_frame(std::int64_t first) { first_frame_ = first; }
+  // The type of point `point` (kMarker unless set).
+  PointType type(int point) const { return types_[static_cast<std::size_t>(point)]; }
+  bool is_marker(int point) const { return type(point) == PointType::kMarker; }
+  void set_type(int point, PointType type) { types_.at(static_cast<std::size_t>(point)) = type; }
+  const std::vector<PointType>& types() const { return types_; }
+  // The number of points of this type.
+  int CountPoints(PointType type) const;
+  // The units of the points of a type as the file states them ("deg", "N", "Nmm", …): units()
+  // for markers, empty when not stated.
+  const std::string& type_units(PointType type) const;
+  void set_type_units(PointType type, std::string units);
   SourceFormat& format() { return format_; }
   const SourceFormat& format() const { return format_; }
 
@@ -60,7 +88,8 @@ class Recording {
 
   // Index of the marker with this label, or -1.
   int FindMarker(std::string_view label) const;
-  // Converts positions and units to "mm", "cm" or "m" (InputError for another unit).
+  // Converts the markers' positions and units() to "mm", "cm" or "m" (InputError for another
+  // unit); the other points are left as they are.
   void ConvertUnits(std::string_view units);
   // Number of observed samples of one marker.
   std::int64_t ObservedCount(int marker) const;
@@ -79,6 +108,8 @@ class Recording {
   std::int64_t frames_ = 0;
   double rate_ = 0.0;
   std::string units_ = "mm";
+  std::vector<PointType> types_;
+  std::array<std::string, kPointTypeCount> type_units_;  // by PointType; [kMarker] unused
   std::int64_t first_frame_ = 1;
   SourceFormat format_;
   std::vector<double> positions_;       // frames · markers · 3
@@ -99,14 +130,14 @@ struct Gap {
   std::int64_t length() const { return last - first + 1; }
 };
 
-// Every gap of every marker, ordered by marker, then first frame. A marker never observed gives
-// one gap over the whole recording.
+// Every gap of every marker (points of other types have none), ordered by marker, then first
+// frame. A marker never observed gives one gap over the whole recording.
 std::vector<Gap> FindGaps(const Recording& recording);
 
 // The one check of a list of gaps against `recording`, shared by every fill: throws InputError
 // "gaps[i] (marker m, frames first…last): why" when a gap's marker is not one of the
-// recording's, its frames are not inside the recording or first > last, or one of its samples
-// is observed.
+// recording's markers (an index out of range or a point of another type), its frames are not
+// inside the recording or first > last, or one of its samples is observed.
 void CheckGaps(const Recording& recording, const std::vector<Gap>& gaps);
 
 }  // namespace moreau::mocap

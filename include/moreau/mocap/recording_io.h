@@ -66,7 +66,9 @@ void WriteRecording(const Recording& recording, const std::filesystem::path& pat
 
 // C3D, Intel processor, float storage, no analog data: POINT:USED/SCALE(−1)/RATE/UNITS/FRAMES/
 // DATA_START, LABELS (LABELS2, LABELS3, … beyond 255 markers) and DESCRIPTIONS likewise, and
-// TRIAL:ACTUAL_START_FIELD/ACTUAL_END_FIELD. More than 65535 frames: the header's last frame
+// TRIAL:ACTUAL_START_FIELD/ACTUAL_END_FIELD; for model outputs (recording.h) POINT:ANGLES,
+// FORCES, MOMENTS, POWERS, SCALARS, REACTIONS (the labels of each type present) and ANGLE_UNITS, …
+// (each type's units the recording states). More than 65535 frames: the header's last frame
 // saturates at 65535, POINT:FRAMES is a float and the TRIAL fields hold the true range. Missing
 // samples have residual −1 and coordinates 0.
 void WriteC3d(const Recording& recording, const std::filesystem::path& path);
