@@ -241,6 +241,9 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
     return finish(Termination::kDiverged,
                   fmt::format("the initial guess has residual {:.3e}", norm));
   }
+  // After a step, the line search's F(y) is the residual; the Jacobian is evaluated only when
+  // another step follows (F from EvaluateResidual and EvaluateResidualAndJacobian is the same).
+  bool have_jacobian = true;
   for (int it = 0;; ++it) {
     if (norm <= options.residual_tolerance) {
       return finish(Termination::kConverged, "");
@@ -249,6 +252,12 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
       return finish(Termination::kMaxIterations,
                     fmt::format("residual {:.3e} > tolerance {:.1e} after {} iterations", norm,
                                 options.residual_tolerance, it));
+    }
+    if (!have_jacobian) {
+      phase.Restart();
+      EvaluateResidualAndJacobian(disc, y, ws, residual);
+      summary.residual_jacobian_seconds += phase.Seconds();
+      have_jacobian = true;
     }
     phase.Restart();
     const bool ok = solver->Factorize(disc, ws.jacobian);
@@ -275,11 +284,11 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
                                 it + 1, norm));
     }
     y.swap(trial);
+    residual.swap(trial_residual);
+    norm = residual.lpNorm<Eigen::Infinity>();  // finite: the line search accepted it
+    have_jacobian = false;
     ++summary.iterations;
     summary.step_lengths.push_back(alpha);
-    phase.Restart();
-    norm = EvaluateResidualAndJacobian(disc, y, ws, residual);
-    summary.residual_jacobian_seconds += phase.Seconds();
     summary.residual_norms.push_back(norm);
     if (!std::isfinite(norm) || norm > options.divergence_threshold) {
       return finish(Termination::kDiverged,
