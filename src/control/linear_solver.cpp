@@ -166,7 +166,7 @@ bool RiccatiSolver::Factorize(const PontryaginDiscretization& disc,
   v_.resize(N);
   order_ = SplitOrder(disc);
   alpha_ = disc.dt();
-  split_ = n_ % 2 == 0 && static_cast<int>(order_.size()) == n_ &&
+  split_ = n_ >= kSplitMinStateSize && n_ % 2 == 0 && static_cast<int>(order_.size()) == n_ &&
            HasSplitStructure(jacobian, order_, alpha_);
   if (split_) return FactorizeSplit();
   p_[N] = jacobian.G.asDiagonal();
