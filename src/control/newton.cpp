@@ -243,7 +243,6 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
   }
   // After a step, the line search's F(y) is the residual; the Jacobian is evaluated only when
   // another step follows (F from EvaluateResidual and EvaluateResidualAndJacobian is the same).
-  bool have_jacobian = true;
   for (int it = 0;; ++it) {
     if (norm <= options.residual_tolerance) {
       return finish(Termination::kConverged, "");
@@ -253,11 +252,10 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
                     fmt::format("residual {:.3e} > tolerance {:.1e} after {} iterations", norm,
                                 options.residual_tolerance, it));
     }
-    if (!have_jacobian) {
+    if (it > 0) {
       phase.Restart();
       EvaluateResidualAndJacobian(disc, y, ws, residual);
       summary.residual_jacobian_seconds += phase.Seconds();
-      have_jacobian = true;
     }
     phase.Restart();
     const bool ok = solver->Factorize(disc, ws.jacobian);
@@ -286,7 +284,6 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
     y.swap(trial);
     residual.swap(trial_residual);
     norm = residual.lpNorm<Eigen::Infinity>();  // finite: the line search accepted it
-    have_jacobian = false;
     ++summary.iterations;
     summary.step_lengths.push_back(alpha);
     summary.residual_norms.push_back(norm);
