@@ -241,6 +241,8 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
     return finish(Termination::kDiverged,
                   fmt::format("the initial guess has residual {:.3e}", norm));
   }
+  // After a step, the line search's F(y) is the residual; the Jacobian is evaluated only when
+  // another step follows (F from EvaluateResidual and EvaluateResidualAndJacobian is the same).
   for (int it = 0;; ++it) {
     if (norm <= options.residual_tolerance) {
       return finish(Termination::kConverged, "");
@@ -249,6 +251,11 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
       return finish(Termination::kMaxIterations,
                     fmt::format("residual {:.3e} > tolerance {:.1e} after {} iterations", norm,
                                 options.residual_tolerance, it));
+    }
+    if (it > 0) {
+      phase.Restart();
+      EvaluateResidualAndJacobian(disc, y, ws, residual);
+      summary.residual_jacobian_seconds += phase.Seconds();
     }
     phase.Restart();
     const bool ok = solver->Factorize(disc, ws.jacobian);
@@ -275,11 +282,10 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
                                 it + 1, norm));
     }
     y.swap(trial);
+    residual.swap(trial_residual);
+    norm = residual.lpNorm<Eigen::Infinity>();  // finite: the line search accepted it
     ++summary.iterations;
     summary.step_lengths.push_back(alpha);
-    phase.Restart();
-    norm = EvaluateResidualAndJacobian(disc, y, ws, residual);
-    summary.residual_jacobian_seconds += phase.Seconds();
     summary.residual_norms.push_back(norm);
     if (!std::isfinite(norm) || norm > options.divergence_threshold) {
       return finish(Termination::kDiverged,

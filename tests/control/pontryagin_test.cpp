@@ -87,24 +87,35 @@ TEST_P(ControlPontryaginByDimension, RiccatiSolveAgreesWithSparseLu) {
   const int d = GetParam();
   std::mt19937 rng(5000 + d);
   for (int steps : {1, 7, 60}) {
-    const TrackingProblem problem = RandomProblem(d, 4, 2, 0.2, rng, true);
+    // 4 free nodes: n_z = 8, 16, 24 (the split path at d = 3); 5 in d = 2 (n_z = 20, split).
+    const TrackingProblem problem =
+        RandomProblem(d, d == 2 && steps == 60 ? 5 : 4, 2, 0.2, rng, true);
     const PontryaginDiscretization disc(problem, steps);
     const Eigen::VectorXd y = RandomUnknowns(disc, rng);
     PontryaginWorkspace ws;
     Eigen::VectorXd f;
     EvaluateResidualAndJacobian(disc, y, ws, f);
     const Eigen::VectorXd rhs = RandomVector(y.size(), 1.0, rng);
-    RiccatiSolver riccati;
-    SparseLuSolver lu;
-    ASSERT_TRUE(riccati.Factorize(disc, ws.jacobian));
-    ASSERT_TRUE(lu.Factorize(disc, ws.jacobian));
-    Eigen::VectorXd x1, x2;
-    riccati.Solve(rhs, x1);
-    lu.Solve(rhs, x2);
-    EXPECT_LT((x1 - x2).norm() / x2.norm(), 1e-10) << "N = " << steps;
-    // And it really solves the system.
-    const Eigen::SparseMatrix<double> jac = AssembleSparseJacobian(disc, ws.jacobian);
-    EXPECT_LT((jac * x1 - rhs).norm() / rhs.norm(), 1e-10);
+    // The scheme's Jacobian (split path), then one whose B_0 has a position entry and whose A_0
+    // has a position row other than [I, Δt I] (the general path).
+    for (bool split : {true, false}) {
+      if (!split) {
+        ws.jacobian.B[0](0, 0) = -0.1;
+        ws.jacobian.A[0](0, 1) = 0.05;
+      }
+      RiccatiSolver riccati;
+      SparseLuSolver lu;
+      ASSERT_TRUE(riccati.Factorize(disc, ws.jacobian));
+      EXPECT_EQ(riccati.split(), split && disc.state_size() >= RiccatiSolver::kSplitMinStateSize);
+      ASSERT_TRUE(lu.Factorize(disc, ws.jacobian));
+      Eigen::VectorXd x1, x2;
+      riccati.Solve(rhs, x1);
+      lu.Solve(rhs, x2);
+      EXPECT_LT((x1 - x2).norm() / x2.norm(), 1e-10) << "N = " << steps << ", split " << split;
+      // And it really solves the system.
+      const Eigen::SparseMatrix<double> jac = AssembleSparseJacobian(disc, ws.jacobian);
+      EXPECT_LT((jac * x1 - rhs).norm() / rhs.norm(), 1e-10);
+    }
   }
 }
 
