@@ -45,7 +45,7 @@ std::ptrdiff_t Offset(M Agent::*member) {
 // One field of every agent as an (N,) view (or (N, k) for the polarity).
 template <typename M>
 py::array AgentField(Population& p, M Agent::*member, py::handle owner, bool writable) {
-  const std::span<Agent> agents = p.View().agents;
+  const std::span<Agent> agents = p.MutableAgents();
   auto* base = reinterpret_cast<char*>(agents.data()) + Offset(member);
   constexpr auto stride = static_cast<py::ssize_t>(sizeof(Agent));
   const auto n = static_cast<py::ssize_t>(agents.size());
@@ -236,7 +236,7 @@ void BindViews(py::class_<Population>& c) {
           "variable",
           [](py::object self, const std::string& name) {
             Population& p = self.cast<Population&>();
-            std::span<double> v = p.View().variables.at(p.VariableIndex(name));
+            const std::span<double> v = p.MutableVariable(p.VariableIndex(name));
             return View(v.data(), {static_cast<py::ssize_t>(v.size())}, {}, self, true);
           },
           py::arg("name"), "(N,) writable view of the user variable `name`.");

@@ -267,6 +267,9 @@ class Population {
   void SetRule(UserRule rule) { rule_ = std::move(rule); }
   // The view user code gets, over this population's own storage (valid until the next step).
   PopulationView View();
+  // Its agents and a user variable alone (no copy of the positions), for bindings' views.
+  std::span<Agent> MutableAgents() { return agents_; }
+  std::span<double> MutableVariable(std::size_t index) { return variables_.at(index); }
   const Engine& engine() const { return engine_; }
   int count() const { return static_cast<int>(agents_.size()); }
   // The observables now (one pass over the candidate pairs for the contacts).
