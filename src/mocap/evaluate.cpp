@@ -13,6 +13,7 @@
 #include "moreau/common/random.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
+#include "moreau/mocap/complete_part.h"
 
 namespace moreau::mocap {
 
@@ -28,17 +29,22 @@ struct Trial {
   std::vector<Gap> gaps;
 };
 
-void CheckComplete(const Recording& truth) {
+// The first marker sample missing in `truth`, as (frame, marker), or (−1, −1).
+std::pair<std::int64_t, int> FirstMissing(const Recording& truth) {
   for (std::int64_t f = 0; f < truth.frames(); ++f) {
     for (int m = 0; m < truth.markers(); ++m) {
-      if (truth.is_marker(m) && !truth.observed(f, m)) {
-        throw InputError(
-            fmt::format("evaluation: the recording must be complete, but marker '{}' "
-                        "is missing at frame {}",
-                        truth.labels()[static_cast<std::size_t>(m)], f));
-      }
+      if (truth.is_marker(m) && !truth.observed(f, m)) return {f, m};
     }
   }
+  return {-1, -1};
+}
+
+// Frames a part needs for the longest gap and its margins (GapPositions).
+std::int64_t PartFrames(const Recording& truth, const EvaluationOptions& options) {
+  const std::int64_t margin = options.fill.baseline.interpolation.samples_per_side;
+  const double longest = *std::max_element(options.gap_seconds.begin(), options.gap_seconds.end());
+  const std::int64_t length = std::max<std::int64_t>(1, std::llround(longest * truth.rate()));
+  return length + (options.placement == GapPlacement::kInterior ? 2 : 1) * margin;
 }
 
 // The options that depend on the recording: the filter below its Nyquist frequency, enough
@@ -186,7 +192,7 @@ EvaluationRow MeasureRow(const Recording& truth, const Recording& filled, const 
 // truth on entry and on return; in between the hidden markers' samples are cleared, and set to a
 // method's fills while they are measured.
 void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
-                   const EvaluationOptions& options, EvaluationRow* rows) {
+                   const EvaluationOptions& options, EvaluationRow* rows, double* seconds) {
   for (const Gap& gap : trial.gaps) {
     for (std::int64_t f = gap.first; f <= gap.last; ++f) work.ClearPoint(f, gap.marker);
   }
@@ -198,7 +204,9 @@ void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
   for (std::size_t k = 0; k < options.methods.size(); ++k) {
     GapFillOptions fill_options = options.fill;
     fill_options.method = options.methods[k];
+    const Stopwatch fill_time;
     const std::vector<GapFill> fills = FillGapList(work, trial.gaps, fill_options);
+    seconds[k] = fill_time.Seconds();
     const auto each_filled = [&](const auto& apply) {
       for (std::size_t j = 0; j < k_markers; ++j) {
         if (fills[j].status != GapStatus::kFilled) continue;
@@ -225,10 +233,11 @@ void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
 
 }  // namespace
 
-EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOptions& options) {
+namespace {
+
+// The protocol on a complete recording.
+EvaluationSummary EvaluateComplete(const Recording& truth, const EvaluationOptions& options) {
   const Stopwatch total;
-  options.Validate();
-  CheckComplete(truth);
   CheckAgainstRecording(truth, options);
   std::vector<std::int64_t> lengths;
   const std::vector<Trial> trials = DrawTrials(truth, options, &lengths);
@@ -239,6 +248,7 @@ EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOp
   summary.settings = options;
   summary.units = truth.units();
   summary.rows.resize(trials.size() * per_trial);
+  std::vector<double> seconds(trials.size() * options.methods.size());
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   const auto n_trials = static_cast<std::int64_t>(trials.size());
 #pragma omp parallel num_threads(threads)
@@ -247,8 +257,13 @@ EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOp
 #pragma omp for schedule(dynamic)
     for (std::int64_t i = 0; i < n_trials; ++i) {
       EvaluateTrial(truth, work, trials[static_cast<std::size_t>(i)], options,
-                    &summary.rows[static_cast<std::size_t>(i) * per_trial]);
+                    &summary.rows[static_cast<std::size_t>(i) * per_trial],
+                    &seconds[static_cast<std::size_t>(i) * options.methods.size()]);
     }
+  }
+  summary.method_seconds.assign(options.methods.size(), 0.0);
+  for (std::size_t i = 0; i < seconds.size(); ++i) {
+    summary.method_seconds[i % options.methods.size()] += seconds[i];
   }
   summary.statistics = internal::EvaluationStatisticsOf(summary.rows, options, lengths);
   summary.message = fmt::format("{} methods × {} gap lengths × {} trials", options.methods.size(),
@@ -257,6 +272,35 @@ EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOp
     summary.message += fmt::format(" × {} markers", options.markers_per_gap);
   }
   summary.total_seconds = total.Seconds();
+  return summary;
+}
+
+}  // namespace
+
+EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOptions& options) {
+  options.Validate();
+  const auto [frame, marker] = FirstMissing(truth);
+  if (marker < 0) return EvaluateComplete(truth, options);
+  const std::string& label = truth.labels()[static_cast<std::size_t>(marker)];
+  if (!options.complete_part) {
+    throw InputError(
+        fmt::format("evaluation: the recording must be complete, but marker '{}' "
+                    "is missing at frame {} (evaluation.complete_part is false)",
+                    label, frame));
+  }
+  const CompletePart part = FindCompletePart(truth, PartFrames(truth, options));
+  if (static_cast<int>(part.markers.size()) < std::max(2, options.markers_per_gap)) {
+    throw InputError(fmt::format(
+        "evaluation: the recording has holes (marker '{}' is missing at frame {}) and no {} "
+        "frames hold {} complete markers",
+        label, frame, PartFrames(truth, options), std::max(2, options.markers_per_gap)));
+  }
+  EvaluationSummary summary = EvaluateComplete(ExtractPart(truth, part), options);
+  for (EvaluationRow& row : summary.rows) {
+    row.marker = part.markers[static_cast<std::size_t>(row.marker)];
+    row.first_frame += part.first;
+  }
+  summary.complete_part = part.ToJson(truth);
   return summary;
 }
 

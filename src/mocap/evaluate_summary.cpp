@@ -100,7 +100,9 @@ const FieldList<EvaluationOptions>& EvaluationOptions::Fields() {
         .Choice("placement", &O::placement, GapPlacementNameTable(),
                 "where gaps lie: interior, at the take's start or end, or anywhere")
         .Integer("distance_partners", &O::distance_partners, Range::AtLeast(1), "",
-                 "most rigid partners of the distance deviation");
+                 "most rigid partners of the distance deviation")
+        .Flag("complete_part", &O::complete_part,
+              "evaluate a recording with holes on its complete part (false: refuse it)");
     return t;
   }();
   return list;
@@ -125,7 +127,8 @@ nlohmann::json EvaluationOptions::ToJson() const {
           {"filter_hz", filter_hz},
           {"markers_per_gap", markers_per_gap},
           {"placement", std::string(ToString(placement))},
-          {"distance_partners", distance_partners}};
+          {"distance_partners", distance_partners},
+          {"complete_part", complete_part}};
 }
 
 namespace internal {
@@ -183,6 +186,12 @@ nlohmann::json EvaluationSummary::ToJson() const {
     stats.push_back(std::move(entry));
   }
   j["statistics"] = std::move(stats);
+  nlohmann::json times = nlohmann::json::object();
+  for (std::size_t k = 0; k < method_seconds.size(); ++k) {
+    times[std::string(ToString(settings.methods[k]))] = method_seconds[k];
+  }
+  j["method_seconds"] = std::move(times);
+  j["complete_part"] = complete_part;
   nlohmann::json rows_json = nlohmann::json::array();
   for (const EvaluationRow& r : rows) {
     rows_json.push_back({{"method", std::string(ToString(r.method))},

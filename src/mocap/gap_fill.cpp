@@ -21,11 +21,19 @@ static_assert(static_cast<int>(GapFillMethod::kRigid) == static_cast<int>(FillMe
 static_assert(static_cast<int>(GapFillMethod::kPca) == static_cast<int>(FillMethod::kPca));
 
 constexpr std::string_view kOcpName = "ocp";
+constexpr std::string_view kAverageName = "average";
 
-// The baseline method, or none for ocp.
+// The baseline method, or none for average and ocp.
 std::optional<FillMethod> BaselineMethod(GapFillMethod method) {
-  if (method == GapFillMethod::kOcp) return std::nullopt;
+  if (method == GapFillMethod::kAverage || method == GapFillMethod::kOcp) return std::nullopt;
   return static_cast<FillMethod>(method);
+}
+
+// The options FillGapsOcp gets: average is the ocp layer with the optimal control off.
+GapFillOptions LayerOptions(const GapFillOptions& options) {
+  GapFillOptions layer = options;
+  if (options.method == GapFillMethod::kAverage) layer.ocp.optimal_control = false;
+  return layer;
 }
 
 // options.baseline with its method set to `method`.
@@ -111,7 +119,9 @@ struct OcpGapFills {
 // The gaps some candidate fills go to FillGapsOcp together; the others keep the first failing
 // candidate's status.
 OcpGapFills FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
-                          const GapFillOptions& options) {
+                          const GapFillOptions& requested) {
+  const GapFillOptions options = LayerOptions(requested);
+  const bool average = requested.method == GapFillMethod::kAverage;
   OcpCandidates candidates = ComputeCandidates(in, gaps, options);
   OcpGapFills result{std::move(candidates.unfilled),
                      std::vector<GapOutcome>(gaps.size(), GapOutcome::kUnfillable),
@@ -142,6 +152,10 @@ OcpGapFills FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
     for (std::int64_t f = g.first; f <= g.last; ++f) {
       fill.points.col(f - g.first) = out.point(f, g.marker);
     }
+    if (average) {
+      result.outcomes[index[k]] = GapOutcome::kBaseline;  // the method itself filled it
+      continue;
+    }
     result.prior_reasons[index[k]] = PriorReason(report);
     result.outcomes[index[k]] =
         report.outcome == OcpOutcome::kSolved ? GapOutcome::kOptimalControl : GapOutcome::kPrior;
@@ -152,6 +166,7 @@ OcpGapFills FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
 }  // namespace
 
 std::string_view ToString(GapFillMethod method) {
+  if (method == GapFillMethod::kAverage) return kAverageName;
   const std::optional<FillMethod> baseline = BaselineMethod(method);
   return baseline ? ToString(*baseline) : kOcpName;
 }
@@ -168,10 +183,11 @@ GapFillMethod ParseGapFillMethod(std::string_view name) {
 std::vector<GapFillMethod> AllGapFillMethods() {
   std::vector<GapFillMethod> methods;
   for (FillMethod m : AllFillMethods()) {
-    // GapFillMethod lists every FillMethod before kOcp.
-    MOREAU_ASSERT(static_cast<int>(m) < static_cast<int>(GapFillMethod::kOcp));
+    // GapFillMethod lists every FillMethod before kAverage.
+    MOREAU_ASSERT(static_cast<int>(m) < static_cast<int>(GapFillMethod::kAverage));
     methods.push_back(static_cast<GapFillMethod>(m));
   }
+  methods.push_back(GapFillMethod::kAverage);
   methods.push_back(GapFillMethod::kOcp);
   return methods;
 }
@@ -222,15 +238,16 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps,
   } else {
     CheckGaps(in, gaps);
     OcpGapFills ocp = FillGapsByOcp(in, gaps, options);
+    const std::string_view name = ToString(options.method);
     summary = internal::SummarizeFills(
-        in, gaps, kOcpName, [&](std::size_t i) { return std::move(ocp.fills[i]); }, out);
+        in, gaps, name, [&](std::size_t i) { return std::move(ocp.fills[i]); }, out);
     for (std::size_t i = 0; i < gaps.size(); ++i) {
       summary.gaps[i].outcome = ocp.outcomes[i];
       summary.gaps[i].prior_reason = std::move(ocp.prior_reasons[i]);
     }
-    summary.message = GapOutcomeCounts::Of(summary.gaps).Describe(kOcpName);
+    summary.message = GapOutcomeCounts::Of(summary.gaps).Describe(name);
   }
-  summary.settings = options.ToJson();
+  summary.settings = LayerOptions(options).ToJson();
   summary.total_seconds = total.Seconds();
   return summary;
 }
@@ -244,7 +261,7 @@ GapFill FillGap(const Recording& in, const Gap& gap, const GapFillOptions& optio
 
 std::vector<GapFill> FillGapList(const Recording& in, const std::vector<Gap>& gaps,
                                  const GapFillOptions& options) {
-  if (options.method == GapFillMethod::kOcp) return FillGapsByOcp(in, gaps, options).fills;
+  if (!BaselineMethod(options.method)) return FillGapsByOcp(in, gaps, options).fills;
   std::vector<GapFill> fills;
   for (const Gap& gap : gaps) fills.push_back(FillGap(in, gap, options));
   return fills;

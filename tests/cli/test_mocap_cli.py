@@ -384,9 +384,25 @@ def test_evaluate_gaps_bad_settings_exit_2_and_write_nothing(tmp_path, extra, wo
     assert_rejected(["evaluate-gaps", DATA / "Qualisys.c3d", *extra], tmp_path / "out", *words)
 
 
-def test_evaluate_gaps_needs_a_complete_recording(tmp_path):
-    assert_rejected(["evaluate-gaps", DATA / "Vicon.c3d", "--trials", 2], tmp_path / "out",
-                    "complete")
+def test_evaluate_gaps_uses_the_complete_part_of_a_recording_with_holes(tmp_path):
+    # Vicon.c3d has holes: the evaluation runs on its complete part and says which; refused when
+    # evaluation.complete_part is false.
+    out = tmp_path / "part"
+    r = run_cli("evaluate-gaps", DATA / "Vicon.c3d", "--trials", 2, "--gap-seconds", "0.2",
+                "--methods", "linear,rigid", "--out", out)
+    assert r.returncode == 0, r.stderr
+    assert "evaluated on the complete part: frames 0–579 of 580, 38 of 51 markers" in r.stdout
+    summary = json.loads((out / "summary.json").read_text())
+    part = summary["complete_part"]
+    assert (part["first_frame"], part["frames"], len(part["markers"])) == (0, 580, 38)
+    source = json.loads(run_cli("inspect", DATA / "Vicon.c3d", "--json").stdout)
+    assert len(part["markers"]) + len(part["dropped"]) == source["markers"]
+    assert set(part["markers"] + part["dropped"]) <= set(source["labels"])
+    rows = (out / "evaluation.csv").read_text().splitlines()[1:]
+    assert rows and all(row.split(",")[3] in part["markers"] for row in rows)
+    assert set(summary["method_seconds"]) == {"linear", "rigid"}
+    assert_rejected(["evaluate-gaps", DATA / "Vicon.c3d", "--trials", 2, "--set",
+                     "evaluation.complete_part=false"], tmp_path / "out", "complete_part")
 
 
 def test_fill_gaps_fills_markers_only_and_keeps_model_outputs(tmp_path):

@@ -7,6 +7,7 @@
 
 #include "mocap/synthetic.h"
 #include "moreau/common/error.h"
+#include "moreau/mocap/complete_part.h"
 
 namespace moreau::mocap {
 namespace {
@@ -262,7 +263,50 @@ TEST(EvaluateFillMethods, BadInputIsAnInputErrorNamingTheField) {
   EXPECT_NE(message(options, line).find("on one side"), std::string::npos);
   Recording incomplete = line;
   incomplete.ClearPoint(3, 1);
-  EXPECT_NE(message(SmallStudy(), incomplete).find("complete"), std::string::npos);
+  options = SmallStudy();
+  options.complete_part = false;
+  EXPECT_NE(message(options, incomplete).find("complete_part is false"), std::string::npos);
+  // Every marker has a hole somewhere: no part of 28 frames holds two complete markers.
+  for (int m = 0; m < incomplete.markers(); ++m) incomplete.ClearPoint(20, m);
+  EXPECT_NE(message(SmallStudy(), incomplete).find("no 28 frames hold 2 complete markers"),
+            std::string::npos)
+      << message(SmallStudy(), incomplete);
+}
+
+TEST(EvaluateFillMethods, ARecordingWithHolesIsEvaluatedOnItsCompletePart) {
+  // Marker 1 is missing over frames 0–9 and marker 4 at frame 140: the part with the most
+  // samples is frames 10–139 with all six markers (780 samples against 600 for the whole take
+  // with four markers and 700 for either one-sided range with five).
+  Recording holes = MakeRigidBodyRecording(6, 150, 100.0, 3);
+  for (std::int64_t f = 0; f < 10; ++f) holes.ClearPoint(f, 1);
+  holes.ClearPoint(140, 4);
+  const CompletePart part = FindCompletePart(holes, 28);
+  EXPECT_EQ(part.first, 10);
+  EXPECT_EQ(part.frames, 130);
+  EXPECT_EQ(part.markers, (std::vector<int>{0, 1, 2, 3, 4, 5}));
+  // A longer minimum leaves the shorter ranges out: the whole take with the four complete markers.
+  const CompletePart whole = FindCompletePart(holes, 145);
+  EXPECT_EQ(whole.first, 0);
+  EXPECT_EQ(whole.frames, 150);
+  EXPECT_EQ(whole.markers, (std::vector<int>{0, 2, 3, 5}));
+  EXPECT_EQ(whole.ToJson(holes)["dropped"], nlohmann::json({"M1", "M4"}));
+
+  const Recording extracted = ExtractPart(holes, part);
+  EXPECT_EQ(extracted.frames(), 130);
+  EXPECT_EQ(extracted.first_frame(), holes.first_frame() + 10);
+  EXPECT_EQ(extracted.point(0, 1), holes.point(10, 1));
+  const EvaluationOptions options = SmallStudy();
+  const EvaluationSummary on_holes = EvaluateFillMethods(holes, options);
+  EvaluationSummary on_part = EvaluateFillMethods(extracted, options);
+  EXPECT_TRUE(on_part.complete_part.is_null());
+  EXPECT_EQ(on_holes.complete_part["first_frame"], 10);
+  // The rows are the part's, naming the input's markers and frames.
+  for (EvaluationRow& row : on_part.rows) {
+    row.marker = part.markers[static_cast<std::size_t>(row.marker)];
+    row.first_frame += part.first;
+  }
+  ExpectSameRows(on_holes, on_part);
+  EXPECT_EQ(on_holes.method_seconds.size(), options.methods.size());
 }
 
 }  // namespace

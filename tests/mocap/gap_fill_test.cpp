@@ -16,19 +16,21 @@ namespace {
 using testing::Hide;
 using testing::MakeRigidBodyRecording;
 
-TEST(GapFill, MethodNamesAreTheBaselineNamesThenOcp) {
+TEST(GapFill, MethodNamesAreTheBaselineNamesThenAverageThenOcp) {
   const std::vector<GapFillMethod> methods = AllGapFillMethods();
-  ASSERT_EQ(methods.size(), AllFillMethods().size() + 1);
+  ASSERT_EQ(methods.size(), AllFillMethods().size() + 2);
+  EXPECT_EQ(ToString(methods[methods.size() - 2]), "average");
   for (std::size_t i = 0; i < AllFillMethods().size(); ++i) {
     EXPECT_EQ(ToString(methods[i]), ToString(AllFillMethods()[i]));
   }
   EXPECT_EQ(methods.back(), GapFillMethod::kOcp);
   for (GapFillMethod method : methods) EXPECT_EQ(ParseGapFillMethod(ToString(method)), method);
-  // The baseline layer does not know ocp.
+  // The baseline layer knows neither average nor ocp.
   EXPECT_THROW(ParseFillMethod(ToString(GapFillMethod::kOcp)), InputError);
+  EXPECT_THROW(ParseFillMethod(ToString(GapFillMethod::kAverage)), InputError);
   const std::string error = testing::InputErrorOf([] { ParseGapFillMethod("cubic"); });
   EXPECT_NE(error.find("'cubic'"), std::string::npos) << error;
-  EXPECT_NE(error.find("pca, ocp"), std::string::npos) << error;
+  EXPECT_NE(error.find("pca, average, ocp"), std::string::npos) << error;
 }
 
 TEST(GapFill, ABaselineMethodIsFillHsFill) {
@@ -36,7 +38,7 @@ TEST(GapFill, ABaselineMethodIsFillHsFill) {
   Recording gapped = truth;
   const std::vector<Gap> gaps = {Hide(gapped, 1, 20, 34), Hide(gapped, 3, 0, 4)};
   for (GapFillMethod method : AllGapFillMethods()) {
-    if (method == GapFillMethod::kOcp) continue;
+    if (method == GapFillMethod::kOcp || method == GapFillMethod::kAverage) continue;
     GapFillOptions options;
     options.method = method;
     options.baseline.method = FillMethod::kLinear;  // not read
@@ -89,6 +91,34 @@ TEST(GapFill, OcpGapThatNoCandidateFillsKeepsTheCandidatesStatus) {
   EXPECT_EQ(summary.gaps[0].outcome, GapOutcome::kUnfillable);
   EXPECT_EQ(summary.gaps[1].outcome, GapOutcome::kPrior);
   EXPECT_EQ(summary.gaps[1].prior_reason, "optimal_control_off");
+}
+
+TEST(GapFill, AverageIsOcpsPriorBitForBitWhateverOptimalControlSays) {
+  const Recording truth = MakeRigidBodyRecording(5, 60, 100.0, 3);
+  Recording gapped = truth;
+  const std::vector<Gap> gaps = {Hide(gapped, 1, 20, 34), Hide(gapped, 3, 40, 47)};
+  GapFillOptions prior;
+  prior.method = GapFillMethod::kOcp;
+  prior.ocp.optimal_control = false;
+  GapFillOptions average;
+  average.method = GapFillMethod::kAverage;
+  average.ocp.optimal_control = true;  // not read
+  Recording by_prior, by_average;
+  const FillSummary a = FillGaps(gapped, gaps, prior, &by_prior);
+  const FillSummary b = FillGaps(gapped, gaps, average, &by_average);
+  EXPECT_EQ(b.method, "average");
+  EXPECT_EQ(b.message, "2 gaps: 2 filled by average");
+  EXPECT_EQ(b.ToJson()["settings"]["ocp"]["optimal_control"], false);
+  const std::vector<GapFill> list = FillGapList(gapped, gaps, average);
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    EXPECT_EQ(b.gaps[i].outcome, GapOutcome::kBaseline);
+    EXPECT_TRUE(b.gaps[i].prior_reason.empty());
+    EXPECT_EQ(a.gaps[i].message, b.gaps[i].message);  // "prior: rigid …, pca …"
+    for (std::int64_t f = gaps[i].first; f <= gaps[i].last; ++f) {
+      EXPECT_EQ(by_prior.point(f, gaps[i].marker), by_average.point(f, gaps[i].marker));
+      EXPECT_EQ(list[i].points.col(f - gaps[i].first), by_average.point(f, gaps[i].marker));
+    }
+  }
 }
 
 TEST(GapFill, OcpOutcomesAreCountedAsThePerGapEntries) {

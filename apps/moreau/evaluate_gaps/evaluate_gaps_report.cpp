@@ -115,6 +115,12 @@ int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
   fmt::print("{}: {} trials × {} gap lengths × {} methods in {:.3g} s\n", input,
              settings.evaluation.trials, settings.evaluation.gap_seconds.size(),
              settings.evaluation.methods.size(), summary.total_seconds);
+  if (const nlohmann::json& part = summary.complete_part; !part.is_null()) {
+    const auto first = part["first_frame"].get<std::int64_t>();
+    fmt::print("evaluated on the complete part: frames {}–{} of {}, {} of {} markers\n", first,
+               first + part["frames"].get<std::int64_t>() - 1, recording.frames(),
+               part["markers"].size(), part["markers"].size() + part["dropped"].size());
+  }
   fmt::print("{}", EvaluationTable(summary));
   fmt::print(
       "acceleration error ({}/s², filtered at {} Hz) / velocity jump at the ends ({}/s), "

@@ -57,9 +57,12 @@ struct EvaluationOptions {
   int markers_per_gap = 1;  // K markers hidden together (one segment), 1 ≤ K ≤ markers
   GapPlacement placement = GapPlacement::kInterior;
   int distance_partners = 3;  // most rigid partners of the distance deviation, ≥ 1
+  // A recording with holes is evaluated on its complete part (complete_part.h): its markers
+  // observed at every frame of the frame range with the most such samples (false: refused).
+  bool complete_part = true;
 
   // methods, gap_seconds, trials, seed, threads, filter_hz, markers_per_gap, placement,
-  // distance_partners (the fill options have their own list).
+  // distance_partners, complete_part (the fill options have their own list).
   static const FieldList<EvaluationOptions>& Fields();
   // Throws InputError(key, reason) for a value out of range, or the fill options'.
   void Validate() const;
@@ -120,13 +123,19 @@ struct EvaluationSummary {
   std::string units;
   double total_seconds = 0.0;
   EvaluationOptions settings;
+  // The complete part evaluated (CompletePart::ToJson) when the recording has holes; null when
+  // the whole recording was. Rows name the input's markers and frames either way.
+  nlohmann::json complete_part;
+  // Per method (in settings.methods' order): wall-clock seconds of all its fills.
+  std::vector<double> method_seconds;
 
   bool ok() const { return IsSuccess(termination); }
   nlohmann::json ToJson() const;
 };
 
 // Runs the protocol on `truth`, whose markers must be complete (every sample observed; points of
-// other types are never hidden, partners or donors and may have holes), long enough for
+// other types are never hidden, partners or donors and may have holes) or, with complete_part,
+// on its complete part, which must hold at least markers_per_gap markers and be long enough for
 // the longest gap plus the margins, with at least markers_per_gap markers and a rate above
 // 2 filter_hz. Throws InputError otherwise or for invalid options.
 EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOptions& options);

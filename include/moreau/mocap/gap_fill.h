@@ -1,10 +1,11 @@
 // Gap filling by a method the user names (moreau fill-gaps and evaluate-gaps, Python's fill_gaps
-// and evaluate): one of the baseline fills (fill.h) or ocp, the optimal-control fill (ocp_fill.h).
-// This is where the two layers meet. For a baseline method the fill is fill.h's; for ocp the
-// baseline fills named by ocp.candidates are computed for the gaps by FillGapsMeetingEnds and
-// handed to FillGapsOcp as its candidates. A gap that no candidate fills is left missing with the
-// first candidate's status that failed ("no candidate filled the gap; rigid: …"), and the others
-// are solved without it.
+// and evaluate): one of the baseline fills (fill.h), average (the weighted candidate average of
+// ocp_fill.h on its own) or ocp, the optimal-control fill (ocp_fill.h). This is where the two
+// layers meet. For a baseline method the fill is fill.h's; for average and ocp the baseline fills
+// named by ocp.candidates are computed for the gaps by FillGapsMeetingEnds and handed to
+// FillGapsOcp as its candidates (average: with ocp.optimal_control off, whatever its value). A gap
+// that no candidate fills is left missing with the first candidate's status that failed ("no
+// candidate filled the gap; rigid: …"), and the others are solved without it.
 #pragma once
 
 #include <string_view>
@@ -18,10 +19,10 @@
 
 namespace moreau::mocap {
 
-// The baseline methods, in FillMethod's order, then ocp.
-enum class GapFillMethod { kLinear, kSpline, kPchip, kRigid, kPca, kOcp };
+// The baseline methods, in FillMethod's order, then the candidate average, then ocp.
+enum class GapFillMethod { kLinear, kSpline, kPchip, kRigid, kPca, kAverage, kOcp };
 
-// The FillMethod names ("linear", "spline", "pchip", "rigid", "pca") and "ocp".
+// The FillMethod names ("linear", "spline", "pchip", "rigid", "pca"), "average" and "ocp".
 std::string_view ToString(GapFillMethod method);
 // Throws InputError "unknown fill method 'NAME' (expected one of linear, …, ocp)".
 GapFillMethod ParseGapFillMethod(std::string_view name);
@@ -37,7 +38,7 @@ struct GapFillOptions {
   // The baseline fills' settings: those of `method`, or of ocp's candidates. baseline.method is
   // not read (`method` and ocp.candidates choose).
   FillOptions baseline;
-  OcpFillOptions ocp;  // read when method is ocp
+  OcpFillOptions ocp;  // read when method is average (but its optimal_control) or ocp
 
   // method, max_gap_seconds, interpolation.*, rigid.*, pca.* (baseline's, but its method) and
   // ocp.*.
@@ -51,8 +52,9 @@ struct GapFillOptions {
 // Fills `gaps` of `in` with options.method into *out (which may be &in), as FillGaps (fill.h)
 // does; for ocp each filled gap's message says how: "optimal control: window …; prior rigid
 // 0.71, pca 0.29", "prior: rigid 0.71, pca 0.29" (optimal control off) or "prior (rigid …): why"
-// (the optimal control failed or was rejected). Each GapReport's outcome says what filled the gap:
-// kBaseline for a baseline method; for ocp kOptimalControl (OcpOutcome kSolved) or kPrior with
+// (the optimal control failed or was rejected); for average "prior: rigid 0.71, pca 0.29". Each
+// GapReport's outcome says what filled the gap: kBaseline for a baseline method and for average;
+// for ocp kOptimalControl (OcpOutcome kSolved) or kPrior with
 // prior_reason "optimal_control_off" (kPrior), "optimal_control_failed" (kFallback, the window
 // did not converge or was rejected) or "rejected_by_guard" (kFallback, converged but turned down
 // by the guard); kUnfillable when nothing filled it. Throws InputError as FillGaps and FillGapsOcp
