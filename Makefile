@@ -12,7 +12,7 @@ MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON) -DMOREAU_UNITY_BUILD=ON
 
 .PHONY: all deps build python test test-build test-release sanitize-build test-asan test-clients test-fuzz fuzz \
-        fuzz-build demo bench format clean
+        fuzz-build demo abm-results bench format clean
 
 all: build
 
@@ -139,6 +139,11 @@ demo: build
 	$(MOREAU) fill-gaps $(MOCAP_DATA)/Vicon.c3d --out $(OUT)/vicon_filled
 	PYTHONPATH=$(BUILD)/python $(PYTHON) examples/python/cell_colony.py $(OUT)/python_cell_colony
 	@echo "demo: figures are in $(OUT)/ (README.md says how to read them)"
+
+# The agent-based examples' outputs that docs/abm.md quotes (docs/results/abm/) and their figures,
+# about 30 s (docs/abm.md, "Where the numbers come from"; ABM_RESULTS_FLAGS=--long: the studies too).
+abm-results: build
+	./scripts/abm_results.sh $(MOREAU) $(ABM_RESULTS_FLAGS)
 
 # Step sizes of the studies: h0 / 2^k.
 SLIDING_H := 0.4,0.2,0.1,0.05,0.025,0.0125,0.00625,0.003125,0.0015625,0.00078125,0.000390625,0.0001953125,0.00009765625,0.000048828125,0.0000244140625
