@@ -113,6 +113,111 @@ EngineState EngineState::FromJson(const nlohmann::json& j) {
   return s;
 }
 
+nlohmann::json PopulationState::ToJson() const {
+  nlohmann::json a = nlohmann::json::object();
+  for (const Agent& x : agents) {
+    a["id"].push_back(x.id);
+    a["type"].push_back(x.type);
+    a["generation"].push_back(x.generation);
+    a["divisions"].push_back(x.divisions);
+    a["radius"].push_back(x.radius);
+    a["age"].push_back(x.age);
+    for (const double p : x.polarity) a["polarity"].push_back(p);
+    a["mother"].push_back(x.mother);
+  }
+  const PopulationSummary& c = counters;
+  return {{"agents", a},
+          {"variables", variables},
+          {"last_positions", last_positions},
+          {"last_deaths", last_deaths},
+          {"last_removals", last_removals},
+          {"overlap_before", overlap_before},
+          {"stopped", stopped},
+          {"counters",
+           {{"termination", ToString(c.termination)},
+            {"message", c.message},
+            {"rule_steps", c.rule_steps},
+            {"births", c.births},
+            {"deaths", c.deaths},
+            {"removals", c.removals},
+            {"relax_sweeps", c.relax_sweeps},
+            {"final_count", c.final_count},
+            {"max_overlap_before", c.max_overlap_before},
+            {"rules_seconds", c.rules_seconds},
+            {"total_seconds", c.total_seconds}}}};
+}
+
+namespace {
+
+// The agents from their columns (PopulationState::ToJson).
+std::vector<Agent> AgentsFromJson(const nlohmann::json& a) {
+  if (!a.is_object()) throw InputError("checkpoint: agents is not an object");
+  std::vector<std::int64_t> id, mother;
+  std::vector<int> type, generation, divisions;
+  std::vector<double> radius, age, polarity;
+  if (!a.empty()) {
+    Get(a, "id", &id);
+    Get(a, "type", &type);
+    Get(a, "generation", &generation);
+    Get(a, "divisions", &divisions);
+    Get(a, "radius", &radius);
+    Get(a, "age", &age);
+    Get(a, "polarity", &polarity);
+    Get(a, "mother", &mother);
+  }
+  const std::size_t n = id.size();
+  if (type.size() != n || generation.size() != n || divisions.size() != n || radius.size() != n ||
+      age.size() != n || polarity.size() != 3 * n || mother.size() != n) {
+    throw InputError("checkpoint: the agents' columns differ in length");
+  }
+  std::vector<Agent> agents(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    agents[i] = {id[i],
+                 type[i],
+                 generation[i],
+                 divisions[i],
+                 radius[i],
+                 age[i],
+                 {polarity[3 * i], polarity[3 * i + 1], polarity[3 * i + 2]},
+                 mother[i]};
+  }
+  return agents;
+}
+
+}  // namespace
+
+PopulationState PopulationState::FromJson(const nlohmann::json& j, EngineState engine) {
+  if (!j.is_object()) throw InputError("checkpoint: the population state is not an object");
+  PopulationState s;
+  s.engine = std::move(engine);
+  const auto agents = j.find("agents");
+  if (agents == j.end()) throw InputError("checkpoint: agents is missing");
+  s.agents = AgentsFromJson(*agents);
+  Get(j, "variables", &s.variables);
+  Get(j, "last_positions", &s.last_positions);
+  Get(j, "last_deaths", &s.last_deaths);
+  Get(j, "last_removals", &s.last_removals);
+  Get(j, "overlap_before", &s.overlap_before);
+  Get(j, "stopped", &s.stopped);
+  const auto it = j.find("counters");
+  if (it == j.end() || !it->is_object()) throw InputError("checkpoint: counters is missing");
+  PopulationSummary& c = s.counters;
+  std::string termination;
+  Get(*it, "termination", &termination);
+  c.termination = ParseTermination(termination);
+  Get(*it, "message", &c.message);
+  Get(*it, "rule_steps", &c.rule_steps);
+  Get(*it, "births", &c.births);
+  Get(*it, "deaths", &c.deaths);
+  Get(*it, "removals", &c.removals);
+  Get(*it, "relax_sweeps", &c.relax_sweeps);
+  Get(*it, "final_count", &c.final_count);
+  Get(*it, "max_overlap_before", &c.max_overlap_before);
+  Get(*it, "rules_seconds", &c.rules_seconds);
+  Get(*it, "total_seconds", &c.total_seconds);
+  return s;
+}
+
 void WriteCheckpoint(const std::filesystem::path& path, const EngineState& state,
                      const nlohmann::json& run) {
   const std::vector<std::uint8_t> payload =

@@ -373,7 +373,15 @@ bool Population::Step() {
 PopulationSummary Population::Run(double T, const PopulationObserver& observer) {
   const std::int64_t steps = StepCount(T, engine_.options().h);
   if (observer && !observer(*this)) Stop(Termination::kInterrupted, "stopped by the observer");
-  for (std::int64_t i = 0; i < steps && !stopped_; ++i) {
+  return RunTo(engine_.step() + steps, observer);
+}
+
+PopulationSummary Population::Continue(double T, const PopulationObserver& observer) {
+  return RunTo(StepCount(T, engine_.options().h), observer);
+}
+
+PopulationSummary Population::RunTo(std::int64_t last_step, const PopulationObserver& observer) {
+  while (engine_.step() < last_step && !stopped_) {
     const std::int64_t rules_before = summary_.rule_steps;
     Step();
     if (observer && summary_.rule_steps > rules_before && !agents_.empty() && !observer(*this) &&

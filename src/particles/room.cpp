@@ -80,4 +80,25 @@ int EvacuationCount::Update(std::span<const int> ids, std::span<const double> po
   return out_;
 }
 
+std::vector<int> EvacuationCount::OutIds() const {
+  std::vector<int> ids;
+  for (std::size_t i = 0; i < left_.size(); ++i) {
+    if (left_[i]) ids.push_back(static_cast<int>(i));
+  }
+  return ids;
+}
+
+void EvacuationCount::RestoreOut(std::span<const int> ids) {
+  std::vector<char> left(left_.size(), 0);
+  for (const int id : ids) {
+    if (id < 0 || static_cast<std::size_t>(id) >= left.size() ||
+        left[static_cast<std::size_t>(id)]) {
+      throw InputError(fmt::format("checkpoint: evacuated id {} is out of range or repeated", id));
+    }
+    left[static_cast<std::size_t>(id)] = 1;
+  }
+  left_.swap(left);
+  out_ = static_cast<int>(ids.size());
+}
+
 }  // namespace moreau::particles

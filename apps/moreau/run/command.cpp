@@ -46,12 +46,13 @@ void AddRunCommand(CLI::App& app) {
                 "Particle scenarios: project an overlapping initial state to a feasible one "
                 "(repeated PBD sweeps) instead of rejecting it");
   cmd->add_option("--checkpoint-every", args->checkpoint_every,
-                  "Particle scenarios: save a checkpoint every K steps into <out>.checkpoint/ "
-                  "(or the --resume folder)")
+                  "Particle scenarios (rooms and [[types]] populations too): save a checkpoint "
+                  "every K steps (populations: at the first rule step past each multiple of K) "
+                  "into <out>.checkpoint/ (or the --resume folder)")
       ->type_name("K");
   cmd->add_option("--resume", args->resume,
-                  "Particle scenarios: continue from DIR/checkpoint.bin (the same bits as a run "
-                  "that never stopped)")
+                  "Particle scenarios (rooms and [[types]] populations too): continue from "
+                  "DIR/checkpoint.bin (the same bits as a run that never stopped)")
       ->type_name("DIR");
 }
 

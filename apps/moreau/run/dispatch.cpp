@@ -3,6 +3,7 @@
 #include <optional>
 #include <utility>
 
+#include "moreau/common/error.h"
 #include "run/particles_checkpoint.h"
 #include "run/particles_report.h"
 #include "run/particles_run.h"
@@ -20,7 +21,7 @@ struct PreparedRun::Impl {
   std::optional<PbdScenario> pbd;                   // kPaperCase
   std::optional<ParticleScenario> particles;        // kParticles, kPopulation
   std::optional<ParticleSetup> setup;               // kParticles
-  CheckpointPlan checkpoints;                       // kParticles
+  CheckpointPlan checkpoints;                       // kParticles, kPopulation
   std::optional<particles::Population> population;  // kPopulation
 
   bool writes() const { return request.files != RunFiles::kNone; }
@@ -38,13 +39,14 @@ struct PreparedRun::Impl {
       particles->output.snapshots = false;
     }
     if (particles->is_population()) {
-      CheckCheckpointFlags(*particles, request.checkpoint_every, request.resume);
       population.emplace(SetUpPopulationRun(*particles, scenario));
+      checkpoints = PlanCheckpoints(request.checkpoint_every, request.resume, request.out_dir,
+                                    request.fingerprint, *population);
       return;
     }
     setup.emplace(SetUpParticleRun(*particles, scenario));
-    checkpoints = PlanCheckpoints(*particles, request.checkpoint_every, request.resume,
-                                  request.out_dir, request.fingerprint, setup->engine);
+    checkpoints = PlanCheckpoints(request.checkpoint_every, request.resume, request.out_dir,
+                                  request.fingerprint, setup->engine);
   }
 
   RunOutcome RunPaperCase(const std::filesystem::path& out_dir) const {
@@ -71,7 +73,8 @@ struct PreparedRun::Impl {
 
   RunOutcome RunPopulation(const std::filesystem::path& out_dir) {
     OutputDir out = MakeOut(out_dir);
-    const PopulationRunResult result = cli::RunPopulation(*particles, *population, out);
+    const PopulationRunResult result =
+        cli::RunPopulation(*particles, *population, out, checkpoints);
     RunOutcome o{PopulationRunJson(*particles, *population, result, scenario_file), "",
                  result.summary.termination, result.summary.message};
     if (writes()) o.report = ReportPopulationRun(*population, result, o.summary, out);
@@ -88,6 +91,11 @@ PreparedRun::PreparedRun(Scenario& scenario, RunRequest request) : impl_(std::ma
   }
   impl_->pbd = ReadPbdScenario(scenario);
   scenario.CheckAllKeysUsed();
+  if (impl_->request.checkpoint_every != 0 || !impl_->request.resume.empty()) {
+    throw InputError(
+        "--checkpoint-every/--resume: only particle scenarios (problem.kind = \"particles\") "
+        "can be checkpointed");
+  }
 }
 
 PreparedRun::~PreparedRun() = default;

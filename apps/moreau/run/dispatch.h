@@ -36,7 +36,7 @@ enum class RunFiles {
 struct RunRequest {
   RunFiles files = RunFiles::kAll;
   bool fix_overlaps = false;          // --fix-overlaps
-  std::int64_t checkpoint_every = 0;  // --checkpoint-every (particles without a room only)
+  std::int64_t checkpoint_every = 0;  // --checkpoint-every (particle and population runs)
   std::string resume;                 // --resume DIR
   std::string out_dir;                // where the checkpoints go by default (<out_dir>.checkpoint)
   std::string fingerprint;            // ScenarioFingerprint, for the checkpoints

@@ -71,7 +71,9 @@ class RunRecorder {
   // step seen; Resume writes a state's frames and takes its snapshots (a resumed run).
   void KeepFrames() { keep_frames_ = true; }
   nlohmann::json State() const {
-    return {{"frames", kept_}, {"snapshots", snapshots_}, {"last_step", last_step_}};
+    nlohmann::json j = {{"frames", kept_}, {"snapshots", snapshots_}, {"last_step", last_step_}};
+    if (evacuation_) j["evacuation"] = {{"out", evacuation_->OutIds()}, {"csv", evacuation_csv_}};
+    return j;
   }
   void Resume(const nlohmann::json& state) {
     try {
@@ -82,8 +84,12 @@ class RunRecorder {
       }
       state.at("snapshots").get_to(snapshots_);
       state.at("last_step").get_to(last_step_);
+      if (evacuation_) {
+        evacuation_->RestoreOut(state.at("evacuation").at("out").get<std::vector<int>>());
+        state.at("evacuation").at("csv").get_to(evacuation_csv_);
+      }
     } catch (const nlohmann::json::exception&) {
-      throw InputError("checkpoint: the run's frames or snapshots are malformed");
+      throw InputError("checkpoint: the run's frames, snapshots or evacuation are malformed");
     }
   }
 

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "moreau/common/error.h"
+
 namespace moreau::cli {
 
 void Lineage::Observe(const particles::Population& population) {
@@ -44,6 +46,43 @@ std::string Lineage::Csv(const particles::PopulationRules& rules) const {
                        r.generation, r.birth, r.end ? fmt::format("{:.9g}", *r.end) : "", r.fate);
   }
   return csv;
+}
+
+nlohmann::json Lineage::State() const {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const Row& r : rows_) {
+    rows.push_back({r.id, r.display_id, r.mother, r.type, r.generation, r.birth,
+                    r.end ? nlohmann::json(*r.end) : nlohmann::json(), r.fate});
+  }
+  return {{"rows", rows}, {"rule_steps", rule_steps_}};
+}
+
+void Lineage::Resume(const nlohmann::json& state) {
+  try {
+    rows_.clear();
+    row_.clear();
+    for (const nlohmann::json& r : state.at("rows")) {
+      Row row{r.at(0).get<std::int64_t>(),
+              r.at(1).get<std::int64_t>(),
+              r.at(2).get<std::int64_t>(),
+              r.at(3).get<int>(),
+              r.at(4).get<int>(),
+              r.at(5).get<double>(),
+              std::nullopt,
+              "alive"};
+      if (!r.at(6).is_null()) row.end = r.at(6).get<double>();
+      const std::string fate = r.at(7).get<std::string>();
+      for (const char* f : {"alive", "died", "removed"}) row.fate = fate == f ? f : row.fate;
+      if (row.fate != fate || row.display_id != static_cast<std::int64_t>(rows_.size()) ||
+          !row_.emplace(row.id, rows_.size()).second) {
+        throw InputError("checkpoint: the lineage is malformed");
+      }
+      rows_.push_back(row);
+    }
+    state.at("rule_steps").get_to(rule_steps_);
+  } catch (const nlohmann::json::exception&) {
+    throw InputError("checkpoint: the lineage is malformed");
+  }
 }
 
 namespace {
@@ -105,6 +144,32 @@ void PopulationFrames::Write(const particles::Population& p, const Lineage& line
   if (p.count() > 0) {
     for (const int c : p.engine().ContactCounts(p.rules().contact_factor)) contacts_.push_back(c);
   }
+  std::vector<std::vector<double>> variables;
+  for (std::size_t v = 0; v < variable_names_.size(); ++v) {
+    variables.emplace_back(p.variable(v).begin(), p.variable(v).end());
+  }
+  Emit(p.engine().step(), p.engine().time(), p.engine().dimension(), x, variables);
+}
+
+void PopulationFrames::Emit(std::int64_t step, double t, int k, const std::vector<double>& x,
+                            const std::vector<std::vector<double>>& variables) {
+  if (keep_frames_) {
+    kept_.push_back({{"step", step},
+                     {"t", t},
+                     {"k", k},
+                     {"x", x},
+                     {"id", ids_},
+                     {"type", type_},
+                     {"generation", generation_},
+                     {"divisions", divisions_},
+                     {"mother", mother_},
+                     {"display", display_},
+                     {"radius", radii_},
+                     {"age", age_},
+                     {"polarity", polarity_},
+                     {"contacts", contacts_},
+                     {"variables", variables}});
+  }
   using io::PointArray;
   std::vector<PointArray> arrays{PointArray::Int64("type", type_.data()),
                                  PointArray::Int64("generation", generation_.data()),
@@ -115,17 +180,51 @@ void PopulationFrames::Write(const particles::Population& p, const Lineage& line
                                  PointArray::Float64("polarity", polarity_.data(), 3),
                                  PointArray::Int64("contacts", contacts_.data())};
   for (std::size_t v = 0; v < variable_names_.size(); ++v) {
-    arrays.push_back(PointArray::Float64(variable_names_[v], p.variable(v).data()));
+    arrays.push_back(PointArray::Float64(variable_names_[v], variables[v].data()));
   }
-  const io::ParticleFrame frame{p.engine().step(),
-                                p.engine().time(),
-                                p.engine().dimension(),
-                                x.data(),
-                                ids_.data(),
-                                radii_.data(),
-                                p.count(),
-                                arrays};
+  const io::ParticleFrame frame{
+      step,  t, k, x.data(), ids_.data(), radii_.data(), static_cast<std::int64_t>(ids_.size()),
+      arrays};
   for (auto& writer : writers_) writer->Write(frame);
+}
+
+nlohmann::json PopulationFrames::State() const {
+  return {{"frames", kept_}, {"last_slot", last_slot_}};
+}
+
+void PopulationFrames::Resume(const nlohmann::json& state) {
+  try {
+    for (const nlohmann::json& f : state.at("frames")) {
+      f.at("id").get_to(ids_);
+      f.at("type").get_to(type_);
+      f.at("generation").get_to(generation_);
+      f.at("divisions").get_to(divisions_);
+      f.at("mother").get_to(mother_);
+      f.at("display").get_to(display_);
+      f.at("radius").get_to(radii_);
+      f.at("age").get_to(age_);
+      f.at("polarity").get_to(polarity_);
+      f.at("contacts").get_to(contacts_);
+      const auto x = f.at("x").get<std::vector<double>>();
+      const auto variables = f.at("variables").get<std::vector<std::vector<double>>>();
+      const int k = f.at("k").get<int>();
+      const std::size_t n = ids_.size();
+      bool fits = variables.size() == variable_names_.size() &&
+                  x.size() == n * static_cast<std::size_t>(k) && polarity_.size() == 3 * n;
+      for (const std::vector<std::int64_t>* v :
+           {&type_, &generation_, &divisions_, &mother_, &display_, &contacts_}) {
+        fits = fits && v->size() == n;
+      }
+      for (const std::vector<double>& v : variables) fits = fits && v.size() == n;
+      if (!fits || radii_.size() != n || age_.size() != n) {
+        throw InputError("checkpoint: a frame does not fit the run");
+      }
+      Emit(f.at("step").get<std::int64_t>(), f.at("t").get<double>(), k, x, variables);
+    }
+    state.at("last_slot").get_to(last_slot_);
+  } catch (const nlohmann::json::exception&) {
+    throw InputError("checkpoint: the run's frames are malformed");
+  }
 }
 
 void PopulationFrames::Close() {

@@ -10,6 +10,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "moreau/io/trajectory.h"
 #include "moreau/particles/population.h"
 #include "output.h"
@@ -30,6 +32,10 @@ class Lineage {
   // one row per agent in display-id order; mother −1 for the initial agents, end_time empty
   // and fate "alive" for those alive at the end, fate "died" or "removed" otherwise.
   std::string Csv(const particles::PopulationRules& rules) const;
+  // Checkpoints: every row and when the departures were last taken; Resume takes them back
+  // (InputError "checkpoint: …" for a malformed state).
+  nlohmann::json State() const;
+  void Resume(const nlohmann::json& state);
 
  private:
   struct Row {
@@ -57,14 +63,24 @@ class PopulationFrames {
   // Writes a frame when the step is in a new stride slot (or `force`).
   void Write(const particles::Population& p, const Lineage& lineage, bool force);
   void Close();
+  // Checkpoints: frames are kept from now on; State() holds them and the last stride slot;
+  // Resume writes a state's frames and takes its slot (a resumed run).
+  void KeepFrames() { keep_frames_ = true; }
+  nlohmann::json State() const;
+  void Resume(const nlohmann::json& state);
 
  private:
+  // Writes the frame held in the member arrays (and keeps it when asked).
+  void Emit(std::int64_t step, double t, int k, const std::vector<double>& x,
+            const std::vector<std::vector<double>>& variables);
   std::int64_t stride_;
   std::int64_t last_slot_ = -1;
   std::vector<std::unique_ptr<io::TrajectoryWriter>> writers_;
   std::vector<std::string> variable_names_;  // the array name of each user variable
   std::vector<std::int64_t> ids_, type_, generation_, divisions_, mother_, display_, contacts_;
   std::vector<double> radii_, age_, polarity_;
+  bool keep_frames_ = false;
+  nlohmann::json kept_ = nlohmann::json::array();  // the frames written so far
 };
 
 }  // namespace moreau::cli

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "field_table.h"
+#include "moreau/common/error.h"
 #include "moreau/common/hash.h"
 #include "moreau/common/steps.h"
 #include "progress.h"
@@ -64,41 +65,102 @@ particles::Population SetUpPopulationRun(const ParticleScenario& scenario, const
   return std::move(*population);
 }
 
+namespace {
+
+// What a population run records as it goes: population.csv every record_every observations,
+// the lineage and the trajectory frames; State/Resume for checkpoints.
+class PopulationRecorder {
+ public:
+  PopulationRecorder(OutputDir& out, const ParticleScenario& scenario,
+                     const particles::Population& population, std::int64_t steps)
+      : scenario_(scenario),
+        frames_(out, scenario,
+                scenario.output.stride > 0 ? scenario.output.stride
+                                           : std::max<std::int64_t>(1, steps / 100)),
+        geometry_(WriteSceneGeometry(population.engine().model(), scenario, out)),
+        csv_(CsvHeader(population.rules())) {}
+
+  void Observe(const particles::Population& p) {
+    if (observed_++ % scenario_.population.record_every == 0) {
+      csv_ += CsvRow(p.Observe());
+      recorded_step_ = p.engine().step();
+    }
+    lineage_.Observe(p);
+    frames_.Write(p, lineage_, false);
+  }
+
+  void KeepFrames() { frames_.KeepFrames(); }
+  nlohmann::json State() const {
+    return {{"csv", csv_},
+            {"observed", observed_},
+            {"recorded_step", recorded_step_},
+            {"lineage", lineage_.State()},
+            {"frames", frames_.State()}};
+  }
+  void Resume(const nlohmann::json& run) {
+    try {
+      const nlohmann::json& state = run.at("recorder");
+      state.at("csv").get_to(csv_);
+      state.at("observed").get_to(observed_);
+      state.at("recorded_step").get_to(recorded_step_);
+      lineage_.Resume(state.at("lineage"));
+      frames_.Resume(state.at("frames"));
+    } catch (const nlohmann::json::exception&) {
+      throw InputError("checkpoint: the run's population records are malformed");
+    }
+  }
+
+  // The final state (the last step, or the step at which the last agent left) when not yet in.
+  PopulationRunResult Finish(particles::PopulationSummary summary,
+                             const particles::Population& population) {
+    if (recorded_step_ != population.engine().step() || population.count() == 0) {
+      csv_ += CsvRow(population.Observe());
+    }
+    lineage_.Observe(population);
+    frames_.Write(population, lineage_, false);
+    frames_.Close();
+    return {std::move(summary),    std::move(csv_),      lineage_.Csv(population.rules()),
+            scenario_.output.hdf5, scenario_.output.vtu, geometry_};
+  }
+
+ private:
+  const ParticleScenario& scenario_;
+  PopulationFrames frames_;
+  bool geometry_;
+  Lineage lineage_;
+  std::string csv_;
+  std::int64_t observed_ = 0;
+  std::int64_t recorded_step_ = -1;
+};
+
+}  // namespace
+
 PopulationRunResult RunPopulation(const ParticleScenario& scenario,
-                                  particles::Population& population, OutputDir& out) {
-  const particles::PopulationRules rules = scenario.MakeRules();
+                                  particles::Population& population, OutputDir& out,
+                                  const CheckpointPlan& checkpoints) {
   const std::int64_t steps = StepCount(scenario.T, scenario.solver.h);
-  PopulationFrames frames(
-      out, scenario,
-      scenario.output.stride > 0 ? scenario.output.stride : std::max<std::int64_t>(1, steps / 100));
-  const bool geometry = WriteSceneGeometry(population.engine().model(), scenario, out);
-  Lineage lineage;
-  std::string csv = CsvHeader(rules);
-  std::int64_t observed = 0;
-  std::int64_t recorded_step = -1;
+  PopulationRecorder recorder(out, scenario, population, steps);
+  if (checkpoints.every > 0 || checkpoints.resumed) recorder.KeepFrames();
+  if (checkpoints.resumed) recorder.Resume(*checkpoints.resumed);
+  std::int64_t last_checkpoint = population.engine().step();
   ProgressBar progress("run", steps);
   const StopScope stop_on_signal;  // SIGINT/SIGTERM: stop after the current step
-  particles::PopulationSummary summary =
-      population.Run(scenario.T, [&](const particles::Population& p) {
-        if (observed++ % scenario.population.record_every == 0) {
-          csv += CsvRow(p.Observe());
-          recorded_step = p.engine().step();
-        }
-        lineage.Observe(p);
-        frames.Write(p, lineage, false);
-        progress.Update(p.engine().step());
-        return !StopRequested();
-      });
+  // The observer runs after each rule step: a checkpoint at the first one past each multiple of
+  // checkpoints.every.
+  const auto observe = [&](const particles::Population& p) {
+    recorder.Observe(p);
+    progress.Update(p.engine().step());
+    if (CheckpointDue(checkpoints, last_checkpoint, p.engine().step(), steps)) {
+      last_checkpoint = p.engine().step();
+      WriteRunCheckpoint(checkpoints, p, {{"recorder", recorder.State()}});
+    }
+    return !StopRequested();
+  };
+  particles::PopulationSummary summary = checkpoints.resumed
+                                             ? population.Continue(scenario.T, observe)
+                                             : population.Run(scenario.T, observe);
   progress.Finish();
-  // The final state (the last step, or the step at which the last agent left) when not yet in.
-  if (recorded_step != population.engine().step() || population.count() == 0) {
-    csv += CsvRow(population.Observe());
-  }
-  lineage.Observe(population);
-  frames.Write(population, lineage, false);
-  frames.Close();
-  return {std::move(summary),   std::move(csv),      lineage.Csv(rules),
-          scenario.output.hdf5, scenario.output.vtu, geometry};
+  return recorder.Finish(std::move(summary), population);
 }
 
 nlohmann::json PopulationRunJson(const ParticleScenario& scenario,

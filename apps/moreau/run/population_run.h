@@ -12,6 +12,7 @@
 
 #include "moreau/particles/population.h"
 #include "output.h"
+#include "run/particles_checkpoint.h"
 #include "run/particles_scenario.h"
 #include "scenario.h"
 
@@ -32,9 +33,13 @@ struct PopulationRunResult {
 
 // Runs over [0, T] (with a progress bar on a terminal), writing the trajectory frames into
 // `out` (staged) and recording the observables every population.record_every rule steps and at
-// the end. After a numerical failure the population keeps the last good state.
+// the end. After a numerical failure the population keeps the last good state. With
+// checkpoints.every > 0 a checkpoint at the first rule step at or past every multiple of it (the
+// frames so far are kept in memory for it); with checkpoints.resumed the population is on the
+// checkpoint's step already, and the records and frames it holds are taken first.
 PopulationRunResult RunPopulation(const ParticleScenario& scenario,
-                                  particles::Population& population, OutputDir& out);
+                                  particles::Population& population, OutputDir& out,
+                                  const CheckpointPlan& checkpoints = {});
 
 // The population's summary with the run's context, the final positions' hash ("positions_hash")
 // and the scenario's settings: summary.json.

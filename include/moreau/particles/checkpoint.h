@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "moreau/particles/engine.h"
+#include "moreau/particles/population.h"
 
 namespace moreau::particles {
 
@@ -38,6 +39,26 @@ struct EngineState {
   nlohmann::json ToJson() const;
   // Throws InputError naming the field for a missing or mistyped one.
   static EngineState FromJson(const nlohmann::json& j);
+};
+
+// A population between two steps (Population::SaveState / RestoreState): its engine and what the
+// rules need to go on. The rules' randomness is Philox4x32 keyed by (seed, id, step), a pure
+// function, so it has no state of its own; the motility and the ids in use follow from the
+// agents. User code (drift, rule) is not state: the caller sets it again.
+struct PopulationState {
+  EngineState engine;
+  std::vector<Agent> agents;                   // index order (the engine's particle ids)
+  std::vector<std::vector<double>> variables;  // per declared variable, N values
+  std::vector<double> last_positions;          // at the last rule step (velocity alignment)
+  std::vector<std::int64_t> last_deaths, last_removals;  // of the last rule step
+  PopulationSummary counters;  // rule steps, births, …, timings, termination (not engine/settings)
+  double overlap_before = 0.0;
+  bool stopped = false;
+
+  // Everything but `engine` (a checkpoint file stores that in its own part).
+  nlohmann::json ToJson() const;
+  // Throws InputError "checkpoint: …" naming a missing or mistyped field.
+  static PopulationState FromJson(const nlohmann::json& j, EngineState engine);
 };
 
 // Writes the checkpoint atomically: into PATH.tmp, flushed, then renamed onto PATH. Throws

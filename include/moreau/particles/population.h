@@ -205,6 +205,7 @@ struct PopulationSummary {
 };
 
 class Population;
+struct PopulationState;  // checkpoint.h
 // Called at step 0 and after every rule step; returns false to stop the run (kInterrupted).
 using PopulationObserver = std::function<bool(const Population& population)>;
 
@@ -247,6 +248,16 @@ class Population {
   bool Step();
   // Runs T/h steps (as Engine::Run), calling the observer at step 0 and after each rule step.
   PopulationSummary Run(double T, const PopulationObserver& observer = {});
+  // Like Run, from the current step up to step T/h, calling the observer after each rule step
+  // only (a resumed run: the current state was observed before the checkpoint).
+  PopulationSummary Continue(double T, const PopulationObserver& observer = {});
+
+  // Checkpoints (checkpoint.h): the state between two steps, and its restore on a population
+  // made with the same geometry, forces, options and rules (any thread count), after which the
+  // steps give the same bits as the population that saved it. RestoreState throws InputError
+  // "checkpoint: …" when the state does not fit (types, sizes, ids, the engine's state).
+  PopulationState SaveState() const;
+  void RestoreState(const PopulationState& state);
 
   const std::vector<Agent>& agents() const { return agents_; }
   // k·N, index order (empty when no agent is left).
@@ -297,6 +308,7 @@ class Population {
   void ApplyDrift();
   void ApplyUserRule(std::vector<std::uint8_t>* divide, std::vector<std::uint8_t>* die);
   void Inherit(std::size_t mother, bool divides, std::vector<std::vector<double>>* next) const;
+  PopulationSummary RunTo(std::int64_t last_step, const PopulationObserver& observer);
 
   ParticleModel geometry_;
   PopulationRules rules_;

@@ -51,6 +51,10 @@ class EvacuationCount {
   // the order.
   int Update(std::span<const int> ids, std::span<const double> positions);
   int out() const { return out_; }
+  // The ids counted out so far, ascending (a checkpoint), and their restore on a count of the
+  // same room and count: InputError "checkpoint: …" for an id out of range or given twice.
+  std::vector<int> OutIds() const;
+  void RestoreOut(std::span<const int> ids);
 
  private:
   void Mark(std::size_t id, double x);  // counts particle id at abscissa x if it is out
