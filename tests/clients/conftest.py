@@ -52,14 +52,21 @@ def paraview_read(jobs, out_dir):
     return results
 
 
-def c3d_read(paths, out_dir):
-    """Opens each C3D file of `paths` with ezc3d and Kinetics Toolkit in one process of the
-    client venv (c3d_read.py); returns one dict of arrays per file. Skips when the venv was not
-    made (the Makefile makes it from PyPI; without network it cannot), fails when a reader does."""
+@pytest.fixture(scope="session")
+def clients_venv():
+    """The venv with the C3D readers; skips when it was not made (the Makefile makes it from
+    PyPI; without network it cannot). Requested first, it skips before any work is done."""
     if not (CLIENTS_VENV / "installed").is_file():
         pytest.skip(f"{CLIENTS_VENV} not made: ezc3d and kineticstoolkit come from PyPI "
                     "(tests/clients/requirements.txt); `make test-clients` makes it when the "
                     "network is reachable")
+    return CLIENTS_VENV
+
+
+def c3d_read(paths, out_dir):
+    """Opens each C3D file of `paths` with ezc3d and Kinetics Toolkit in one process of the
+    client venv (c3d_read.py; needs the clients_venv fixture); returns one dict of arrays per
+    file. Fails when a reader does."""
     out_dir.mkdir(parents=True, exist_ok=True)
     args = [str(CLIENTS_VENV / "bin" / "python"), str(HERE / "c3d_read.py"), str(out_dir)]
     r = subprocess.run(args + [str(p) for p in paths], capture_output=True, text=True,

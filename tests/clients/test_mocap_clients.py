@@ -59,7 +59,7 @@ EDGES = {"wide": (101, 50.0, 300, 4), "long": (5, 1000.0, 2, 70000)}
 
 
 @pytest.fixture(scope="module")
-def edges(tmp_path_factory):
+def edges(clients_venv, tmp_path_factory):
     """name → (output folder, report, input as a F×M×3 array with NaN where missing, labels)."""
     runs = {}
     for name, (first, rate, markers, frames) in EDGES.items():
@@ -76,12 +76,12 @@ def edges(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def plug_in(tmp_path_factory):
+def plug_in(clients_venv, tmp_path_factory):
     return fill_gaps(MODEL_OUTPUTS, tmp_path_factory.mktemp("fill_gaps") / "plug_in")
 
 
 @pytest.fixture(scope="module")
-def readers(filled, edges, plug_in, tmp_path_factory):
+def readers(clients_venv, filled, edges, plug_in, tmp_path_factory):
     """What ezc3d and Kinetics Toolkit read: "filled", "input" (Vicon.c3d), each of EDGES,
     "plug_in" (PlugInC3D.c3d filled) and "plug_in_input"."""
     files = {"filled": filled[0] / "filled.c3d", "input": RECORDING}
