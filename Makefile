@@ -93,8 +93,9 @@ test-asan: sanitize-build
 # only: tests/clients/c3d_read.py runs them in CLIENTS_VENV, a virtual environment made here from
 # the pins of tests/clients/requirements.txt (test-only: nothing else needs it). It is made once
 # (the stamp CLIENTS_VENV/installed) and again when the pins change; when it cannot be made (no
-# network) the tests that need it skip, saying so, and the next run tries again.
-CLIENTS_VENV ?= $(BUILD)/clients-venv
+# network) the tests that need it skip, saying so, and the next run tries again. It holds no build
+# output, so every BUILD tree shares it.
+CLIENTS_VENV ?= build/clients-venv
 CLIENTS_PINS := tests/clients/requirements.txt
 
 $(CLIENTS_VENV)/installed: $(CLIENTS_PINS)

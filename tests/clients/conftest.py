@@ -16,8 +16,7 @@ HERE = pathlib.Path(__file__).parent
 ROOT = pathlib.Path(os.environ.get("MOREAU_ROOT", HERE.parents[1]))
 CLI = os.environ.get("MOREAU_CLI", str(ROOT / "build/release/moreau"))
 UNIT_TESTS = os.environ.get("MOREAU_TESTS", str(ROOT / "build/release/moreau_tests"))
-CLIENTS_VENV = pathlib.Path(os.environ.get("MOREAU_CLIENTS_VENV",
-                                           ROOT / "build/release/clients-venv"))
+CLIENTS_VENV = pathlib.Path(os.environ.get("MOREAU_CLIENTS_VENV", ROOT / "build/clients-venv"))
 XDMF_READERS = ("XDMFReader", "Xdmf3ReaderS", "Xdmf3ReaderT")
 
 # The examples shortened to a few frames (the client suite checks formats, not physics).
