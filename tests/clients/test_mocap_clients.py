@@ -14,9 +14,11 @@ the Makefile tried) those tests skip, saying why; the numpy ones still run.
 Residuals: moreau keeps no residuals or camera masks. Every sample of filled.c3d that holds a
 position, measured or filled, has residual 0 and camera mask 0 (ezc3d: residual 0.0, no camera);
 a sample left missing (a marker never observed) has residual −1 and coordinates 0, which ezc3d
-and Kinetics Toolkit read as NaN. The files are Vicon.c3d filled by `--method linear`, and
-recordings written here as CSV for what Vicon.c3d lacks: more than 255 markers (POINT:LABELS2),
-more than 65535 frames (POINT:FRAMES as a float), a first frame other than 1, a marker never
+and Kinetics Toolkit read as NaN. The files are Vicon.c3d filled by `--method linear`,
+PlugInC3D.c3d so filled (model outputs: POINT:ANGLES, FORCES, … written back), and recordings
+written here as CSV for what those lack: more than 255 markers (POINT:LABELS2), more than 65535
+frames (the header and POINT:FRAMES saturated, the TRIAL fields holding the range; a float
+POINT:FRAMES, as moreau once wrote it, ezc3d refuses), first frames other than 1, a marker never
 observed."""
 import json
 import subprocess
