@@ -30,12 +30,13 @@ python: deps
 	@cmake --build $(BUILD) -j $(JOBS) --target moreau_python
 
 # Every test in Release (tests/python through ctest), the unit tests again under
-# AddressSanitizer + UBSan, the client suite (the outputs opened with ParaView, VTK, h5py and
-# numpy), then each fuzz target for FUZZ_TEST_SECONDS. One make with a pool of JOBS jobs (one
-# jobserver) runs the first three and the two builds they need: the Release and the sanitizer
-# trees compile at the same time, and each test run starts as soon as its own tree is built, so
-# that no core waits for the other tree's last file or the slowest test of another run. The
-# fuzz targets run last, alone, for their full time on every core. Any failure fails the run.
+# AddressSanitizer + UBSan, the client suite (the outputs opened with ParaView, VTK, h5py, numpy,
+# ezc3d and Kinetics Toolkit), then each fuzz target for FUZZ_TEST_SECONDS. One make with a pool
+# of JOBS jobs (one jobserver) runs the first three and the two builds they need: the Release and
+# the sanitizer trees compile at the same time, and each test run starts as soon as its own tree
+# is built, so that no core waits for the other tree's last file or the slowest test of another
+# run. The fuzz targets run last, alone, for their full time on every core. Any failure fails the
+# run.
 test: deps
 	+@$(MAKE) --no-print-directory -j $(JOBS) POOL=1 test-release test-asan test-clients
 	$(run-fuzz)
@@ -87,12 +88,28 @@ endef
 test-asan: sanitize-build
 	$(run-asan)
 
-# Outputs opened with the programs people use (tests/clients; needs scripts/install-deps).
+# Outputs opened with the programs people use (tests/clients; needs scripts/install-deps). The
+# suite runs under $(PYTHON); the C3D readers of the field, ezc3d and Kinetics Toolkit, are on PyPI
+# only: tests/clients/c3d_read.py runs them in CLIENTS_VENV, a virtual environment made here from
+# the pins of tests/clients/requirements.txt (test-only: nothing else needs it). It is made once
+# (the stamp CLIENTS_VENV/installed) and again when the pins change; when it cannot be made (no
+# network) the tests that need it skip, saying so, and the next run tries again. It holds no build
+# output, so every BUILD tree shares it.
+CLIENTS_VENV ?= build/clients-venv
+CLIENTS_PINS := tests/clients/requirements.txt
+
+$(CLIENTS_VENV)/installed: $(CLIENTS_PINS)
+	@rm -rf $(CLIENTS_VENV)
+	@if $(PYTHON) -m venv $(CLIENTS_VENV) && $(CLIENTS_VENV)/bin/pip install -q \
+	  --disable-pip-version-check --retries 1 --timeout 30 -r $(CLIENTS_PINS); then touch $@; \
+	else rm -rf $(CLIENTS_VENV); \
+	  echo "test-clients: $(CLIENTS_VENV) not made (PyPI unreachable?): the C3D reader tests skip"; fi
+
 define run-clients
 	@MOREAU_CLI=$(MOREAU) MOREAU_TESTS=$(BUILD)/moreau_tests MOREAU_ROOT=$(CURDIR) \
-	  $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
+	  MOREAU_CLIENTS_VENV=$(CLIENTS_VENV) $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
 endef
-test-clients: test-build
+test-clients: test-build $(CLIENTS_VENV)/installed
 	$(run-clients)
 
 # libFuzzer targets of the scenario and C3D readers (fuzz/, in the sanitizer build): `make fuzz`

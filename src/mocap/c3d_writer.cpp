@@ -138,11 +138,9 @@ std::string ParameterSectionBytes(const Recording& r, const std::filesystem::pat
   w.Float(1, "SCALE", -1.0f);
   w.Float(1, "RATE", static_cast<float>(r.rate()));
   w.Int16s(1, "DATA_START", {data_start});
-  if (r.frames() <= 65535) {
-    w.Int16s(1, "FRAMES", {r.frames()});
-  } else {
-    w.Float(1, "FRAMES", static_cast<float>(r.frames()));
-  }
+  // Beyond 65535 frames the count saturates (0xFFFF, as ezc3d and Vicon write it; readers that
+  // expect an integer reject a float) and the TRIAL fields hold the true range.
+  w.Int16s(1, "FRAMES", {std::min<std::int64_t>(r.frames(), 65535)});
   w.Strings(1, "UNITS", {r.units()}, true);
   WriteNameChunks(w, 1, "LABELS", r.labels());
   std::vector<std::string> descriptions = r.descriptions();

@@ -1,7 +1,8 @@
 """Shared helpers of the client suite: runs of the tool on shortened examples, and ParaView's
 readers driven through pvbatch. Paths come from the environment (the Makefile sets them):
 MOREAU_CLI (the tool), MOREAU_TESTS (the unit-test binary, which writes changing-count samples),
-MOREAU_ROOT (the repository)."""
+MOREAU_ROOT (the repository), MOREAU_CLIENTS_VENV (the virtual environment with the C3D readers
+from PyPI, made by the Makefile from requirements.txt)."""
 import json
 import os
 import pathlib
@@ -15,6 +16,7 @@ HERE = pathlib.Path(__file__).parent
 ROOT = pathlib.Path(os.environ.get("MOREAU_ROOT", HERE.parents[1]))
 CLI = os.environ.get("MOREAU_CLI", str(ROOT / "build/release/moreau"))
 UNIT_TESTS = os.environ.get("MOREAU_TESTS", str(ROOT / "build/release/moreau_tests"))
+CLIENTS_VENV = pathlib.Path(os.environ.get("MOREAU_CLIENTS_VENV", ROOT / "build/clients-venv"))
 XDMF_READERS = ("XDMFReader", "Xdmf3ReaderS", "Xdmf3ReaderT")
 
 # The examples shortened to a few frames (the client suite checks formats, not physics).
@@ -44,6 +46,34 @@ def paraview_read(jobs, out_dir):
     assert r.returncode == 0, f"pvbatch exit {r.returncode}:\n{r.stdout[-2000:]}\n{r.stderr[-3000:]}"
     results = []
     for k in range(len(jobs)):
+        with np.load(out_dir / f"{k}.npz") as data:
+            results.append({name: data[name] for name in data.files})
+    return results
+
+
+@pytest.fixture(scope="session")
+def clients_venv():
+    """The venv with the C3D readers; skips when it was not made (the Makefile makes it from
+    PyPI; without network it cannot). Requested first, it skips before any work is done."""
+    if not (CLIENTS_VENV / "installed").is_file():
+        pytest.skip(f"{CLIENTS_VENV} not made: ezc3d and kineticstoolkit come from PyPI "
+                    "(tests/clients/requirements.txt); `make test-clients` makes it when the "
+                    "network is reachable")
+    return CLIENTS_VENV
+
+
+def c3d_read(paths, out_dir):
+    """Opens each C3D file of `paths` with ezc3d and Kinetics Toolkit in one process of the
+    client venv (c3d_read.py; needs the clients_venv fixture); returns one dict of arrays per
+    file. Fails when a reader does."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    args = [str(CLIENTS_VENV / "bin" / "python"), str(HERE / "c3d_read.py"), str(out_dir)]
+    r = subprocess.run(args + [str(p) for p in paths], capture_output=True, text=True,
+                       timeout=300)
+    assert r.returncode == 0, \
+        f"c3d_read.py exit {r.returncode}:\n{r.stdout[-2000:]}\n{r.stderr[-3000:]}"
+    results = []
+    for k in range(len(paths)):
         with np.load(out_dir / f"{k}.npz") as data:
             results.append({name: data[name] for name in data.files})
     return results

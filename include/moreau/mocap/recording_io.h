@@ -69,8 +69,9 @@ void WriteRecording(const Recording& recording, const std::filesystem::path& pat
 // TRIAL:ACTUAL_START_FIELD/ACTUAL_END_FIELD; for model outputs (recording.h) POINT:ANGLES,
 // FORCES, MOMENTS, POWERS, SCALARS, REACTIONS (the labels of each type present) and ANGLE_UNITS, …
 // (each type's units the recording states). More than 65535 frames: the header's last frame
-// saturates at 65535, POINT:FRAMES is a float and the TRIAL fields hold the true range. Missing
-// samples have residual −1 and coordinates 0.
+// and POINT:FRAMES (a 16-bit integer) saturate at 65535 and the TRIAL fields hold the true
+// range. Missing samples have residual −1 and coordinates 0; every other sample residual 0 (a
+// recording keeps no residuals).
 void WriteC3d(const Recording& recording, const std::filesystem::path& path);
 // TRC (PathFileType 4): rate, units, C3D frame numbers, time f / rate, blank fields where missing.
 void WriteTrc(const Recording& recording, const std::filesystem::path& path);
