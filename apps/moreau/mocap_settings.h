@@ -19,11 +19,12 @@
 
 namespace moreau::cli {
 
-// The method fill-gaps uses when none is named (fill.method): ocp, the optimal-control fill, the
-// best on both ground-truth recordings at every gap length (docs/mocap.md).
+// The method fill-gaps uses when none is named (fill.method): the winner of the committed
+// evaluation, position first, then acceleration, then time (docs/mocap.md, "Which method is the
+// default"; tests/docs/test_mocap_ranking.py checks it against docs/results/mocap/ranking/).
 inline constexpr mocap::GapFillMethod kDefaultFillMethod = mocap::GapFillMethod::kOcp;
 
-// "linear, spline, pchip, rigid, pca, ocp".
+// "linear, spline, pchip, rigid, pca, average, ocp".
 std::string FillMethodNames();
 
 // The arguments of fill-gaps and evaluate-gaps: IN [--scenario FILE] [--set key=value …]

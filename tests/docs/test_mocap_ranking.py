@@ -1,0 +1,75 @@
+"""fill-gaps' default method is the winner of the committed evaluation, by the documented rule.
+
+docs/results/mocap/ranking/ holds the evaluation (scripts/mocap_ranking.sh: every method on every
+shared recording, one and three markers hidden, gaps of 0.5–2 s) and the ranking that
+scripts/mocap_ranking.py derives from it. Nothing is rerun here: the ranking is recomputed from
+the committed summaries, compared with the committed ranking.csv, with the default in
+docs/keys.md (written by `moreau keys --markdown`) and with the table in docs/mocap.md.
+"""
+import csv
+import importlib.util
+import os
+import pathlib
+import re
+
+ROOT = pathlib.Path(os.environ.get("MOREAU_ROOT", pathlib.Path(__file__).parents[2]))
+RANKING = ROOT / "docs/results/mocap/ranking"
+
+
+def ranking_module():
+    spec = importlib.util.spec_from_file_location("mocap_ranking",
+                                                  ROOT / "scripts/mocap_ranking.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def committed():
+    with open(RANKING / "ranking.csv") as f:
+        return {row["method"]: row for row in csv.DictReader(f)}
+
+
+def test_the_committed_ranking_is_the_rule_applied_to_the_committed_evaluation():
+    module = ranking_module()
+    table, seconds = module.cells(RANKING)
+    recordings = {recording for recording, _, _ in table}
+    assert len(recordings) >= 6 and {k for _, k, _ in table} == {1, 3}
+    assert all(0.5 <= gap <= 2.0 for _, _, gap in table)
+    result = module.scores(table, seconds)
+    rows = committed()
+    assert set(rows) == set(result)
+    for method, s in result.items():
+        for measure in module.MEASURES:
+            assert float(rows[method][f"{measure}_score"]) == round(s[measure], 4), method
+    chosen = module.winner(result)
+    assert [m for m, row in rows.items() if row["default"] == "yes"] == [chosen]
+
+
+def test_the_rule_prefers_position_then_acceleration_then_time():
+    module = ranking_module()
+    base = {"p90_error": 1.0, "distance_deviation": 1.0, "unfilled": 0}
+    result = {
+        "a": {**base, "mean_error": 1.00, "acceleration_error": 1.30, "seconds": 1.0},
+        "b": {**base, "mean_error": 1.01, "acceleration_error": 1.00, "seconds": 9.0},
+        "c": {**base, "mean_error": 1.015, "acceleration_error": 1.01, "seconds": 2.0},
+        "d": {**base, "mean_error": 1.03, "acceleration_error": 0.50, "seconds": 0.1},
+        "e": {**base, "mean_error": 0.90, "acceleration_error": 0.50, "seconds": 0.1,
+              "unfilled": 1},
+    }
+    # e leaves a gap unfilled; d is 3 % behind on position; of a, b, c (within 2 %) b and c are
+    # within 2 % on acceleration; c is faster.
+    assert module.winner(result) == "c"
+
+
+def test_the_tools_default_method_is_the_winner():
+    keys = (ROOT / "docs/keys.md").read_text()
+    default = re.search(r"^\| `fill\.method` \|[^|]*\| \"(\w+)\" \|", keys, re.M).group(1)
+    winner = [m for m, row in committed().items() if row["default"] == "yes"]
+    assert winner == [default]
+
+
+def test_docs_mocap_quotes_the_committed_scores():
+    page = re.sub(r"\s+", " ", (ROOT / "docs/mocap.md").read_text())
+    for method, row in committed().items():
+        cells = " | ".join(f"{float(row[f'{m}_score']):.3f}" for m in ranking_module().MEASURES)
+        assert f"| {method} | {cells} |" in page or f"| **{method}** | {cells} |" in page, method
