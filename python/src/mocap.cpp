@@ -1,4 +1,5 @@
 // moreau.mocap: recordings (read, write, arrays), gaps, fills and the evaluation protocol.
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -41,8 +42,40 @@ Recording FromArray(std::vector<std::string> labels,
   return r;
 }
 
+// What the points are: their descriptions, types and the types' units.
+void BindPointDetails(py::class_<Recording>& recording) {
+  recording
+      .def_property_readonly(
+          "descriptions", [](const Recording& r) { return r.descriptions(); },
+          "The description of every point (C3D POINT:DESCRIPTIONS; may be empty).")
+      .def_property_readonly(
+          "point_types",
+          [](const Recording& r) {
+            std::vector<std::string> out;
+            for (PointType type : r.types()) out.emplace_back(ToString(type));
+            return out;
+          },
+          "The type of every point: 'marker', or a model output 'angle', 'force', 'moment', "
+          "'power', 'scalar', 'reaction' (C3D POINT:ANGLES, FORCES, …); only markers are "
+          "filled.")
+      .def_property_readonly(
+          "type_units",
+          [](const Recording& r) {
+            std::map<std::string, std::string> out;
+            for (PointType type : AllPointTypes()) {
+              if (type != PointType::kMarker && !r.type_units(type).empty()) {
+                out.emplace(ToString(type), r.type_units(type));
+              }
+            }
+            return out;
+          },
+          "The units of the model-output types that the file states, e.g. {'angle': 'deg'}.");
+}
+
 void BindRecording(py::module_& m) {
-  py::class_<Recording>(m, "Recording", "M labelled markers at F frames, with holes (NaN).")
+  py::class_<Recording> recording(m, "Recording",
+                                  "M labelled markers at F frames, with holes (NaN).");
+  recording
       .def(py::init(&FromArray), py::arg("labels"), py::arg("positions"), py::arg("rate"),
            py::arg("units") = "mm", "From an (F, M, 3) array; NaN marks a missing sample.")
       .def_property_readonly("markers", &Recording::markers)
@@ -75,6 +108,7 @@ void BindRecording(py::module_& m) {
           "(F, M) bool: a copy (the mask is stored as bytes).")
       .def("find_marker", &Recording::FindMarker, py::arg("label"))
       .def("convert_units", &Recording::ConvertUnits, py::arg("units"));
+  BindPointDetails(recording);
   py::class_<Gap>(m, "Gap", "A run of missing frames [first, last] of one marker.")
       .def(py::init([](int marker, std::int64_t first, std::int64_t last) {
              return Gap{marker, first, last};
@@ -133,9 +167,10 @@ void BindFillOptions(py::module_& m) {
       .def_readwrite("newton", &OcpFillOptions::newton);
   // Python's FillOptions are the settings of a fill by any method (gap_fill.h): the method (ocp
   // included), the baseline fills' blocks and ocp.
-  auto fill = BindOptionsClass<GapFillOptions>(m, "FillOptions",
-                                               "Keys of fill-gaps: fill.method, fill.max_gap_seconds, "
-                                               "interpolation.*, rigid.*, pca.*, ocp.*.");
+  auto fill =
+      BindOptionsClass<GapFillOptions>(m, "FillOptions",
+                                       "Keys of fill-gaps: fill.method, fill.max_gap_seconds, "
+                                       "interpolation.*, rigid.*, pca.*, ocp.*.");
   BindBaselineField(fill, "interpolation", &FillOptions::interpolation);
   BindBaselineField(fill, "rigid", &FillOptions::rigid);
   BindBaselineField(fill, "pca", &FillOptions::pca);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <cmath>
@@ -122,6 +123,19 @@ std::optional<Item> ReadItem(std::span<const std::uint8_t> section, std::size_t 
   return item;
 }
 
+// The byte where the chain of items ends (exclusive): the end of the parameter blocks that the
+// section's third byte declares, or the header's first data block (word 9) when that comes later;
+// the whole file when neither is usable. Real writers leave a last item whose link points past
+// the section, into the data: the chain stops there, as BTK stops it.
+std::size_t ChainEnd(std::span<const std::uint8_t> file, std::size_t start,
+                     const NumberDecoder& decode) {
+  const std::size_t declared = start + std::size_t{file[start + 2]} * kBlockBytes;
+  const std::size_t data_block = file.size() >= 18 ? decode.UInt16(&file[16]) : 0;
+  const std::size_t data = data_block >= 2 ? (data_block - 1) * kBlockBytes : 0;
+  const std::size_t end = std::max(declared, data);
+  return end > start + 4 ? std::min(end, file.size()) : file.size();
+}
+
 }  // namespace
 
 ParameterSection ParseParameterSection(std::span<const std::uint8_t> file, std::size_t start,
@@ -145,8 +159,9 @@ ParameterSection ParseParameterSection(std::span<const std::uint8_t> file, std::
   std::vector<std::pair<int, Item>> items;
   std::size_t pos = start + 4;
   if (pos < file.size() && file[pos] == 0) return section;  // no parameters declared
-  while (pos != 0) {
-    if (pos < file.size() && file[pos] == 0) break;  // name length 0 ends the section
+  const std::size_t end = ChainEnd(file, start, decode);
+  while (pos != 0 && pos < end) {
+    if (file[pos] == 0) break;  // name length 0 ends the section
     std::string reason;
     std::optional<Item> item = ReadItem(file, pos, decode, reason);
     if (item && item->next != 0 && item->next <= pos) reason = "next item points backwards";

@@ -90,8 +90,11 @@ inline constexpr std::array<PointTypeParameters, 6> kPointTypeParameters = {{
     {PointType::kReaction, "REACTIONS", "REACTION_UNITS"},
 }};
 
-// Parses the parameter section starting at byte `start` of `file`. An item that runs outside the
-// file or points backwards ends the section with a warning (real writers leave such bytes).
+// Parses the parameter section starting at byte `start` of `file`. The chain of items ends at a
+// name length 0, a link 0, or a link past the parameter blocks that the section declares (its
+// third byte; the header's first data block when later): a link into the data ends the section
+// without a warning, as BTK reads it. An item that runs outside the file or points backwards
+// ends the section with a warning (real writers leave such bytes).
 // A section that ends at once (its first item's name length is 0: the file declares no
 // parameters, as PhaseSpace writes) is returned without parameters, for the caller to read the
 // header alone; any other section without a single parameter is an InputError naming `path`.

@@ -1,9 +1,11 @@
 // C3D reader: header, parameter section, 3D point data (analog data skipped). A file that
-// declares no parameters is read from its header alone.
+// declares no parameters is read from its header alone. Points that the file does not label are
+// named as BTK names them: "uname*1", "uname*2", … (1-based point numbers).
 #include <fmt/format.h>
 
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <span>
 
 #include "mocap/c3d_format.h"
@@ -17,6 +19,13 @@ namespace {
 
 using internal::Fail;
 
+constexpr std::string_view kUnnamed = "uname*";
+// Motion Analysis Corp. software (EVa RealTime, Cortex) stores short names in POINT:LABELS and
+// the names it shows in POINT:DESCRIPTIONS, and marks an occluded point by coordinates 9999999.
+constexpr std::string_view kMotionAnalysis = "Motion Analysis Corp.";
+constexpr double kMotionAnalysisOccluded = 9999999.0;
+constexpr double kMotionAnalysisTolerance = std::numeric_limits<float>::epsilon();  // BTK's
+
 // Where the points are and how they are stored, from the parameters and the header.
 struct DataLayout {
   std::int64_t points = 0;
@@ -28,6 +37,7 @@ struct DataLayout {
   std::int64_t analog_words = 0;  // analog values per 3D frame
   int analog_channels = 0;
   int analog_samples_per_frame = 0;
+  bool motion_analysis = false;  // MANUFACTURER:COMPANY is Motion Analysis Corp.
 
   bool float_storage() const { return scale < 0.0; }
   std::size_t word_bytes() const { return float_storage() ? 4 : 2; }
@@ -150,12 +160,22 @@ std::vector<std::string> ReadNameList(const c3d::ParameterSection& p, std::strin
   return names;
 }
 
-// POINT:LABELS, LABELS2, LABELS3, … (or DESCRIPTIONS…) concatenated, cut or padded to `count`.
+// POINT:LABELS, LABELS2, LABELS3, … (or DESCRIPTIONS…) concatenated, cut or padded to `count`;
+// a point past the list gets GeneratedLabel(its index, `prefix`), or "" when `prefix` is empty.
 std::vector<std::string> ReadNames(const c3d::ParameterSection& p, std::string_view name,
-                                   std::int64_t count) {
+                                   std::int64_t count, std::string_view prefix = {}) {
   std::vector<std::string> names = ReadNameList(p, name);
+  const std::size_t listed = names.size();
   names.resize(static_cast<std::size_t>(count));
+  for (std::size_t m = listed; m < names.size() && !prefix.empty(); ++m) {
+    names[m] = internal::GeneratedLabel(m, prefix);
+  }
   return names;
+}
+
+bool WrittenByMotionAnalysis(const c3d::ParameterSection& p) {
+  const auto company = p.Strings("MANUFACTURER", "COMPANY");
+  return !company.empty() && company[0] == kMotionAnalysis;
 }
 
 // The model outputs: a point whose label POINT:ANGLES, FORCES, … lists gets that type (names
@@ -182,13 +202,13 @@ std::string ReadUnits(const std::filesystem::path& path, const c3d::ParameterSec
   return "mm";
 }
 
-// The labels of a file that declares no parameters: GeneratedLabel(0 … count − 1), with one
-// warning saying that the layout came from the header and the labels and units were supplied.
+// The labels of a file that declares no parameters: uname*1 … uname*<count>, with one warning
+// saying that the layout came from the header and the labels and units were supplied.
 std::vector<std::string> HeaderOnlyLabels(const std::filesystem::path& path, std::int64_t count,
                                           std::vector<std::string>& warnings) {
   std::vector<std::string> labels;
   for (std::size_t m = 0; m < static_cast<std::size_t>(count); ++m) {
-    labels.push_back(internal::GeneratedLabel(m));
+    labels.push_back(internal::GeneratedLabel(m, kUnnamed));
   }
   const std::string range =
       labels.empty() ? "none" : fmt::format("{} … {}", labels.front(), labels.back());
@@ -245,6 +265,10 @@ void ReadPoints(std::span<const std::uint8_t> bytes, const DataLayout& layout,
       }
       const bool zero = p[0] == 0.0 && p[1] == 0.0 && p[2] == 0.0;
       if (residual < 0.0 || !p.allFinite() || (zero && options.zero_is_missing)) continue;
+      if (layout.motion_analysis &&
+          std::abs(p.mean() - kMotionAnalysisOccluded) < kMotionAnalysisTolerance) {
+        continue;
+      }
       recording.SetPoint(f, m, p);
     }
   }
@@ -275,13 +299,17 @@ Recording ReadC3d(const std::filesystem::path& path, const ReadOptions& options,
   DataLayout layout = ReadLayout(path, header, section, warnings);
   layout.frames = FramesPresent(path, bytes.size(), layout, options, warnings);
 
+  layout.motion_analysis = WrittenByMotionAnalysis(section);
+  // Motion Analysis: the names are the descriptions, and the short labels become descriptions.
+  const std::string_view names = layout.motion_analysis ? "DESCRIPTIONS" : "LABELS";
+  const std::string_view notes = layout.motion_analysis ? "LABELS" : "DESCRIPTIONS";
   std::vector<std::string> labels = section.parameters.empty()
                                         ? HeaderOnlyLabels(path, layout.points, warnings)
-                                        : ReadNames(section, "LABELS", layout.points);
-  internal::MakeLabelsUnique(labels, path, "POINT:LABELS", warnings);
+                                        : ReadNames(section, names, layout.points, kUnnamed);
+  internal::MakeLabelsUnique(labels, path, fmt::format("POINT:{}", names), warnings, kUnnamed);
   Recording recording(std::move(labels), layout.frames, layout.rate,
                       ReadUnits(path, section, warnings));
-  recording.descriptions() = ReadNames(section, "DESCRIPTIONS", layout.points);
+  recording.descriptions() = ReadNames(section, notes, layout.points);
   recording.set_first_frame(layout.first_frame);
   ReadPointTypes(section, recording);
   SourceFormat& format = recording.format();

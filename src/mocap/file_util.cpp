@@ -60,17 +60,20 @@ void WriteFileAtomically(const std::filesystem::path& file, std::string_view con
   }
 }
 
-std::string GeneratedLabel(std::size_t index) { return fmt::format("M{}", index + 1); }
+std::string GeneratedLabel(std::size_t index, std::string_view prefix) {
+  return fmt::format("{}{}", prefix, index + 1);
+}
 
 void MakeLabelsUnique(std::vector<std::string>& labels, const std::filesystem::path& file,
-                      std::string_view field, std::vector<std::string>& warnings) {
+                      std::string_view field, std::vector<std::string>& warnings,
+                      std::string_view prefix) {
   std::set<std::string> used(labels.begin(), labels.end());
   std::set<std::string> seen;
   std::vector<std::string> changes;
   for (std::size_t m = 0; m < labels.size(); ++m) {
     std::string& label = labels[m];
     if (!label.empty() && seen.insert(label).second) continue;
-    const std::string base = label.empty() ? GeneratedLabel(m) : label;
+    const std::string base = label.empty() ? GeneratedLabel(m, prefix) : label;
     std::string unique = base;
     for (int k = 2; used.count(unique) != 0; ++k) unique = fmt::format("{}_{}", base, k);
     changes.push_back(fmt::format("{} → {}", label.empty() ? "(empty)" : label, unique));

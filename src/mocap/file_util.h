@@ -19,13 +19,15 @@ std::string ReadWholeFile(const std::filesystem::path& file);
 // `file` is complete or untouched. InputError naming the file on any failure.
 void WriteFileAtomically(const std::filesystem::path& file, std::string_view content);
 
-// The label given to marker `index` (0-based) when the file names none: "M<index + 1>".
-std::string GeneratedLabel(std::size_t index);
+// The label given to marker `index` (0-based) when the file names none: "<prefix><index + 1>"
+// ("M1", …; C3D uses BTK's "uname*1", …).
+std::string GeneratedLabel(std::size_t index, std::string_view prefix = "M");
 
-// Replaces empty labels by GeneratedLabel(their index) and repeated ones by "LABEL_2",
+// Replaces empty labels by GeneratedLabel(their index, prefix) and repeated ones by "LABEL_2",
 // "LABEL_3", …, appending one warning naming the file and `field` when anything changed.
 void MakeLabelsUnique(std::vector<std::string>& labels, const std::filesystem::path& file,
-                      std::string_view field, std::vector<std::string>& warnings);
+                      std::string_view field, std::vector<std::string>& warnings,
+                      std::string_view prefix = "M");
 
 // The lines of `text` (LF or CRLF), without their line ends.
 std::vector<std::string_view> SplitLines(std::string_view text);

@@ -19,6 +19,20 @@ def test_read_write_round_trip_and_zero_copy_view(tmp_path):
     assert np.allclose(again.positions, x, equal_nan=True, rtol=0, atol=1e-3)
 
 
+def test_point_types_descriptions_and_type_units():
+    r, _ = mocap.read_recording(MOCAP / "PlugInC3D.c3d")
+    types = r.point_types
+    assert len(types) == r.markers == 86 and len(r.descriptions) == 86
+    counts = {t: types.count(t) for t in set(types)}
+    assert counts == {"marker": 54, "angle": 10, "force": 8, "moment": 8, "power": 6}
+    assert all(t == "angle" for t, label in zip(types, r.labels) if "Angles" in label)
+    assert r.type_units["angle"] == "deg" and "marker" not in r.type_units
+    v, _ = mocap.read_recording(MOCAP / "Vicon.c3d")
+    assert set(v.point_types) == {"marker"}
+    x = mocap.Recording(["A"], np.zeros((2, 1, 3)), 100.0)
+    assert x.point_types == ["marker"] and x.descriptions == [""]
+
+
 def test_from_array_and_fill():
     t = np.linspace(0.0, 1.0, 101)
     x = np.zeros((101, 2, 3))
