@@ -323,23 +323,30 @@ FillSummary FillEachGap(const Recording& in, const std::vector<Gap>& gaps,
 }
 
 // The fill of `gap` made to meet the observed samples that bound it (FillGapsMeetingEnds): the
-// samples at first − 1 and last + 1 are hidden in `work` while the widened gap is filled, then
-// restored.
+// samples at first − 1 and last + 1 (those inside the recording) are hidden in `work` while the
+// widened gap is filled, then restored. The fill's errors at those frames are removed: blended
+// linearly across a gap with both, the one error everywhere in a gap at the recording's start or
+// end.
 GapFill FillGapMeetingEnds(Recording& work, const Gap& gap, const FillOptions& options) {
-  const std::int64_t a = gap.first - 1, b = gap.last + 1;
-  if (a < 0 || b >= work.frames()) return FillGap(work, gap, options);
+  const bool left = gap.first > 0, right = gap.last + 1 < work.frames();
+  if (!left && !right) return FillGap(work, gap, options);
+  const std::int64_t a = left ? gap.first - 1 : gap.first;
+  const std::int64_t b = right ? gap.last + 1 : gap.last;
   const Eigen::Vector3d xa = work.point(a, gap.marker), xb = work.point(b, gap.marker);
-  work.ClearPoint(a, gap.marker);
-  work.ClearPoint(b, gap.marker);
+  if (left) work.ClearPoint(a, gap.marker);
+  if (right) work.ClearPoint(b, gap.marker);
   GapFill wide = FillGap(work, Gap{gap.marker, a, b}, options);
-  work.SetPoint(a, gap.marker, xa);
-  work.SetPoint(b, gap.marker, xb);
+  if (left) work.SetPoint(a, gap.marker, xa);
+  if (right) work.SetPoint(b, gap.marker, xb);
   if (wide.status != GapStatus::kFilled) return FillGap(work, gap, options);
   const Eigen::Vector3d ea = xa - wide.points.col(0), eb = xb - wide.points.col(b - a);
   GapFill fill{GapStatus::kFilled, std::move(wide.message), Eigen::Matrix3Xd(3, gap.length())};
   for (std::int64_t f = gap.first; f <= gap.last; ++f) {
     const double w = static_cast<double>(f - a) / static_cast<double>(b - a);
-    fill.points.col(f - gap.first) = wide.points.col(f - a) + (1.0 - w) * ea + w * eb;
+    const Eigen::Vector3d error = !left    ? eb
+                                  : !right ? ea
+                                           : Eigen::Vector3d((1.0 - w) * ea + w * eb);
+    fill.points.col(f - gap.first) = wide.points.col(f - a) + error;
   }
   return fill;
 }

@@ -233,8 +233,9 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const Fi
 // FillGaps, each gap filled so that it meets the observed samples that bound it: the gap widened
 // by one frame on each side (those two samples hidden) is filled by FillGap, and the fill's
 // errors at the two bounding frames, blended linearly across the gap, are removed. A gap at the
-// start or end of the recording is filled as FillGap does, and so is one whose widened fill
-// fails. These are the candidate fills a layer above combines (ocp_fill.h): a method that does
+// start or end of the recording is widened on its one observed side and shifted by the fill's
+// error there (it meets the first or last observed sample without a jump); a gap over the whole
+// recording is filled as FillGap does, and so is one whose widened fill fails. These are the candidate fills a layer above combines (ocp_fill.h): a method that does
 // not reproduce the samples around a gap (pca) would otherwise jump there.
 FillSummary FillGapsMeetingEnds(const Recording& in, const std::vector<Gap>& gaps,
                                 const FillOptions& options, Recording* out);
