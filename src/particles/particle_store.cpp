@@ -159,8 +159,8 @@ bool GatherActive(const int* id, int n, double* velocity, const double* added, d
 }
 
 template <int K>
-bool GatherActive(const int* id, int n, std::span<double> velocity,
-                  std::span<const double> added, double* active) {
+bool GatherActive(const int* id, int n, std::span<double> velocity, std::span<const double> added,
+                  double* active) {
   return added.empty() ? GatherActive<K, false>(id, n, velocity.data(), nullptr, active)
                        : GatherActive<K, true>(id, n, velocity.data(), added.data(), active);
 }

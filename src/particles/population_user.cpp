@@ -57,8 +57,9 @@ void Population::ApplyDrift() {
   velocity_zero_ = true;
   if (bad < 0) return;
   const auto i = static_cast<std::size_t>(bad);
-  throw NumericalError(fmt::format("step {}: the user drift gave agent {} (id {}) a non-finite velocity",
-                                   engine_.step(), i, agents_[i].id));
+  throw NumericalError(
+      fmt::format("step {}: the user drift gave agent {} (id {}) a non-finite velocity",
+                  engine_.step(), i, agents_[i].id));
 }
 
 // The user rule's marks (N flags each), and a check of what it may change.
