@@ -280,6 +280,7 @@ void Population::ApplyRules() {
   }
   std::vector<std::uint8_t> divide, die;
   if (rule_) ApplyUserRule(&divide, &die);
+  rules_pending_ = false;  // from here on nothing is redone: an error stops or is final
   const std::vector<double> mean = aligns ? MeanNeighbourPolarity() : std::vector<double>{};
   const std::vector<int> contacts =
       inhibits ? engine_.ContactCounts(rules_.contact_factor) : std::vector<int>{};
@@ -348,10 +349,7 @@ bool Population::Step() {
   if (stopped_) return false;
   const Stopwatch stopwatch;
   try {
-    if (rules_pending_) {  // the last step's user rule threw: its rule step first
-      ApplyRules();
-      rules_pending_ = false;
-    }
+    if (rules_pending_) ApplyRules();  // the last step's user rule threw: its rule step first
     if (!stopped_) StepOnce();
   } catch (const NumericalError& e) {
     Stop(Termination::kNonFinite, e.what());
@@ -378,9 +376,8 @@ void Population::StepOnce() {
   if (engine_.step() % rules_.interval == 0) {
     last_deaths_.clear();
     last_removals_.clear();
-    rules_pending_ = true;  // until ApplyRules returns (a user rule may throw)
+    rules_pending_ = true;  // until the user rule has returned (it may throw)
     ApplyRules();
-    rules_pending_ = false;
   }
 }
 
