@@ -358,7 +358,7 @@ int Engine::TakeActiveVelocities(std::span<double> velocity, std::span<const dou
   internal::StepContext& c = impl_->context;
   CheckEntries("active velocities", "velocities", velocity.size(), c.k, c.n);
   if (!added.empty()) CheckEntries("active velocities", "added velocities", added.size(), c.k, c.n);
-  return c.store->TakeActive(velocity, added);
+  return c.store->TakeActive(velocity, added, c.threads);
 }
 
 int Engine::Relax(double tolerance, int max_sweeps) {

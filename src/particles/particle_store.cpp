@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <numeric>
 
@@ -159,20 +160,32 @@ bool GatherActive(const int* id, int n, double* velocity, const double* added, d
 }
 
 template <int K>
-bool GatherActive(const int* id, int n, std::span<double> velocity, std::span<const double> added,
-                  double* active) {
-  return added.empty() ? GatherActive<K, false>(id, n, velocity.data(), nullptr, active)
-                       : GatherActive<K, true>(id, n, velocity.data(), added.data(), active);
+bool GatherActive(const int* id, int n, double* velocity, const double* added, double* active) {
+  return added == nullptr ? GatherActive<K, false>(id, n, velocity, nullptr, active)
+                          : GatherActive<K, true>(id, n, velocity, added, active);
 }
 
 }  // namespace
 
-int ParticleStore::TakeActive(std::span<double> velocity, std::span<const double> added) {
+// Each thread gathers a contiguous range of slots (the ids are distinct, so no two write the
+// same value); the verdict is exact whatever the split (see GatherActive).
+int ParticleStore::TakeActive(std::span<double> velocity, std::span<const double> added,
+                              int threads) {
   MOREAU_ASSERT(velocity.size() == current.size() &&
                 (added.empty() || added.size() == current.size()));
   active.resize(current.size());
-  const bool finite = k == 2 ? GatherActive<2>(id.data(), n, velocity, added, active.data())
-                             : GatherActive<3>(id.data(), n, velocity, added, active.data());
+  const int parts = n >= 16384 ? std::max(1, threads) : 1;
+  const double* plus = added.empty() ? nullptr : added.data();
+  bool finite = true;
+#pragma omp parallel for num_threads(parts) schedule(static) reduction(&& : finite)
+  for (int part = 0; part < parts; ++part) {
+    const int lo = static_cast<int>(static_cast<std::int64_t>(n) * part / parts);
+    const int hi = static_cast<int>(static_cast<std::int64_t>(n) * (part + 1) / parts);
+    double* out = active.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(lo);
+    finite = (k == 2 ? GatherActive<2>(id.data() + lo, hi - lo, velocity.data(), plus, out)
+                     : GatherActive<3>(id.data() + lo, hi - lo, velocity.data(), plus, out)) &&
+             finite;
+  }
   if (finite) return -1;
   int lowest = -1;  // the exact check: the lowest id, whatever the storage order
   for (int s = 0; s < n; ++s) {
