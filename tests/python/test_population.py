@@ -143,6 +143,27 @@ def test_positions_read_in_a_drift_are_gathered_once_per_step():
     assert not a.flags.writeable and not c.flags.writeable
 
 
+def test_the_velocity_is_zero_on_entry_after_writes_errors_and_divisions():
+    p = line(n=2, interval=3, radius=0.4)
+    p.rule = lambda pop, divide, die: divide.__setitem__(0, pop.step_count == 3)
+    entries, raised = [], []
+
+    def drift(pop, v):
+        entries.append((v.shape, bool((v == 0.0).all())))
+        v[:] = 1.0
+        if pop.step_count == 4 and not raised:
+            raised.append(True)
+            raise RuntimeError("once")
+
+    p.drift = drift
+    p.step(4)
+    with pytest.raises(RuntimeError):
+        p.step()
+    p.step(2)
+    assert [shape for shape, _ in entries] == [(2, 2)] * 3 + [(3, 2)] * 4
+    assert all(zero for _, zero in entries)
+
+
 def test_types_by_name_and_bad_names():
     rules = particles.PopulationRules(types=[particles.AgentType(name="a"),
                                              particles.AgentType(name="b", radius=0.3)])
