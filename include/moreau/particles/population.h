@@ -223,7 +223,7 @@ struct PopulationView {
   // k·N, wrapped into the periodic domain (Population::CurrentPositions): gathered from the
   // engine at the first call for this state, so user code that reads none pays nothing.
   std::span<const double> positions() const;
-  Population* population = nullptr;
+  Population* population = nullptr;  // the population viewed (Population::View sets it)
 };
 
 // A user drift: called before every engine step; writes velocities (k·N, zero on entry) that
