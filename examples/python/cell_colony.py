@@ -33,26 +33,35 @@ LENGTH = 6.0  # its decay length: c(x) = exp(−|x − source| / LENGTH)
 CHI = 2.0  # chemotactic sensitivity: drift χ ∇c / (1 + |∇c| / G0), saturating
 G0 = 0.05
 THRESHOLD = 8.0  # exposure at which a cell is activated
+DOSE = rules.interval * 0.02  # uptake per rule step per unit of c: the rule step Δt = interval · h
 
 
 def concentration(x):
-    return np.exp(-np.linalg.norm(x - SOURCE, axis=1) / LENGTH)
+    d = x - SOURCE
+    return np.exp(np.hypot(d[:, 0], d[:, 1]) * (-1.0 / LENGTH))
 
 
 def chemotaxis(pop, velocity):
-    """The drift before every step: up the gradient of c, saturating (all cells at once)."""
-    x = pop.positions
-    d = SOURCE - x
-    r = np.linalg.norm(d, axis=1, keepdims=True) + 1e-12
-    grad = concentration(x)[:, None] / LENGTH * d / r  # ∇c points to the source
-    g = np.linalg.norm(grad, axis=1, keepdims=True)
-    velocity[:] = CHI * grad / (1.0 + g / G0)
+    """The drift before every step: up the gradient of c, saturating (all cells at once).
+
+    With d = SOURCE − x and r = |d|, ∇c = (c / LENGTH) d / r and |∇c| = c / LENGTH, so the drift
+    χ ∇c / (1 + |∇c| / G0) = d χ / (LENGTH r (1/c + 1/(LENGTH G0))): d times one number per
+    cell, in a few whole-array operations (each numpy call costs about a microsecond whatever
+    the small colony's size, more than the engine's step of one cell)."""
+    d = SOURCE - pop.positions
+    r = np.hypot(d[:, 0], d[:, 1])
+    r += 1e-12
+    s = np.exp(r * (1.0 / LENGTH))  # 1 / c
+    s += 1.0 / (LENGTH * G0)
+    s *= r
+    np.divide(d, s[:, None], out=velocity)
+    velocity *= CHI / LENGTH
 
 
 def activation(pop, divide, die):
     """At every rule step: take up attractant; activate the cells above the threshold."""
     exposure = pop.variable("exposure")
-    exposure += concentration(pop.positions) * pop.rules.interval * 0.02
+    exposure += concentration(pop.positions) * DOSE
     pop.types[exposure >= THRESHOLD] = 1
 
 

@@ -31,7 +31,9 @@ template <typename T>
 py::array View(T* data, std::vector<py::ssize_t> shape, std::vector<py::ssize_t> strides,
                py::handle owner, bool writable) {
   py::array view(py::dtype::of<T>(), std::move(shape), std::move(strides), data, owner);
-  if (!writable) view.attr("setflags")(py::arg("write") = false);
+  if (!writable) {  // as pybind11's Eigen casters do: no Python call (setflags) per view
+    py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  }
   return view;
 }
 
@@ -191,11 +193,12 @@ void BindViews(py::class_<Population>& c) {
        "positions",
        [](py::object self) {
          Population& p = self.cast<Population&>();
-         const PopulationView v = p.View();
-         return View(v.positions.data(), {static_cast<py::ssize_t>(p.count()), v.dimension}, {},
+         const std::span<const double> x = p.CurrentPositions();
+         return View(x.data(), {static_cast<py::ssize_t>(p.count()), p.engine().dimension()}, {},
                      self, false);
        },
-       "(N, k) read-only view of the positions (index order, wrapped), as of this access.")
+       "(N, k) read-only view of the positions (index order, wrapped), gathered once per step: "
+       "valid until the next step.")
       .def_property_readonly(
           "ids",
           [](py::object self) {

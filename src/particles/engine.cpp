@@ -354,6 +354,13 @@ void Engine::SetActiveVelocities(std::span<const double> active_velocity) {
   }
 }
 
+int Engine::TakeActiveVelocities(std::span<double> velocity, std::span<const double> added) {
+  internal::StepContext& c = impl_->context;
+  CheckEntries("active velocities", "velocities", velocity.size(), c.k, c.n);
+  if (!added.empty()) CheckEntries("active velocities", "added velocities", added.size(), c.k, c.n);
+  return c.store->TakeActive(velocity, added, c.threads);
+}
+
 int Engine::Relax(double tolerance, int max_sweeps) {
   if (!(tolerance >= 0.0)) {
     throw InputError(fmt::format("relax tolerance must be ≥ 0 (got {})", tolerance));

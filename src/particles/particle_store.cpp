@@ -1,6 +1,9 @@
 #include "particles/particle_store.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <numeric>
 
 #include "moreau/common/error.h"
@@ -99,7 +102,9 @@ std::vector<int> ParticleStore::SlotsOf() const {
 void ParticleStore::CopyPositionsById(const PeriodicBox& box, std::span<double> out,
                                       int threads) const {
   MOREAU_ASSERT(out.size() == current.size());
-#pragma omp parallel for num_threads(threads) schedule(static)
+  // A small population's copy (a Python drift reads it every step) is cheaper than a parallel
+  // region's start.
+#pragma omp parallel for num_threads(threads) schedule(static) if (n >= 4096)
   for (int s = 0; s < n; ++s) {
     const int i = id[static_cast<std::size_t>(s)];
     for (int a = 0; a < k; ++a) {
@@ -108,6 +113,89 @@ void ParticleStore::CopyPositionsById(const PeriodicBox& box, std::span<double> 
       out[static_cast<std::size_t>(k * i + a)] = v;
     }
   }
+}
+
+namespace {
+
+// Two doubles in one register (GCC and Clang vector extension): a 2-D agent's velocity is one
+// load, one store and one zeroing store.
+using Pair = double __attribute__((vector_size(16)));
+
+// The gather of TakeActive for K = k components. Returns whether the sum of the values is
+// finite: true proves every value finite (one addition per value, no branch); false, which a
+// sum of huge finite values can also give, sends TakeActive to its exact check.
+template <int K, bool kAdded>
+bool GatherActive(const int* id, int n, double* velocity, const double* added, double* active) {
+  if constexpr (K == 2) {
+    Pair check = {0.0, 0.0};
+    const Pair zero = {0.0, 0.0};
+    for (int s = 0; s < n; ++s) {
+      const std::size_t from = 2 * static_cast<std::size_t>(id[s]);
+      Pair x;
+      std::memcpy(&x, velocity + from, sizeof x);
+      std::memcpy(velocity + from, &zero, sizeof x);
+      if constexpr (kAdded) {
+        Pair y;
+        std::memcpy(&y, added + from, sizeof y);
+        x += y;
+      }
+      check += x;
+      std::memcpy(active + 2 * static_cast<std::size_t>(s), &x, sizeof x);
+    }
+    return std::isfinite(check[0] + check[1]);
+  } else {
+    double check = 0.0;
+    for (int s = 0; s < n; ++s) {
+      const std::size_t from = static_cast<std::size_t>(K) * static_cast<std::size_t>(id[s]);
+      for (int a = 0; a < K; ++a) {
+        double x = velocity[from + static_cast<std::size_t>(a)];
+        velocity[from + static_cast<std::size_t>(a)] = 0.0;
+        if constexpr (kAdded) x += added[from + static_cast<std::size_t>(a)];
+        check += x;
+        active[static_cast<std::size_t>(K * s + a)] = x;
+      }
+    }
+    return std::isfinite(check);
+  }
+}
+
+template <int K>
+bool GatherActive(const int* id, int n, double* velocity, const double* added, double* active) {
+  return added == nullptr ? GatherActive<K, false>(id, n, velocity, nullptr, active)
+                          : GatherActive<K, true>(id, n, velocity, added, active);
+}
+
+}  // namespace
+
+// Each thread gathers a contiguous range of slots (the ids are distinct, so no two write the
+// same value); the verdict is exact whatever the split (see GatherActive).
+int ParticleStore::TakeActive(std::span<double> velocity, std::span<const double> added,
+                              int threads) {
+  MOREAU_ASSERT(velocity.size() == current.size() &&
+                (added.empty() || added.size() == current.size()));
+  active.resize(current.size());
+  const int parts = n >= 16384 ? std::max(1, threads) : 1;
+  const double* plus = added.empty() ? nullptr : added.data();
+  bool finite = true;
+#pragma omp parallel for num_threads(parts) schedule(static) reduction(&& : finite)
+  for (int part = 0; part < parts; ++part) {
+    const int lo = static_cast<int>(static_cast<std::int64_t>(n) * part / parts);
+    const int hi = static_cast<int>(static_cast<std::int64_t>(n) * (part + 1) / parts);
+    double* out = active.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(lo);
+    finite = (k == 2 ? GatherActive<2>(id.data() + lo, hi - lo, velocity.data(), plus, out)
+                     : GatherActive<3>(id.data() + lo, hi - lo, velocity.data(), plus, out)) &&
+             finite;
+  }
+  if (finite) return -1;
+  int lowest = -1;  // the exact check: the lowest id, whatever the storage order
+  for (int s = 0; s < n; ++s) {
+    for (int a = 0; a < k; ++a) {
+      if (std::isfinite(active[static_cast<std::size_t>(k * s + a)])) continue;
+      const int i = id[static_cast<std::size_t>(s)];
+      if (lowest < 0 || i < lowest) lowest = i;
+    }
+  }
+  return lowest;
 }
 
 }  // namespace moreau::particles::internal

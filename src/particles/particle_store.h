@@ -39,6 +39,10 @@ struct ParticleStore {
   std::vector<int> SlotsOf() const;
   // The current positions in id order, wrapped into the periodic domain; out: size k·N.
   void CopyPositionsById(const PeriodicBox& box, std::span<double> out, int threads) const;
+  // active = velocity + added in slot order (both k·N, id order; added may be empty), in one
+  // pass that also zeroes velocity (on `threads` threads for large n). Returns −1 when every sum
+  // is finite, else the lowest id whose sum is not (active is written either way).
+  int TakeActive(std::span<double> velocity, std::span<const double> added, int threads);
 
  private:
   bool uniform_radius_ = false;  // every radius equal (then Reorder leaves the array alone)

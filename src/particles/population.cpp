@@ -272,7 +272,7 @@ void Population::ApplyRules() {
   const auto uk = static_cast<std::size_t>(k);
   const double dt = static_cast<double>(rules_.interval) * engine_.options().h;
   const std::int64_t step = engine_.step();
-  const std::vector<double> x = engine_.Positions();
+  const std::span<const double> x = CurrentPositions();  // shared with the user rule's view
   bool aligns = false, inhibits = false;
   for (const AgentType& t : rules_.types) {
     aligns = aligns || t.alignment > 0.0;
@@ -280,6 +280,7 @@ void Population::ApplyRules() {
   }
   std::vector<std::uint8_t> divide, die;
   if (rule_) ApplyUserRule(&divide, &die);
+  rules_pending_ = false;  // from here on nothing is redone: an error stops or is final
   const std::vector<double> mean = aligns ? MeanNeighbourPolarity() : std::vector<double>{};
   const std::vector<int> contacts =
       inhibits ? engine_.ContactCounts(rules_.contact_factor) : std::vector<int>{};
@@ -315,6 +316,7 @@ void Population::ApplyRules() {
     ++births;
   }
   summary_.births += births;
+  positions_current_ = false;
   agents_.swap(next);
   variables_.swap(next_variables);
   ++summary_.rule_steps;
@@ -347,27 +349,36 @@ bool Population::Step() {
   if (stopped_) return false;
   const Stopwatch stopwatch;
   try {
-    if (drift_) {
-      ApplyDrift();
-      drifting_ = true;
-    } else if (drifting_) {  // the drift was removed: the motility alone again
-      engine_.SetActiveVelocities(motility_);
-      drifting_ = false;
-    }
-    if (!engine_.Step()) {
-      Stop(Termination::kNonFinite, engine_.summary().message);
-      return false;
-    }
-    if (engine_.step() % rules_.interval == 0) {
-      last_deaths_.clear();
-      last_removals_.clear();
-      ApplyRules();
-    }
+    if (rules_pending_) ApplyRules();  // the last step's user rule threw: its rule step first
+    if (!stopped_) StepOnce();
   } catch (const NumericalError& e) {
     Stop(Termination::kNonFinite, e.what());
   }
   summary_.total_seconds += stopwatch.Seconds();
   return !stopped_;
+}
+
+// The drift, one engine step and, at a multiple of the interval, the rules.
+void Population::StepOnce() {
+  if (drift_) {
+    ApplyDrift();
+    drifting_ = true;
+  } else if (drifting_) {  // the drift was removed: the motility alone again
+    engine_.SetActiveVelocities(motility_);
+    drifting_ = false;
+  }
+  const bool stepped = engine_.Step();
+  positions_current_ = false;
+  if (!stepped) {
+    Stop(Termination::kNonFinite, engine_.summary().message);
+    return;
+  }
+  if (engine_.step() % rules_.interval == 0) {
+    last_deaths_.clear();
+    last_removals_.clear();
+    rules_pending_ = true;  // until the user rule has returned (it may throw)
+    ApplyRules();
+  }
 }
 
 PopulationSummary Population::Run(double T, const PopulationObserver& observer) {

@@ -3,7 +3,6 @@
 // variables' inheritance at a division.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include <fmt/format.h>
 
@@ -28,37 +27,39 @@ PopulationView Population::View() {
   view.step = engine_.step();
   view.time = engine_.time();
   view.rule_dt = static_cast<double>(rules_.interval) * engine_.options().h;
-  view_positions_.resize(static_cast<std::size_t>(geometry_.dimension) * agents_.size());
-  if (!agents_.empty()) engine_.CopyPositions(view_positions_);  // none left: the engine is stale
-  view.positions = view_positions_;
   view.agents = agents_;
   for (std::vector<double>& values : variables_) view.variables.emplace_back(values);
+  view.population = this;
   return view;
 }
 
-// velocity = motility + the user's drift, for the next engine step.
+std::span<const double> Population::CurrentPositions() {
+  if (agents_.empty()) return {};  // none left: the engine is stale
+  if (!positions_current_) {
+    view_positions_.resize(static_cast<std::size_t>(geometry_.dimension) * agents_.size());
+    engine_.CopyPositions(view_positions_);
+    positions_current_ = true;
+  }
+  return view_positions_;
+}
+
+// velocity = motility + the user's drift, for the next engine step. The drift writes into
+// velocity_, zero on entry; the engine's one pass checks it, adds the motility, stores it in the
+// engine's order and leaves velocity_ zero again (no second pass to clear it).
 void Population::ApplyDrift() {
   const std::size_t size = static_cast<std::size_t>(geometry_.dimension) * agents_.size();
-  velocity_.assign(size, 0.0);
+  if (!velocity_zero_ || velocity_.size() != size) velocity_.assign(size, 0.0);
+  velocity_zero_ = false;  // until the engine has taken it
   const std::size_t n_before = agents_.size();
   drift_(View(), velocity_);
   if (agents_.size() != n_before) throw InputError("drift", "must not change the agents");
-  bool finite = true;  // one pass without branches; the agent is looked for only on failure
-  for (const double v : velocity_) finite &= std::abs(v) <= std::numeric_limits<double>::max();
-  if (!finite) {
-    const auto j =
-        static_cast<std::size_t>(std::find_if(velocity_.begin(), velocity_.end(),
-                                              [](double v) { return !std::isfinite(v); }) -
-                                 velocity_.begin());
-    const std::size_t i = j / static_cast<std::size_t>(geometry_.dimension);
-    throw NumericalError(
-        fmt::format("step {}: the user drift gave a non-finite velocity ({}) to agent {} (id {})",
-                    engine_.step(), velocity_[j], i, agents_[i].id));
-  }
-  if (!motility_.empty()) {
-    for (std::size_t j = 0; j < size; ++j) velocity_[j] += motility_[j];
-  }
-  engine_.SetActiveVelocities(velocity_);
+  const int bad = engine_.TakeActiveVelocities(velocity_, motility_);
+  velocity_zero_ = true;
+  if (bad < 0) return;
+  const auto i = static_cast<std::size_t>(bad);
+  throw NumericalError(
+      fmt::format("step {}: the user drift gave agent {} (id {}) a non-finite velocity",
+                  engine_.step(), i, agents_[i].id));
 }
 
 // The user rule's marks (N flags each), and a check of what it may change.

@@ -183,6 +183,45 @@ TEST(ParticleEngine, BitIdenticalForAnyThreadCount2d) {
   }
 }
 
+// TakeActiveVelocities (one pass: the sum, the storage order, the check, the zeroing) against
+// SetActiveVelocities of the sum, in 2 and 3 dimensions on two threads, on a storage order that is not the id
+// order; then the lowest id of the non-finite ones, and a sum of huge finite values that is no
+// failure.
+TEST(ParticleEngine, TakenActiveVelocitiesEqualTheCopiedSumAndNameTheLowestBadId) {
+  for (int k : {2, 3}) {
+    ParticleModel model;
+    model.dimension = k;
+    const int n = k == 2 ? 20000 : 300;  // 2-D: enough for the gather on two threads
+    const double side = k == 2 ? 100.0 : 10.0;
+    model.radius.assign(n, 0.1);
+    SplitMix64 rng(static_cast<std::uint64_t>(7 + k));
+    std::vector<double> x, v, m;
+    for (int j = 0; j < k * n; ++j) {
+      x.push_back(side * rng.Uniform01());
+      v.push_back(rng.Uniform01() - 0.5);
+      m.push_back(0.1 * (rng.Uniform01() - 0.5));
+    }
+    EngineOptions o;
+    o.h = 0.01;
+    o.check_initial_state = false;
+    o.threads = 2;
+    Engine taken(model, Forces{}, o, x), copied(model, Forces{}, o, x);
+    ASSERT_NE(taken.Stored().ids[0], 0) << "the storage order should differ from the ids";
+    std::vector<double> sum(v.size()), buffer = v;
+    for (std::size_t j = 0; j < v.size(); ++j) sum[j] = v[j] + m[j];
+    EXPECT_EQ(taken.TakeActiveVelocities(buffer, m), -1);
+    EXPECT_EQ(buffer, std::vector<double>(v.size(), 0.0));
+    copied.SetActiveVelocities(sum);
+    ASSERT_TRUE(taken.Step() && copied.Step());
+    EXPECT_TRUE(taken.Positions() == copied.Positions()) << k;
+    buffer.assign(v.size(), 1e308);  // the fast check's sum overflows; every value is finite
+    EXPECT_EQ(taken.TakeActiveVelocities(buffer), -1);
+    buffer[static_cast<std::size_t>(k * 41)] = std::nan("");
+    buffer[static_cast<std::size_t>(k * 17 + k - 1)] = -INFINITY;
+    EXPECT_EQ(taken.TakeActiveVelocities(buffer), 17);
+  }
+}
+
 // A redo (a step whose sweeps moved particles past half the skin, redone with a list built at
 // its predicted positions) predicts again from the step's start: every particle from its own
 // position, though the build before the redo reordered the storage. Noise of 0.1 per step against

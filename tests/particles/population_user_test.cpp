@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <stdexcept>
 
 #include "moreau/particles/population.h"
 #include "particles/test_util.h"
@@ -123,6 +124,54 @@ TEST(PopulationUserCode, BadRulesAndDriftsAreNamed) {
   ExpectInputError([&] { twice.Validate(); }, "'a' is used twice");
 }
 
+// A rule that throws leaves its rule step pending: the next Step calls it again at the same
+// step count, before its own engine step, and the run ends with the bits of one never stopped.
+TEST(PopulationUserCode, ARuleThatThrowsIsCalledAgainAtTheSameStep) {
+  AgentType cell;
+  cell.growth_rate = 0.5;
+  cell.division_radius = 0.52;
+  std::vector<std::int64_t> seen;
+  auto rule = [&](bool throw_once) {
+    return [&seen, throw_once](PopulationView& view, std::span<std::uint8_t>,
+                               std::span<std::uint8_t>) {
+      seen.push_back(view.step);
+      if (throw_once && seen.size() == 1) throw std::runtime_error("interrupted");
+    };
+  };
+  Population smooth = Line(3, cell, 5), stopped = Line(3, cell, 5);
+  smooth.SetRule(rule(false));
+  for (int s = 0; s < 20; ++s) ASSERT_TRUE(smooth.Step());
+  seen.clear();
+  stopped.SetRule(rule(true));
+  for (int s = 0; s < 4; ++s) ASSERT_TRUE(stopped.Step());
+  EXPECT_THROW(stopped.Step(), std::runtime_error);
+  EXPECT_EQ(stopped.engine().step(), 5);
+  EXPECT_EQ(stopped.summary().rule_steps, 0);
+  for (int s = 0; s < 15; ++s) ASSERT_TRUE(stopped.Step());
+  EXPECT_EQ(seen, (std::vector<std::int64_t>{5, 5, 10, 15, 20}));
+  EXPECT_GT(stopped.count(), 3);
+  EXPECT_EQ(stopped.count(), smooth.count());
+  EXPECT_TRUE(stopped.Positions() == smooth.Positions());
+}
+
+// The positions user code reads are gathered once per state: the same storage for every read
+// between two steps, the engine's positions, and new ones after a step.
+TEST(PopulationUserCode, PositionsAreGatheredOncePerStep) {
+  Population p = Line(4, AgentType{}, 1000);
+  std::vector<const double*> addresses;
+  p.SetDrift([&](const PopulationView& view, std::span<double> v) {
+    addresses.push_back(view.positions().data());
+    addresses.push_back(view.positions().data());
+    v[1] = 1.0;
+  });
+  ASSERT_TRUE(p.Step());
+  ASSERT_EQ(addresses.size(), 2u);
+  EXPECT_EQ(addresses[0], addresses[1]);
+  const std::span<const double> now = p.CurrentPositions();
+  EXPECT_TRUE(std::vector<double>(now.begin(), now.end()) == p.Positions());
+  EXPECT_EQ(now[1], 0.01);  // after the step, not the copy the drift read
+}
+
 TEST(PopulationUserCode, DriftAndRuleGiveTheSameBitsOnOneAndTwoThreads) {
   AgentType cell;
   cell.radius = 0.5;
@@ -131,8 +180,8 @@ TEST(PopulationUserCode, DriftAndRuleGiveTheSameBitsOnOneAndTwoThreads) {
     Population p = Line(16, cell, 4, threads, {{"signal", 1.0, Inheritance::kSplit}});
     p.SetDrift([](const PopulationView& view, std::span<double> v) {  // toward the origin
       for (std::size_t i = 0; i < view.agents.size(); ++i) {
-        v[2 * i] = -0.3 * view.positions[2 * i];
-        v[2 * i + 1] = -0.3 * view.positions[2 * i + 1];
+        v[2 * i] = -0.3 * view.positions()[2 * i];
+        v[2 * i + 1] = -0.3 * view.positions()[2 * i + 1];
       }
     });
     p.SetRule([](PopulationView& view, std::span<std::uint8_t> divide, std::span<std::uint8_t>) {

@@ -111,6 +111,59 @@ def test_the_observer_stops_a_run_and_ctrl_c_interrupts_between_steps():
     assert fresh.step_count == 37  # the step whose drift raised was not taken
 
 
+def test_ctrl_c_in_a_rule_leaves_its_rule_step_to_the_next_step():
+    """KeyboardInterrupt inside the rule: the engine step was taken, its rule step is done first
+    by the next step (the rule called again at the same step count), as if never stopped."""
+    seen = []
+
+    def rule(pop, divide, die):
+        seen.append(pop.step_count)
+        if len(seen) == 1:
+            signal.raise_signal(signal.SIGINT)
+
+    stopped, smooth = line(interval=10, growth_rate=0.1), line(interval=10, growth_rate=0.1)
+    stopped.rule = rule
+    with pytest.raises(KeyboardInterrupt):
+        stopped.run(1.0)
+    assert stopped.step_count == 10 and stopped.summary().rule_steps == 0
+    stopped.step(10)
+    smooth.step(20)
+    assert seen == [10, 10, 20] and stopped.step_count == 20
+    assert np.array_equal(stopped.radii, smooth.radii) and smooth.radii[0] == pytest.approx(0.52)
+
+
+def test_positions_read_in_a_drift_are_gathered_once_per_step():
+    """pop.positions inside a drift: one gather per step, shared by every read of that step."""
+    p = line()
+    reads = []
+    p.drift = lambda pop, v: reads.append((pop.positions, pop.positions))
+    p.step(2)
+    (a, b), (c, _) = reads
+    assert np.shares_memory(a, b) and np.array_equal(p.positions[:, 0], [0.0, 2.0, 4.0])
+    assert not a.flags.writeable and not c.flags.writeable
+
+
+def test_the_velocity_is_zero_on_entry_after_writes_errors_and_divisions():
+    p = line(n=2, interval=3, radius=0.4)
+    p.rule = lambda pop, divide, die: divide.__setitem__(0, pop.step_count == 3)
+    entries, raised = [], []
+
+    def drift(pop, v):
+        entries.append((v.shape, bool((v == 0.0).all())))
+        v[:] = 1.0
+        if pop.step_count == 4 and not raised:
+            raised.append(True)
+            raise RuntimeError("once")
+
+    p.drift = drift
+    p.step(4)
+    with pytest.raises(RuntimeError):
+        p.step()
+    p.step(2)
+    assert [shape for shape, _ in entries] == [(2, 2)] * 3 + [(3, 2)] * 4
+    assert all(zero for _, zero in entries)
+
+
 def test_types_by_name_and_bad_names():
     rules = particles.PopulationRules(types=[particles.AgentType(name="a"),
                                              particles.AgentType(name="b", radius=0.3)])

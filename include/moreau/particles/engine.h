@@ -197,9 +197,15 @@ class Engine {
   void Repopulate(ParticleModel model, std::span<const double> positions,
                   std::span<const double> active_velocity = {});
   // Replaces the active velocities (k·N, id order; empty: none) from the next step on, without
-  // a rebuild: a velocity field that changes every step (user code's drift, population.h).
-  // Throws InputError for a wrong size.
+  // a rebuild. Throws InputError for a wrong size.
   void SetActiveVelocities(std::span<const double> active_velocity);
+  // The same for a velocity field that changes every step (user code's drift, population.h):
+  // the active velocities become velocity + added (each k·N, id order; added may be empty) in
+  // one pass over the particles, which also sets velocity to zero (a buffer ready for the next
+  // step's field). Returns −1 when every velocity is finite, else the lowest particle id whose
+  // velocity is not (the velocities are set all the same: do not step before replacing them).
+  // Throws InputError for a wrong size.
+  int TakeActiveVelocities(std::span<double> velocity, std::span<const double> added = {});
   // Projection sweeps at the current positions (no drift, no noise, the step count unchanged)
   // until the largest pair overlap is ≤ tolerance (≥ 0, else InputError) or max_sweeps were
   // done; returns the number of sweeps.
