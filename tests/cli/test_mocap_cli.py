@@ -88,6 +88,20 @@ def test_fill_gaps_deletes_listed_samples_and_fills_them(tmp_path):
     missing = {k for k, p in points.items() if p is None}
     assert missing == {(f, labels[7]) for f in range(5)}
 
+    # The measures of evaluate-gaps where the truth is known: the velocity jump at each end is
+    # the change of the one-sided velocity (filled.csv's samples, 200 Hz).
+    def jump(a, b, c):
+        return 200 * math.dist([2 * pb - pa - pc for pa, pb, pc in zip(a, b, c)], [0, 0, 0])
+
+    g = by_first[100]
+    p = {f: points[(f, label)] for f in range(97, 123)}
+    assert math.isclose(g["velocity_jump_start"], jump(p[98], p[99], p[100]), rel_tol=1e-9)
+    assert math.isclose(g["velocity_jump_end"], jump(p[119], p[120], p[121]), rel_tol=1e-9)
+    assert g["max_error"] >= g["p90_error"] >= 0
+    assert g["velocity_error"] > 0 and g["acceleration_error"] > 0
+    assert g["distance_deviation"] > 0 and g["distance_z"] > 0
+    assert by_first[0]["acceleration_error"] is None
+
     # filled.c3d holds the same recording: the unfilled gap is its only gap.
     c3d = json.loads(run_cli("inspect", out / "filled.c3d", "--json").stdout)
     assert (c3d["frames"], c3d["markers"], c3d["units"]) == (inventory["frames"], len(labels), "mm")

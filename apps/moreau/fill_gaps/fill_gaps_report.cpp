@@ -28,8 +28,19 @@ nlohmann::json FillGapsReportJson(const FillGapsSettings& settings, const FillGa
   j["samples_deleted"] = result.samples_deleted;
   for (std::size_t i = 0; i < result.errors.size(); ++i) {
     const auto& error = result.errors[i];
-    j["gaps"][i]["mean_error"] = error ? FiniteOrNull(error->mean_error) : nlohmann::json();
-    j["gaps"][i]["max_error"] = error ? FiniteOrNull(error->max_error) : nlohmann::json();
+    const std::pair<const char*, double DeletedGapError::*> measures[] = {
+        {"mean_error", &DeletedGapError::mean_error},
+        {"max_error", &DeletedGapError::max_error},
+        {"p90_error", &DeletedGapError::p90_error},
+        {"velocity_error", &DeletedGapError::velocity_error},
+        {"acceleration_error", &DeletedGapError::acceleration_error},
+        {"velocity_jump_start", &DeletedGapError::velocity_jump_start},
+        {"velocity_jump_end", &DeletedGapError::velocity_jump_end},
+        {"distance_deviation", &DeletedGapError::distance_deviation},
+        {"distance_z", &DeletedGapError::distance_z}};
+    for (const auto& [name, field] : measures) {
+      j["gaps"][i][name] = error ? FiniteOrNull((*error).*field) : nlohmann::json();
+    }
   }
   j["settings"] = EchoFillGapsSettings(settings);
   return j;

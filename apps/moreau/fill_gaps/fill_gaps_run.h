@@ -13,10 +13,21 @@
 namespace moreau::cli {
 
 // The error of a filled gap whose every sample was deleted from an observed one (recording
-// units): the Euclidean distance between filled and deleted positions over the gap's frames.
+// units), with the measures of evaluate-gaps (fill_metrics.h): the Euclidean distance between
+// filled and deleted positions over the gap's frames (mean, p90, max); the velocity and
+// acceleration errors after Winter's 6 Hz zero-lag filter (NaN when the rate is not above 12 Hz
+// or a sample of the filter's window is missing); the velocity jump at each end (NaN at the
+// recording's ends); the deviation of the distances to the marker's 3 most rigid partners.
 struct DeletedGapError {
   double mean_error = 0.0;
   double max_error = 0.0;
+  double p90_error = 0.0;
+  double velocity_error = 0.0;       // units / s
+  double acceleration_error = 0.0;   // units / s²
+  double velocity_jump_start = 0.0;  // units / s
+  double velocity_jump_end = 0.0;
+  double distance_deviation = 0.0;  // units
+  double distance_z = 0.0;          // in observed standard deviations
 };
 
 struct FillGapsResult {
