@@ -170,7 +170,10 @@ EvaluationRow MeasureRow(const Recording& truth, const Recording& filled, const 
                     kNaN,         kNaN,
                     kNaN,         kNaN,
                     kNaN,         kNaN};
-  if (status != GapStatus::kFilled) return row;
+  if (status != GapStatus::kFilled) {
+    row.outcome = GapOutcome::kUnfillable;
+    return row;
+  }
   const PositionError position = PositionErrorInGap(truth, filled, gap);
   row.mean_error = position.mean;
   row.max_error = position.max;
@@ -220,6 +223,7 @@ void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
     for (std::size_t j = 0; j < k_markers; ++j) {
       rows[k * k_markers + j] = MeasureRow(truth, work, trial, j, partners[j], fills[j].status,
                                            options, options.methods[k]);
+      if (fills[j].status == GapStatus::kFilled) rows[k * k_markers + j].outcome = fills[j].outcome;
     }
     each_filled(
         [&](const Gap& gap, std::int64_t f, std::size_t) { work.ClearPoint(f, gap.marker); });

@@ -43,6 +43,8 @@ EvaluationStatistics StatisticsOfRows(EvaluationStatistics stats,
   std::vector<double> errors;
   for (const EvaluationRow* row : rows) {
     ++stats.gaps;
+    stats.optimal_control += row->outcome == GapOutcome::kOptimalControl ? 1 : 0;
+    stats.prior += row->outcome == GapOutcome::kPrior ? 1 : 0;
     if (row->status == GapStatus::kFilled) {
       errors.push_back(row->mean_error);
     } else {
@@ -175,6 +177,10 @@ nlohmann::json EvaluationSummary::ToJson() const {
                             {"median_error", number(s.median)},
                             {"p90_error", number(s.percentile_90)},
                             {"gaps", s.gaps}};
+    if (s.method == GapFillMethod::kOcp) {
+      entry["optimal_control"] = s.optimal_control;
+      entry["prior"] = s.prior;
+    }
     const std::pair<const char*, const MeasureStatistics*> measures[] = {
         {"max_error", &s.max_error},           {"p90_error", &s.p90_error},
         {"velocity_error", &s.velocity_error}, {"acceleration_error", &s.acceleration_error},
@@ -209,7 +215,8 @@ nlohmann::json EvaluationSummary::ToJson() const {
                          {"velocity_jump_start", number(r.velocity_jump_start)},
                          {"velocity_jump_end", number(r.velocity_jump_end)},
                          {"distance_deviation", number(r.distance_deviation)},
-                         {"distance_z", number(r.distance_z)}});
+                         {"distance_z", number(r.distance_z)},
+                         {"outcome", std::string(ToString(r.outcome))}});
   }
   j["rows"] = std::move(rows_json);
   j["settings"] = settings.ToJson();

@@ -159,6 +159,7 @@ OcpGapFills FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
     result.prior_reasons[index[k]] = PriorReason(report);
     result.outcomes[index[k]] =
         report.outcome == OcpOutcome::kSolved ? GapOutcome::kOptimalControl : GapOutcome::kPrior;
+    fill.outcome = result.outcomes[index[k]];
   }
   return result;
 }

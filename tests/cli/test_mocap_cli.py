@@ -300,7 +300,7 @@ def test_evaluate_gaps_hides_a_segment_at_the_end_and_reports_every_measure(tmp_
         rows = list(csv.DictReader(f))
     assert list(rows[0].keys()) == EVALUATION_COLUMNS + [
         "gap_seconds", "status", "p90_error", "velocity_error", "acceleration_error",
-        "velocity_jump_start", "velocity_jump_end", "distance_deviation", "distance_z"]
+        "velocity_jump_start", "velocity_jump_end", "distance_deviation", "distance_z", "outcome"]
     assert len(rows) == 2 * 2 * 3
     for trial in ("0", "1"):
         group = [x for x in rows if x["trial"] == trial]
@@ -309,8 +309,10 @@ def test_evaluate_gaps_hides_a_segment_at_the_end_and_reports_every_measure(tmp_
     for row in rows:
         if row["method"] == "spline":  # no samples after the gap
             assert row["status"] == "skipped_edge" and row["acceleration_error"] == ""
+            assert row["outcome"] == "unfillable"
         else:
             assert row["status"] == "filled" and row["velocity_jump_end"] == ""
+            assert row["outcome"] == "baseline"
             assert float(row["max_error"]) >= float(row["p90_error"]) >= 0
             assert min(float(row[k]) for k in ("velocity_error", "acceleration_error",
                                                "velocity_jump_start", "distance_z")) > 0

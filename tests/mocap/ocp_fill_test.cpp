@@ -247,6 +247,26 @@ TEST(MocapOcpFill, EvaluationWithOcpIsIndependentOfTheThreadCount) {
     EXPECT_EQ(std::memcmp(&one.rows[i].mean_error, &two.rows[i].mean_error, sizeof(double)), 0)
         << i;
     EXPECT_EQ(std::memcmp(&one.rows[i].max_error, &two.rows[i].max_error, sizeof(double)), 0);
+    EXPECT_EQ(one.rows[i].outcome, two.rows[i].outcome);
+    // Each row says what filled it; the ocp statistics count the rows by it.
+    EXPECT_EQ(one.rows[i].outcome, one.rows[i].method == GapFillMethod::kRigid
+                                       ? GapOutcome::kBaseline
+                                       : one.rows[i].outcome);
+    if (one.rows[i].method == GapFillMethod::kOcp) {
+      EXPECT_TRUE(one.rows[i].outcome == GapOutcome::kOptimalControl ||
+                  one.rows[i].outcome == GapOutcome::kPrior);
+    }
+  }
+  for (const EvaluationStatistics& s : one.statistics) {
+    int solved = 0, prior = 0;
+    for (const EvaluationRow& r : one.rows) {
+      if (r.method != s.method || r.gap_seconds != s.gap_seconds) continue;
+      solved += r.outcome == GapOutcome::kOptimalControl ? 1 : 0;
+      prior += r.outcome == GapOutcome::kPrior ? 1 : 0;
+    }
+    EXPECT_EQ(s.optimal_control, solved);
+    EXPECT_EQ(s.prior, prior);
+    EXPECT_EQ(s.optimal_control + s.prior, s.method == GapFillMethod::kOcp ? s.gaps : 0);
   }
 }
 

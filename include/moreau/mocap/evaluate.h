@@ -88,6 +88,7 @@ struct EvaluationRow {
   double velocity_jump_end = 0.0;    // units / s; NaN for a gap at the recording's end
   double distance_deviation = 0.0;   // units: mean |d − mean observed| over gap and partners
   double distance_z = 0.0;           // the same in observed standard deviations
+  GapOutcome outcome = GapOutcome::kBaseline;  // what filled it (kUnfillable when not filled)
 
   // The larger of the two jumps that exist (NaN when none).
   double velocity_jump() const;
@@ -110,6 +111,8 @@ struct EvaluationStatistics {
   double median = 0.0;         // ditto
   double percentile_90 = 0.0;  // ditto (linear interpolation between order statistics)
   int gaps = 0;                // hidden markers' gaps: trials × markers_per_gap
+  int optimal_control = 0;     // of them filled by the optimal control (ocp)
+  int prior = 0;               // of them filled by ocp's prior (the optimal control failed)
   // Over the gaps, per measure of EvaluationRow: its mean and 90th percentile.
   MeasureStatistics max_error, p90_error, velocity_error, acceleration_error, velocity_jump,
       distance_deviation, distance_z;

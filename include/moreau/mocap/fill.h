@@ -138,11 +138,23 @@ struct FillOptions {
   nlohmann::json ToJson() const;
 };
 
+// What filled a gap, or that nothing did; the summaries count the gaps by it.
+enum class GapOutcome {
+  kBaseline,        // filled by a baseline method (this file's)
+  kOptimalControl,  // filled by the optimal control (ocp_fill.h, outcome kSolved)
+  kPrior,           // filled by the optimal-control fill's prior (its weighted candidates), the
+                    // optimal control being off or its fill not kept: GapReport::prior_reason
+  kUnfillable,      // left missing: GapReport::status says why
+};
+
 // The outcome of filling one gap.
 struct GapFill {
   GapStatus status = GapStatus::kFilled;
   std::string message;      // why it was not filled, or a note (empty when nothing to say)
   Eigen::Matrix3Xd points;  // 3 × gap.length(), frames first … last; empty unless filled
+  // What filled it when filled: kBaseline from this file; gap_fill.h sets kOptimalControl or
+  // kPrior for ocp.
+  GapOutcome outcome = GapOutcome::kBaseline;
 };
 
 // One method on one gap of `in` (gap consistent with `in`: marker in range, first ≤ last inside
@@ -155,15 +167,6 @@ GapFill FillGapPchip(const Recording& in, const Gap& gap, const FillOptions& opt
 GapFill FillGapRigid(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGapPca(const Recording& in, const Gap& gap, const FillOptions& options);
 GapFill FillGap(const Recording& in, const Gap& gap, const FillOptions& options);
-
-// What filled a gap, or that nothing did; the summaries count the gaps by it.
-enum class GapOutcome {
-  kBaseline,        // filled by a baseline method (this file's)
-  kOptimalControl,  // filled by the optimal control (ocp_fill.h, outcome kSolved)
-  kPrior,           // filled by the optimal-control fill's prior (its weighted candidates), the
-                    // optimal control being off or its fill not kept: GapReport::prior_reason
-  kUnfillable,      // left missing: GapReport::status says why
-};
 
 // "baseline", "optimal_control", "prior", "unfillable".
 std::string_view ToString(GapOutcome outcome);
@@ -235,8 +238,9 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const Fi
 // errors at the two bounding frames, blended linearly across the gap, are removed. A gap at the
 // start or end of the recording is widened on its one observed side and shifted by the fill's
 // error there (it meets the first or last observed sample without a jump); a gap over the whole
-// recording is filled as FillGap does, and so is one whose widened fill fails. These are the candidate fills a layer above combines (ocp_fill.h): a method that does
-// not reproduce the samples around a gap (pca) would otherwise jump there.
+// recording is filled as FillGap does, and so is one whose widened fill fails. These are the
+// candidate fills a layer above combines (ocp_fill.h): a method that does not reproduce the samples
+// around a gap (pca) would otherwise jump there.
 FillSummary FillGapsMeetingEnds(const Recording& in, const std::vector<Gap>& gaps,
                                 const FillOptions& options, Recording* out);
 
