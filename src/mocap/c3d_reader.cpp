@@ -24,7 +24,8 @@ constexpr std::string_view kUnnamed = "uname*";
 // the names it shows in POINT:DESCRIPTIONS, and marks an occluded point by coordinates 9999999.
 constexpr std::string_view kMotionAnalysis = "Motion Analysis Corp.";
 constexpr double kMotionAnalysisOccluded = 9999999.0;
-constexpr double kMotionAnalysisTolerance = std::numeric_limits<float>::epsilon();  // BTK's
+constexpr double kMotionAnalysisTolerance =
+    static_cast<double>(std::numeric_limits<float>::epsilon());  // BTK's
 
 // Where the points are and how they are stored, from the parameters and the header.
 struct DataLayout {
