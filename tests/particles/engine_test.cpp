@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -217,7 +218,7 @@ TEST(ParticleEngine, TakenActiveVelocitiesEqualTheCopiedSumAndNameTheLowestBadId
     buffer.assign(v.size(), 1e308);  // the fast check's sum overflows; every value is finite
     EXPECT_EQ(taken.TakeActiveVelocities(buffer), -1);
     buffer[static_cast<std::size_t>(k * 41)] = std::nan("");
-    buffer[static_cast<std::size_t>(k * 17 + k - 1)] = -INFINITY;
+    buffer[static_cast<std::size_t>(k * 17 + k - 1)] = -std::numeric_limits<double>::infinity();
     EXPECT_EQ(taken.TakeActiveVelocities(buffer), 17);
   }
 }
