@@ -55,6 +55,11 @@ std::vector<PairStats> MeasurePairs(const Recording& rec) {
   return stats;
 }
 
+// Two points that coincide in some frame (a duplicated label, a model point placed on a marker):
+// a spring between them has no direction there (the thesis' assumption (37)), so the automatic
+// choice never joins them.
+bool Coincide(const PairStats& s) { return s.min <= 1e-6 * s.Mean(); }
+
 MarkerSpring MakeSpring(int a, int b, const PairStats& s, const MarkerNetworkOptions& o) {
   MarkerSpring sp;
   sp.a = std::min(a, b);
@@ -141,7 +146,7 @@ MarkerNetwork BuildMarkerNetwork(const Recording& rec, const MarkerNetworkOption
     for (int a = 0; a < m; ++a) {
       std::vector<std::pair<double, int>> candidates;
       for (int b = 0; b < m; ++b) {
-        if (b != a && pair(a, b).count >= o.min_common_frames) {
+        if (b != a && pair(a, b).count >= o.min_common_frames && !Coincide(pair(a, b))) {
           candidates.emplace_back(pair(a, b).Spread(), b);
         }
       }

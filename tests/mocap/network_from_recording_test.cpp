@@ -40,6 +40,30 @@ TEST(MocapNetwork, PartnersAreOnTheSameRigidBody) {
   EXPECT_EQ(j["units"], "m");
 }
 
+TEST(MocapNetwork, PointsThatCoincideAreNeverJoined) {
+  // Marker 1 duplicated as marker 5 (a label written twice), and marker 2 placed on marker 3 in
+  // one frame: a spring between them would have no direction there, so neither pair is chosen
+  // although both are the most rigid pairs of their markers.
+  const Recording bodies = testing::RigidBodies(1, 5, 60, 100.0);
+  std::vector<std::string> labels = bodies.labels();
+  labels.push_back("copy");
+  Recording rec(labels, bodies.frames(), bodies.rate(), bodies.units());
+  for (std::int64_t f = 0; f < rec.frames(); ++f) {
+    for (int m = 0; m < 5; ++m) rec.SetPoint(f, m, bodies.point(f, m));
+    rec.SetPoint(f, 5, bodies.point(f, 1));
+  }
+  rec.SetPoint(30, 2, rec.point(30, 3));
+  MarkerNetworkOptions o;
+  o.partners = 4;
+  const MarkerNetwork net = BuildMarkerNetwork(rec, o);
+  ASSERT_FALSE(net.springs.empty());
+  for (const MarkerSpring& s : net.springs) {
+    EXPECT_FALSE(s.a == 1 && s.b == 5) << "the duplicate joined";
+    EXPECT_FALSE(s.a == 2 && s.b == 3) << "the pair that meets in frame 30 joined";
+    EXPECT_GT(s.min, 0.0);
+  }
+}
+
 TEST(MocapNetwork, BoundsFollowTheObservedRangeWithMargin) {
   Recording rec({"A", "B"}, 4, 50.0, "mm");
   const double x[] = {100.0, 110.0, 90.0, 105.0};
