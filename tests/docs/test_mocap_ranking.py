@@ -73,3 +73,19 @@ def test_docs_mocap_quotes_the_committed_scores():
     for method, row in committed().items():
         cells = " | ".join(f"{float(row[f'{m}_score']):.3f}" for m in ranking_module().MEASURES)
         assert f"| {method} | {cells} |" in page or f"| **{method}** | {cells} |" in page, method
+
+
+def test_docs_mocap_quotes_the_committed_window_counts():
+    with open(ROOT / "docs/results/mocap/ocp_windows.csv") as f:
+        rows = list(csv.DictReader(f))
+    gaps = sum(int(r["gaps"]) for r in rows)
+    solved = sum(int(r["optimal_control"]) for r in rows)
+    assert sum(int(r["unfilled"]) for r in rows) == 0
+    assert all(int(r["optimal_control"]) + int(r["prior"]) == int(r["gaps"]) for r in rows)
+    page = re.sub(r"\s+", " ", (ROOT / "docs/mocap.md").read_text())
+    assert f"filled {solved} of the {gaps} hidden markers' gaps ({100 * solved / gaps:.1f} %)" in page
+    for recording in {r["recording"] for r in rows}:
+        mine = [r for r in rows if r["recording"] == recording]
+        share = 100 * sum(int(r["optimal_control"]) for r in mine) / sum(int(r["gaps"]) for r in mine)
+        text = "100 %" if share == 100 else f"{share:.1f} %"
+        assert f"{recording} {text}" in page or f"{recording} and " in page, recording
