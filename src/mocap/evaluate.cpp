@@ -39,12 +39,21 @@ std::pair<std::int64_t, int> FirstMissing(const Recording& truth) {
   return {-1, -1};
 }
 
+// A gap of `seconds` in frames (at least one).
+std::int64_t GapFrames(double seconds, double rate) {
+  return std::max<std::int64_t>(1, std::llround(seconds * rate));
+}
+
+// Observed frames beside a gap: `margin` on each side inside the take, on one side at its ends.
+std::int64_t MarginFrames(const EvaluationOptions& options) {
+  const std::int64_t margin = options.fill.baseline.interpolation.samples_per_side;
+  return (options.placement == GapPlacement::kInterior ? 2 : 1) * margin;
+}
+
 // Frames a part needs for the longest gap and its margins (GapPositions).
 std::int64_t PartFrames(const Recording& truth, const EvaluationOptions& options) {
-  const std::int64_t margin = options.fill.baseline.interpolation.samples_per_side;
   const double longest = *std::max_element(options.gap_seconds.begin(), options.gap_seconds.end());
-  const std::int64_t length = std::max<std::int64_t>(1, std::llround(longest * truth.rate()));
-  return length + (options.placement == GapPlacement::kInterior ? 2 : 1) * margin;
+  return GapFrames(longest, truth.rate()) + MarginFrames(options);
 }
 
 // The options that depend on the recording: the filter below its Nyquist frequency, enough
@@ -106,7 +115,7 @@ std::pair<std::int64_t, std::int64_t> GapPositions(const Recording& truth,
   const std::int64_t margin = options.fill.baseline.interpolation.samples_per_side;
   const std::int64_t frames = truth.frames();
   const bool interior = options.placement == GapPlacement::kInterior;
-  const std::int64_t left = frames - (interior ? 2 : 1) * margin - length + 1;
+  const std::int64_t left = frames - MarginFrames(options) - length + 1;
   if (left < 1) {
     throw InputError(fmt::format(
         "evaluation.gap_seconds: a gap of {} s ({} frames) does not fit in {} frames with {} "
@@ -137,8 +146,7 @@ std::vector<Trial> DrawTrials(const Recording& truth, const EvaluationOptions& o
   SplitMix64 rng(options.seed);
   std::vector<Trial> trials;
   for (std::size_t g = 0; g < options.gap_seconds.size(); ++g) {
-    const std::int64_t length =
-        std::max<std::int64_t>(1, std::llround(options.gap_seconds[g] * truth.rate()));
+    const std::int64_t length = GapFrames(options.gap_seconds[g], truth.rate());
     const auto [lowest, positions] = GapPositions(truth, options, g, length);
     lengths->push_back(length);
     for (int t = 0; t < options.trials; ++t) {
@@ -174,20 +182,16 @@ EvaluationRow MeasureRow(const Recording& truth, const Recording& filled, const 
     row.outcome = GapOutcome::kUnfillable;
     return row;
   }
-  const PositionError position = PositionErrorInGap(truth, filled, gap);
-  row.mean_error = position.mean;
-  row.max_error = position.max;
-  row.p90_error = position.p90;
-  const DerivativeError derivative =
-      FilteredDerivativeErrorInGap(truth, filled, gap, options.filter_hz);
-  row.velocity_error = derivative.velocity_mean;
-  row.acceleration_error = derivative.acceleration_mean;
-  const VelocityJump jump = VelocityJumpAtGapEnds(filled, gap);
-  row.velocity_jump_start = jump.start;
-  row.velocity_jump_end = jump.end;
-  const DistanceDeviation distance = PartnerDistanceDeviation(filled, gap, partners);
-  row.distance_deviation = distance.mean;
-  row.distance_z = distance.z;
+  const FilledGapMeasures m = MeasureFilledGap(truth, filled, gap, partners, options.filter_hz);
+  row.mean_error = m.position.mean;
+  row.max_error = m.position.max;
+  row.p90_error = m.position.p90;
+  row.velocity_error = m.derivative.velocity_mean;
+  row.acceleration_error = m.derivative.acceleration_mean;
+  row.velocity_jump_start = m.jump.start;
+  row.velocity_jump_end = m.jump.end;
+  row.distance_deviation = m.distance.mean;
+  row.distance_z = m.distance.z;
   return row;
 }
 
@@ -234,10 +238,6 @@ void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
     }
   }
 }
-
-}  // namespace
-
-namespace {
 
 // The protocol on a complete recording.
 EvaluationSummary EvaluateComplete(const Recording& truth, const EvaluationOptions& options) {

@@ -287,8 +287,8 @@ FillSummary SummarizeFills(const Recording& in, const std::vector<Gap>& gaps,
     report.last = gap.last;
     report.status = fill.status;
     report.message = std::move(fill.message);
-    report.outcome =
-        fill.status == GapStatus::kFilled ? GapOutcome::kBaseline : GapOutcome::kUnfillable;
+    report.outcome = fill.status == GapStatus::kFilled ? fill.outcome : GapOutcome::kUnfillable;
+    report.prior_reason = std::move(fill.prior_reason);
     if (fill.status == GapStatus::kFilled) {
       for (std::int64_t f = gap.first; f <= gap.last; ++f) {
         result.SetPoint(f, gap.marker, fill.points.col(f - gap.first));

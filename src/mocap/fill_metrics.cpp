@@ -254,4 +254,17 @@ DistanceDeviation PartnerDistanceDeviation(const Recording& filled, const Gap& g
   return {sum / static_cast<double>(n), sum_z / static_cast<double>(n)};
 }
 
+FilledGapMeasures MeasureFilledGap(const Recording& truth, const Recording& filled, const Gap& gap,
+                                   const RigidPartners& partners, double cutoff_hz) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  FilledGapMeasures m;
+  m.position = PositionErrorInGap(truth, filled, gap);
+  m.derivative = cutoff_hz < 0.5 * filled.rate()
+                     ? FilteredDerivativeErrorInGap(truth, filled, gap, cutoff_hz)
+                     : DerivativeError{kNaN, kNaN, kNaN, kNaN};
+  m.jump = VelocityJumpAtGapEnds(filled, gap);
+  m.distance = PartnerDistanceDeviation(filled, gap, partners);
+  return m;
+}
+
 }  // namespace moreau::mocap

@@ -108,24 +108,15 @@ std::string PriorReason(const OcpGapReport& r) {
   return IsSuccess(r.termination) ? "rejected_by_guard" : "optimal_control_failed";
 }
 
-// The ocp fill of every gap in input order: its GapFill, and for a filled gap what filled it
-// (the optimal control or the prior, and why the prior).
-struct OcpGapFills {
-  std::vector<GapFill> fills;
-  std::vector<GapOutcome> outcomes;  // kUnfillable for a gap no candidate fills
-  std::vector<std::string> prior_reasons;
-};
-
-// The gaps some candidate fills go to FillGapsOcp together; the others keep the first failing
-// candidate's status.
-OcpGapFills FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
-                          const GapFillOptions& requested) {
+// The ocp (or average) fill of every gap in input order; a filled gap's GapFill says what filled
+// it (the optimal control, or the prior and why). The gaps some candidate fills go to FillGapsOcp
+// together; the others keep the first failing candidate's status.
+std::vector<GapFill> FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
+                                   const GapFillOptions& requested) {
   const GapFillOptions options = LayerOptions(requested);
   const bool average = requested.method == GapFillMethod::kAverage;
   OcpCandidates candidates = ComputeCandidates(in, gaps, options);
-  OcpGapFills result{std::move(candidates.unfilled),
-                     std::vector<GapOutcome>(gaps.size(), GapOutcome::kUnfillable),
-                     std::vector<std::string>(gaps.size())};
+  std::vector<GapFill> fills = std::move(candidates.unfilled);
   std::vector<Gap> solved;
   std::vector<std::size_t> index;
   for (std::size_t i = 0; i < gaps.size(); ++i) {
@@ -134,7 +125,7 @@ OcpGapFills FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
       index.push_back(i);
     }
   }
-  if (solved.empty()) return result;
+  if (solved.empty()) return fills;
   Recording out;
   const OcpFillSummary summary = [&] {
     try {
@@ -146,22 +137,18 @@ OcpGapFills FillGapsByOcp(const Recording& in, const std::vector<Gap>& gaps,
   for (std::size_t k = 0; k < solved.size(); ++k) {
     const Gap& g = solved[k];
     const OcpGapReport& report = summary.gaps[k];
-    GapFill& fill = result.fills[index[k]];
+    GapFill& fill = fills[index[k]];
     fill = {GapStatus::kFilled, DescribeOcpGap(report, summary.methods),
             Eigen::Matrix3Xd(3, g.length())};
     for (std::int64_t f = g.first; f <= g.last; ++f) {
       fill.points.col(f - g.first) = out.point(f, g.marker);
     }
-    if (average) {
-      result.outcomes[index[k]] = GapOutcome::kBaseline;  // the method itself filled it
-      continue;
-    }
-    result.prior_reasons[index[k]] = PriorReason(report);
-    result.outcomes[index[k]] =
+    if (average) continue;  // kBaseline: the method itself filled it
+    fill.outcome =
         report.outcome == OcpOutcome::kSolved ? GapOutcome::kOptimalControl : GapOutcome::kPrior;
-    fill.outcome = result.outcomes[index[k]];
+    fill.prior_reason = PriorReason(report);
   }
-  return result;
+  return fills;
 }
 
 }  // namespace
@@ -238,15 +225,10 @@ FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps,
     summary = FillGaps(in, gaps, BaselineWith(options, *baseline), out);
   } else {
     CheckGaps(in, gaps);
-    OcpGapFills ocp = FillGapsByOcp(in, gaps, options);
-    const std::string_view name = ToString(options.method);
+    std::vector<GapFill> fills = FillGapsByOcp(in, gaps, options);
     summary = internal::SummarizeFills(
-        in, gaps, name, [&](std::size_t i) { return std::move(ocp.fills[i]); }, out);
-    for (std::size_t i = 0; i < gaps.size(); ++i) {
-      summary.gaps[i].outcome = ocp.outcomes[i];
-      summary.gaps[i].prior_reason = std::move(ocp.prior_reasons[i]);
-    }
-    summary.message = GapOutcomeCounts::Of(summary.gaps).Describe(name);
+        in, gaps, ToString(options.method), [&](std::size_t i) { return std::move(fills[i]); },
+        out);
   }
   summary.settings = LayerOptions(options).ToJson();
   summary.total_seconds = total.Seconds();
@@ -257,12 +239,12 @@ GapFill FillGap(const Recording& in, const Gap& gap, const GapFillOptions& optio
   if (const std::optional<FillMethod> baseline = BaselineMethod(options.method)) {
     return FillGap(in, gap, BaselineWith(options, *baseline));
   }
-  return std::move(FillGapsByOcp(in, {gap}, options).fills.front());
+  return std::move(FillGapsByOcp(in, {gap}, options).front());
 }
 
 std::vector<GapFill> FillGapList(const Recording& in, const std::vector<Gap>& gaps,
                                  const GapFillOptions& options) {
-  if (!BaselineMethod(options.method)) return FillGapsByOcp(in, gaps, options).fills;
+  if (!BaselineMethod(options.method)) return FillGapsByOcp(in, gaps, options);
   std::vector<GapFill> fills;
   for (const Gap& gap : gaps) fills.push_back(FillGap(in, gap, options));
   return fills;

@@ -1,7 +1,5 @@
 #include "fill_gaps/fill_gaps_run.h"
 
-#include <algorithm>
-#include <limits>
 
 #include "moreau/mocap/evaluate.h"
 #include "moreau/mocap/fill_metrics.h"
@@ -22,26 +20,18 @@ std::optional<DeletedGapError> ErrorAgainstTruth(const mocap::Recording& truth,
   }
   const mocap::EvaluationOptions defaults;
   const mocap::Gap g{gap.marker, gap.first, gap.last};
-  const mocap::PositionError position = mocap::PositionErrorInGap(truth, filled, g);
-  DeletedGapError error;
-  error.mean_error = position.mean;
-  error.max_error = position.max;
-  error.p90_error = position.p90;
-  error.velocity_error = error.acceleration_error = std::numeric_limits<double>::quiet_NaN();
-  if (filled.rate() > 2.0 * defaults.filter_hz) {
-    const mocap::DerivativeError derivative =
-        mocap::FilteredDerivativeErrorInGap(truth, filled, g, defaults.filter_hz);
-    error.velocity_error = derivative.velocity_mean;
-    error.acceleration_error = derivative.acceleration_mean;
-  }
-  const mocap::VelocityJump jump = mocap::VelocityJumpAtGapEnds(filled, g);
-  error.velocity_jump_start = jump.start;
-  error.velocity_jump_end = jump.end;
-  const mocap::DistanceDeviation distance = mocap::PartnerDistanceDeviation(
-      filled, g, mocap::FindRigidPartners(gapped, gap.marker, defaults.distance_partners));
-  error.distance_deviation = distance.mean;
-  error.distance_z = distance.z;
-  return error;
+  const mocap::FilledGapMeasures m = mocap::MeasureFilledGap(
+      truth, filled, g, mocap::FindRigidPartners(gapped, gap.marker, defaults.distance_partners),
+      defaults.filter_hz);
+  return DeletedGapError{m.position.mean,
+                         m.position.max,
+                         m.position.p90,
+                         m.derivative.velocity_mean,
+                         m.derivative.acceleration_mean,
+                         m.jump.start,
+                         m.jump.end,
+                         m.distance.mean,
+                         m.distance.z};
 }
 
 }  // namespace

@@ -153,8 +153,10 @@ struct GapFill {
   std::string message;      // why it was not filled, or a note (empty when nothing to say)
   Eigen::Matrix3Xd points;  // 3 × gap.length(), frames first … last; empty unless filled
   // What filled it when filled: kBaseline from this file; gap_fill.h sets kOptimalControl or
-  // kPrior for ocp.
+  // kPrior for ocp, and for kPrior the reason (GapReport::prior_reason). FillGaps copies both
+  // into the gap's GapReport.
   GapOutcome outcome = GapOutcome::kBaseline;
+  std::string prior_reason = {};
 };
 
 // One method on one gap of `in` (gap consistent with `in`: marker in range, first ≤ last inside

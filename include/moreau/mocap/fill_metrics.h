@@ -161,4 +161,15 @@ struct DistanceDeviation {
 DistanceDeviation PartnerDistanceDeviation(const Recording& filled, const Gap& gap,
                                            const RigidPartners& partners);
 
+// Every measure above of one filled gap (evaluate-gaps' rows, fill-gaps' report where the truth
+// is known); the derivative errors are NaN unless cutoff_hz is below rate / 2.
+struct FilledGapMeasures {
+  PositionError position;
+  DerivativeError derivative;
+  VelocityJump jump;
+  DistanceDeviation distance;
+};
+FilledGapMeasures MeasureFilledGap(const Recording& truth, const Recording& filled, const Gap& gap,
+                                   const RigidPartners& partners, double cutoff_hz);
+
 }  // namespace moreau::mocap
