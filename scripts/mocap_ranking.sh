@@ -15,20 +15,13 @@ DEST=$ROOT/docs/results/mocap/ranking
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 mkdir -p "$DEST"
+. "$ROOT/scripts/mocap_fitting.sh"
 RECORDINGS=${RECORDINGS:-Qualisys upper_body_25hz Vicon Eb015pi standing_bts PlugInC3D Gait}
 for recording in $RECORDINGS; do
   for k in 1 3; do
     echo "$recording K=$k" >&2
-    for gaps in 0.5,1.0,2.0 0.5,1.0 0.5; do
-      # Exit 2: the longest gap does not fit; any other failure stops the script.
-      status=0
-      "$MOREAU" evaluate-gaps "$DATA/$recording.c3d" --gap-seconds "$gaps" --trials 20 --seed 1 \
-        --markers-per-gap "$k" --out "$WORK/$recording-$k" > /dev/null \
-        2> "$WORK/$recording-$k.log" || status=$?
-      [ "$status" = 2 ] && [ "$gaps" != 0.5 ] && continue
-      [ "$status" = 0 ] || { cat "$WORK/$recording-$k.log" >&2; exit 1; }
-      break
-    done
+    evaluate_fitting "$MOREAU" "$DATA/$recording.c3d" "$WORK/$recording-$k" \
+      "0.5,1.0,2.0 0.5,1.0 0.5" --trials 20 --seed 1 --markers-per-gap "$k"
     cp "$WORK/$recording-$k/summary.json" "$DEST/${recording}_K$k.json"
   done
 done

@@ -13,18 +13,13 @@ DATA=${2:-../shared/data/mocap}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
+. "$ROOT/scripts/mocap_fitting.sh"
 for recording in Qualisys upper_body_25hz Vicon Eb015pi standing_bts PlugInC3D Gait; do
   for k in 1 3; do
     for placement in interior any start end; do
-      for gaps in 0.2,0.5,1.0,2.0 0.2,0.5,1.0 0.2,0.5; do
-        status=0
-        "$MOREAU" evaluate-gaps "$DATA/$recording.c3d" --gap-seconds "$gaps" --trials 10 --seed 2 \
-          --markers-per-gap "$k" --placement "$placement" --methods ocp \
-          --out "$WORK/$recording-$k-$placement" > /dev/null 2> "$WORK/log" || status=$?
-        [ "$status" = 2 ] && [ "$gaps" != 0.2,0.5 ] && continue
-        [ "$status" = 0 ] || { cat "$WORK/log" >&2; exit 1; }
-        break
-      done
+      evaluate_fitting "$MOREAU" "$DATA/$recording.c3d" "$WORK/$recording-$k-$placement" \
+        "0.2,0.5,1.0,2.0 0.2,0.5,1.0 0.2,0.5" --trials 10 --seed 2 --markers-per-gap "$k" \
+        --placement "$placement" --methods ocp
     done
   done
 done
