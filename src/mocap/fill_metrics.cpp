@@ -256,12 +256,12 @@ DistanceDeviation PartnerDistanceDeviation(const Recording& filled, const Gap& g
 
 FilledGapMeasures MeasureFilledGap(const Recording& truth, const Recording& filled, const Gap& gap,
                                    const RigidPartners& partners, double cutoff_hz) {
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  constexpr double none = std::numeric_limits<double>::quiet_NaN();
   FilledGapMeasures m;
   m.position = PositionErrorInGap(truth, filled, gap);
   m.derivative = cutoff_hz < 0.5 * filled.rate()
                      ? FilteredDerivativeErrorInGap(truth, filled, gap, cutoff_hz)
-                     : DerivativeError{nan, nan, nan, nan};
+                     : DerivativeError{none, none, none, none};
   m.jump = VelocityJumpAtGapEnds(filled, gap);
   m.distance = PartnerDistanceDeviation(filled, gap, partners);
   return m;
