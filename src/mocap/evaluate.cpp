@@ -227,7 +227,10 @@ void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
     for (std::size_t j = 0; j < k_markers; ++j) {
       rows[k * k_markers + j] = MeasureRow(truth, work, trial, j, partners[j], fills[j].status,
                                            options, options.methods[k]);
-      if (fills[j].status == GapStatus::kFilled) rows[k * k_markers + j].outcome = fills[j].outcome;
+      if (fills[j].status == GapStatus::kFilled) {
+        rows[k * k_markers + j].outcome = fills[j].outcome;
+        rows[k * k_markers + j].prior_reason = fills[j].prior_reason;
+      }
     }
     each_filled(
         [&](const Gap& gap, std::int64_t f, std::size_t) { work.ClearPoint(f, gap.marker); });

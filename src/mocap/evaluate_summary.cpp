@@ -45,6 +45,7 @@ EvaluationStatistics StatisticsOfRows(EvaluationStatistics stats,
     ++stats.gaps;
     stats.optimal_control += row->outcome == GapOutcome::kOptimalControl ? 1 : 0;
     stats.prior += row->outcome == GapOutcome::kPrior ? 1 : 0;
+    stats.rejected_by_guard += row->prior_reason == "rejected_by_guard" ? 1 : 0;
     if (row->status == GapStatus::kFilled) {
       errors.push_back(row->mean_error);
     } else {
@@ -180,6 +181,7 @@ nlohmann::json EvaluationSummary::ToJson() const {
     if (s.method == GapFillMethod::kOcp) {
       entry["optimal_control"] = s.optimal_control;
       entry["prior"] = s.prior;
+      entry["rejected_by_guard"] = s.rejected_by_guard;
     }
     const std::pair<const char*, const MeasureStatistics*> measures[] = {
         {"max_error", &s.max_error},           {"p90_error", &s.p90_error},
@@ -216,7 +218,8 @@ nlohmann::json EvaluationSummary::ToJson() const {
                          {"velocity_jump_end", number(r.velocity_jump_end)},
                          {"distance_deviation", number(r.distance_deviation)},
                          {"distance_z", number(r.distance_z)},
-                         {"outcome", std::string(ToString(r.outcome))}});
+                         {"outcome", std::string(ToString(r.outcome))},
+                         {"prior_reason", r.prior_reason}});
   }
   j["rows"] = std::move(rows_json);
   j["settings"] = settings.ToJson();

@@ -141,6 +141,8 @@ const FieldList<OcpFillOptions>& OcpFillOptions::Fields() {
                 "retry: continuation in κ, ξ from this scale")
         .Number("retry_gamma_start", &O::retry_gamma_start, Range::Positive(), "per frame",
                 "retry: continuation in γ from here (≥ gamma_start)")
+        .Integer("retry_anchor_springs", &O::retry_anchor_springs, Range::NonNegative(), "",
+                 "last attempt: only this many springs to anchors per free marker (0: none)")
         .Number("guard_ratio", &O::guard_ratio, Range::AtLeast(1), "",
                 "keep a solved fill only if its disagreement ≤ guard_ratio E_prior + 1")
         .Choices("candidates", &O::candidates, FillMethodNameTable(), 1,
@@ -179,6 +181,7 @@ nlohmann::json OcpFillOptions::ToJson() const {
           {"max_step_frames", max_step_frames},
           {"stiffness_start", stiffness_start},
           {"retry_gamma_start", retry_gamma_start},
+          {"retry_anchor_springs", retry_anchor_springs},
           {"guard_ratio", guard_ratio},
           {"candidates", names},
           {"weight_exponent", weight_exponent},

@@ -317,8 +317,11 @@ control::ContinuationSummary SolveOcpWindowProblem(const OcpWindowProblem& p,
   return cs;
 }
 
-OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
-                               const OcpWindow& w, const OcpFillOptions& o) {
+namespace {
+
+// One window solved with the options' network (SolveOcpWindowProblem's two attempts).
+OcpWindowResult AttemptWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
+                              const OcpWindow& w, const OcpFillOptions& o) {
   OcpWindowResult result;
   const Eigen::Index frames = w.last - w.first + 1;
   const int m = static_cast<int>(w.free.size());
@@ -358,6 +361,30 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
     result.message = fmt::format("window model rejected: {}", e.what());
   }
   return result;
+}
+
+}  // namespace
+
+OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
+                               const OcpWindow& w, const OcpFillOptions& o) {
+  OcpWindowResult result = AttemptWindow(in, base, net, w, o);
+  const int fewer = o.retry_anchor_springs;
+  if (IsSuccess(result.termination) || fewer == 0 ||
+      (o.anchor_springs > 0 && o.anchor_springs <= fewer)) {
+    return result;
+  }
+  // Springs to anchors that are nearly rigid make the window's Newton system ill-conditioned
+  // (docs/mocap.md, "How often the optimal control solves its window"): the last attempt keeps
+  // only each free marker's `retry_anchor_springs` most rigid ones.
+  OcpFillOptions retry = o;
+  retry.anchor_springs = fewer;
+  OcpWindowResult last = AttemptWindow(in, base, net, w, retry);
+  last.newton_iterations += result.newton_iterations;
+  if (!IsSuccess(last.termination)) {
+    last.message = fmt::format("{}; with {} anchor springs per marker: {}", result.message, fewer,
+                               last.message);
+  }
+  return last;
 }
 
 }  // namespace moreau::mocap::internal

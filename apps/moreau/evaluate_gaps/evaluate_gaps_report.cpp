@@ -30,7 +30,7 @@ std::string EvaluationCsv(const mocap::EvaluationSummary& summary,
   fmt::format_to(out,
                  "method,gap_frames,trial,marker,first_frame,mean_error,max_error,gap_seconds,"
                  "status,p90_error,velocity_error,acceleration_error,velocity_jump_start,"
-                 "velocity_jump_end,distance_deviation,distance_z,outcome\n");
+                 "velocity_jump_end,distance_deviation,distance_z,outcome,prior_reason\n");
   for (const mocap::EvaluationRow& r : summary.rows) {
     fmt::format_to(out, "{},{},{},{},{},{},{},{},{}", mocap::ToString(r.method), r.gap_frames,
                    r.trial, CsvField(recording.labels()[static_cast<std::size_t>(r.marker)]),
@@ -40,7 +40,7 @@ std::string EvaluationCsv(const mocap::EvaluationSummary& summary,
                      r.velocity_jump_end, r.distance_deviation, r.distance_z}) {
       fmt::format_to(out, ",{}", NumberOrEmpty(x));
     }
-    fmt::format_to(out, ",{}\n", mocap::ToString(r.outcome));
+    fmt::format_to(out, ",{},{}\n", mocap::ToString(r.outcome), r.prior_reason);
   }
   return fmt::to_string(csv);
 }

@@ -89,6 +89,9 @@ struct EvaluationRow {
   double distance_deviation = 0.0;   // units: mean |d − mean observed| over gap and partners
   double distance_z = 0.0;           // the same in observed standard deviations
   GapOutcome outcome = GapOutcome::kBaseline;  // what filled it (kUnfillable when not filled)
+  // For outcome kPrior, why (GapFill::prior_reason): "rejected_by_guard" (the window converged,
+  // its fill was turned down), "optimal_control_failed" or "optimal_control_off"; else empty.
+  std::string prior_reason = {};
 
   // The larger of the two jumps that exist (NaN when none).
   double velocity_jump() const;
@@ -113,6 +116,7 @@ struct EvaluationStatistics {
   int gaps = 0;                // hidden markers' gaps: trials × markers_per_gap
   int optimal_control = 0;     // of them filled by the optimal control (ocp)
   int prior = 0;               // of them filled by ocp's prior (the optimal control failed)
+  int rejected_by_guard = 0;   // of those, the window converged and the guard turned it down
   // Over the gaps, per measure of EvaluationRow: its mean and 90th percentile.
   MeasureStatistics max_error, p90_error, velocity_error, acceleration_error, velocity_jump,
       distance_deviation, distance_z;

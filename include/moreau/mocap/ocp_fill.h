@@ -23,8 +23,8 @@
 //     with the gaps, not with the recording.
 // Units inside the solver: length in network.length_scale, time in frames, weights and γ per
 // frame (docs/mocap.md).
-// A window that fails to converge is retried with stiffness continuation from a smooth γ; if that
-// fails too, or a solved gap disagrees with the partners' distance distributions much more than
+// A window that fails to converge is retried with stiffness continuation from a smooth γ, then
+// with fewer springs to anchors (retry_anchor_springs); if that fails too, or a solved gap disagrees with the partners' distance distributions much more than
 // the prior (guard_ratio), the gap is filled by the prior (outcome kFallback).
 #pragma once
 
@@ -57,6 +57,10 @@ struct OcpFillOptions {
                                  // window's fastest rates k, c (docs/mocap.md) (> 0)
   double stiffness_start = 0.25;   // retry: continuation in κ, ξ from this scale (0, 1]
   double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
+  // Last attempt when both fail: the window again with only each free marker's this many most
+  // rigid springs to anchors (>= 0; 0: no last attempt; none either when anchor_springs is
+  // already at most this).
+  int retry_anchor_springs = 4;
   double guard_ratio = 1.5;        // keep the solved fill only if its distance disagreement E is
                                    // <= guard_ratio E_prior + 1 (E_prior: the prior's) (>= 1)
   // The baseline fills (fill.h) that gap_fill.h computes for the gaps and passes to FillGapsOcp
