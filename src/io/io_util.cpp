@@ -4,9 +4,11 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include "moreau/common/error.h"
 
@@ -177,6 +179,36 @@ void AppendStringArray(const StringList& list, std::string& out) {
     out += " 0";
   }
   out += "\n      </Array>\n";
+}
+
+void AppendBinaryDataArray(const char* type, std::string_view name, int components,
+                           const void* values, std::size_t bytes, std::string& out) {
+  out += fmt::format(
+      "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
+      "format=\"binary\">\n          ",
+      type, name, components);
+  const std::uint64_t header = bytes;
+  // Header and data form one base64 stream, as VTK's own writer encodes them.
+  std::vector<unsigned char> raw(sizeof(header) + bytes);
+  std::memcpy(raw.data(), &header, sizeof(header));
+  if (bytes > 0) std::memcpy(raw.data() + sizeof(header), values, bytes);
+  AppendBase64(raw.data(), raw.size(), out);
+  out += "\n        </DataArray>\n";
+}
+
+std::string PvdText(const std::vector<std::pair<double, std::string>>& files) {
+  std::string out;
+  out += "<?xml version=\"1.0\"?>\n";
+  out +=
+      fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n", kByteOrder);
+  out += "  <Collection>\n";
+  for (const auto& [time, name] : files) {
+    out += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+                       FormatDouble(time), XmlEscape(name));
+  }
+  out += "  </Collection>\n";
+  out += "</VTKFile>\n";
+  return out;
 }
 
 }  // namespace moreau::io::internal

@@ -1,10 +1,13 @@
 // Helpers shared by the trajectory writers (internal).
 #pragma once
 
+#include <bit>
+#include <cstddef>
 #include <filesystem>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "moreau/io/trajectory.h"
@@ -53,5 +56,22 @@ void WriteWholeFile(const std::filesystem::path& file, std::string_view content)
 // Appends `list` as one FieldData string array, as VTK's XML writer stores a vtkStringArray in
 // ASCII: each string's bytes as numbers, each string ended by 0.
 void AppendStringArray(const StringList& list, std::string& out);
+
+// The byte order VTK's XML files declare: the machine's own (the arrays are written raw).
+inline constexpr const char* kByteOrder =
+    std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
+
+// Appends one inline binary DataArray of a VTK XML file: base64 of (UInt64 byte count, the
+// `bytes` raw bytes at `values`), as VTK's own writer encodes it with header_type="UInt64".
+void AppendBinaryDataArray(const char* type, std::string_view name, int components,
+                           const void* values, std::size_t bytes, std::string& out);
+template <typename T>
+void AppendDataArray(const char* type, std::string_view name, int components, const T* values,
+                     std::size_t value_count, std::string& out) {
+  AppendBinaryDataArray(type, name, components, values, value_count * sizeof(T), out);
+}
+
+// The PVD index of a series: one DataSet per (time, file name relative to the index).
+std::string PvdText(const std::vector<std::pair<double, std::string>>& files);
 
 }  // namespace moreau::io::internal

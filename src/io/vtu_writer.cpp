@@ -16,26 +16,7 @@
 namespace moreau::io {
 namespace {
 
-constexpr const char* kByteOrder =
-    std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
 constexpr std::uint8_t kVtkVertex = 1;
-
-// Appends one inline binary DataArray: base64 of (UInt64 byte count, raw values).
-template <typename T>
-void AppendDataArray(const char* type, const char* name, int components, const T* values,
-                     std::size_t value_count, std::string& out) {
-  out += fmt::format(
-      "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
-      "format=\"binary\">\n          ",
-      type, name, components);
-  const std::uint64_t bytes = value_count * sizeof(T);
-  // Header and data form one base64 stream, as VTK's own writer encodes them.
-  std::vector<unsigned char> raw(sizeof(bytes) + bytes);
-  std::memcpy(raw.data(), &bytes, sizeof(bytes));
-  if (bytes > 0) std::memcpy(raw.data() + sizeof(bytes), values, bytes);
-  internal::AppendBase64(raw.data(), raw.size(), out);
-  out += "\n        </DataArray>\n";
-}
 
 // The frame's extra arrays (PointArray) as point data.
 void AppendPointArrays(const ParticleFrame& frame, std::string& out) {
@@ -44,11 +25,11 @@ void AppendPointArrays(const ParticleFrame& frame, std::string& out) {
     const std::string name = internal::XmlEscape(a.name);
     const std::size_t values = n * static_cast<std::size_t>(a.components);
     if (a.type == PointArray::Type::kInt64) {
-      AppendDataArray("Int64", name.c_str(), a.components, static_cast<const std::int64_t*>(a.data),
-                      values, out);
+      internal::AppendDataArray("Int64", name.c_str(), a.components,
+                                static_cast<const std::int64_t*>(a.data), values, out);
     } else {
-      AppendDataArray("Float64", name.c_str(), a.components, static_cast<const double*>(a.data),
-                      values, out);
+      internal::AppendDataArray("Float64", name.c_str(), a.components,
+                                static_cast<const double*>(a.data), values, out);
     }
   }
 }
@@ -69,7 +50,7 @@ class VtuSeriesWriter final : public TrajectoryWriter {
   void Close() override;
 
  private:
-  std::string PvdText() const;
+  std::string PvdText() const { return internal::PvdText(files_); }
 
   std::filesystem::path dir_;
   std::string prefix_;
@@ -138,7 +119,7 @@ void VtuSeriesWriter::Write(const ParticleFrame& frame) {
   out += fmt::format(
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"{}\" "
       "header_type=\"UInt64\">\n",
-      kByteOrder);
+      internal::kByteOrder);
   out += "  <UnstructuredGrid>\n";
   out += "    <FieldData>\n";
   out += fmt::format(
@@ -153,17 +134,17 @@ void VtuSeriesWriter::Write(const ParticleFrame& frame) {
   out += "    </FieldData>\n";
   out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
   out += "      <PointData Scalars=\"radius\">\n";
-  AppendDataArray("Float64", "radius", 1, frame.radii, n, out);
-  AppendDataArray("Int64", "id", 1, frame.ids, n, out);
+  internal::AppendDataArray("Float64", "radius", 1, frame.radii, n, out);
+  internal::AppendDataArray("Int64", "id", 1, frame.ids, n, out);
   AppendPointArrays(frame, out);
   out += "      </PointData>\n";
   out += "      <Points>\n";
-  AppendDataArray("Float64", "Points", 3, points_.data(), 3 * n, out);
+  internal::AppendDataArray("Float64", "Points", 3, points_.data(), 3 * n, out);
   out += "      </Points>\n";
   out += "      <Cells>\n";
-  AppendDataArray("Int64", "connectivity", 1, connectivity_.data(), n, out);
-  AppendDataArray("Int64", "offsets", 1, offsets_.data(), n, out);
-  AppendDataArray("UInt8", "types", 1, types_.data(), n, out);
+  internal::AppendDataArray("Int64", "connectivity", 1, connectivity_.data(), n, out);
+  internal::AppendDataArray("Int64", "offsets", 1, offsets_.data(), n, out);
+  internal::AppendDataArray("UInt8", "types", 1, types_.data(), n, out);
   out += "      </Cells>\n";
   out += "    </Piece>\n";
   out += "  </UnstructuredGrid>\n";
@@ -177,21 +158,6 @@ void VtuSeriesWriter::Close() {
   closed_ = true;
   std::string().swap(text_);
   internal::WriteWholeFile(pvd_path_, PvdText());
-}
-
-std::string VtuSeriesWriter::PvdText() const {
-  std::string out;
-  out += "<?xml version=\"1.0\"?>\n";
-  out +=
-      fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n", kByteOrder);
-  out += "  <Collection>\n";
-  for (const auto& [time, name] : files_) {
-    out += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
-                       internal::FormatDouble(time), internal::XmlEscape(name));
-  }
-  out += "  </Collection>\n";
-  out += "</VTKFile>\n";
-  return out;
 }
 
 }  // namespace
