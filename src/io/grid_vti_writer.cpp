@@ -46,25 +46,9 @@ class VtiSeriesWriter final : public GridWriter {
 
 VtiSeriesWriter::VtiSeriesWriter(std::filesystem::path dir, std::string prefix,
                                  const GridSpec& grid)
-    : dir_(std::move(dir)),
-      prefix_(std::move(prefix)),
-      pvd_path_(dir_ / (prefix_ + ".pvd")),
-      grid_(grid) {
-  internal::ValidateGrid(grid_, pvd_path_);
-  if (prefix_.empty() || prefix_.find('/') != std::string::npos) {
-    throw InputError(
-        fmt::format("VTI series prefix '{}' must be a non-empty file name without '/'", prefix_));
-  }
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir_, ec)) {
-    throw InputError(fmt::format("cannot write the VTI series {}: directory {} does not exist",
-                                 pvd_path_.string(), dir_.string()));
-  }
-  try {
-    internal::WriteWholeFile(pvd_path_, internal::PvdText(files_));
-  } catch (const std::runtime_error& e) {
-    throw InputError(e.what());
-  }
+    : dir_(std::move(dir)), prefix_(std::move(prefix)), grid_(grid) {
+  internal::ValidateGrid(grid_, dir_ / (prefix_ + ".pvd"));
+  pvd_path_ = internal::StartSeriesIndex(dir_, prefix_, "VTI");
 }
 
 std::string VtiSeriesWriter::Extent() const {

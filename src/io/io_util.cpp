@@ -211,4 +211,24 @@ std::string PvdText(const std::vector<std::pair<double, std::string>>& files) {
   return out;
 }
 
+std::filesystem::path StartSeriesIndex(const std::filesystem::path& dir, const std::string& prefix,
+                                       std::string_view kind) {
+  const std::filesystem::path pvd = dir / (prefix + ".pvd");
+  if (prefix.empty() || prefix.find('/') != std::string::npos) {
+    throw InputError(fmt::format("{} series prefix '{}' must be a non-empty file name without '/'",
+                                 kind, prefix));
+  }
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) {
+    throw InputError(fmt::format("cannot write the {} series {}: directory {} does not exist", kind,
+                                 pvd.string(), dir.string()));
+  }
+  try {
+    WriteWholeFile(pvd, PvdText({}));
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+  return pvd;
+}
+
 }  // namespace moreau::io::internal

@@ -74,4 +74,10 @@ void AppendDataArray(const char* type, std::string_view name, int components, co
 // The PVD index of a series: one DataSet per (time, file name relative to the index).
 std::string PvdText(const std::vector<std::pair<double, std::string>>& files);
 
+// Starts the series DIR/PREFIX_iiiiii.* of `kind` (VTU, VTI): writes the empty index DIR/PREFIX.pvd
+// and returns its path. Throws InputError if `prefix` is empty or has a '/', if `dir` is not an
+// existing directory, or if the index cannot be written.
+std::filesystem::path StartSeriesIndex(const std::filesystem::path& dir, const std::string& prefix,
+                                       std::string_view kind);
+
 }  // namespace moreau::io::internal

@@ -50,8 +50,6 @@ class VtuSeriesWriter final : public TrajectoryWriter {
   void Close() override;
 
  private:
-  std::string PvdText() const { return internal::PvdText(files_); }
-
   std::filesystem::path dir_;
   std::string prefix_;
   std::filesystem::path pvd_path_;
@@ -68,26 +66,10 @@ class VtuSeriesWriter final : public TrajectoryWriter {
 
 VtuSeriesWriter::VtuSeriesWriter(std::filesystem::path dir, std::string prefix,
                                  std::vector<StringList> lists)
-    : dir_(std::move(dir)),
-      prefix_(std::move(prefix)),
-      pvd_path_(dir_ / (prefix_ + ".pvd")),
-      lists_(std::move(lists)) {
+    : dir_(std::move(dir)), prefix_(std::move(prefix)), lists_(std::move(lists)) {
   constexpr std::string_view kTaken[] = {"TimeValue", "step"};
-  internal::ValidateLists(lists_, kTaken, pvd_path_);
-  if (prefix_.empty() || prefix_.find('/') != std::string::npos) {
-    throw InputError(
-        fmt::format("VTU series prefix '{}' must be a non-empty file name without '/'", prefix_));
-  }
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir_, ec)) {
-    throw InputError(fmt::format("cannot write the VTU series {}: directory {} does not exist",
-                                 pvd_path_.string(), dir_.string()));
-  }
-  try {
-    internal::WriteWholeFile(pvd_path_, PvdText());
-  } catch (const std::runtime_error& e) {
-    throw InputError(e.what());
-  }
+  internal::ValidateLists(lists_, kTaken, dir_ / (prefix_ + ".pvd"));
+  pvd_path_ = internal::StartSeriesIndex(dir_, prefix_, "VTU");
 }
 
 void VtuSeriesWriter::Write(const ParticleFrame& frame) {
@@ -157,7 +139,7 @@ void VtuSeriesWriter::Close() {
   if (closed_) return;
   closed_ = true;
   std::string().swap(text_);
-  internal::WriteWholeFile(pvd_path_, PvdText());
+  internal::WriteWholeFile(pvd_path_, internal::PvdText(files_));
 }
 
 }  // namespace
