@@ -74,14 +74,7 @@ void VtiSeriesWriter::Write(const GridFrame& frame) {
                      Extent(), internal::FormatDouble(grid_.origin[0]),
                      internal::FormatDouble(grid_.origin[1]), internal::FormatDouble(z), h, h, h);
   out += "    <FieldData>\n";
-  out += fmt::format(
-      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
-      "format=\"ascii\">{}</DataArray>\n",
-      internal::FormatDouble(frame.time));
-  out += fmt::format(
-      "      <DataArray type=\"Int64\" Name=\"step\" NumberOfTuples=\"1\" "
-      "format=\"ascii\">{}</DataArray>\n",
-      frame.step);
+  internal::AppendTimeAndStep(frame.time, frame.step, out);
   out += "    </FieldData>\n";
   out += fmt::format("    <Piece Extent=\"{}\">\n", Extent());
   out +=

@@ -196,6 +196,17 @@ void AppendBinaryDataArray(const char* type, std::string_view name, int componen
   out += "\n        </DataArray>\n";
 }
 
+void AppendTimeAndStep(double time, std::int64_t step, std::string& out) {
+  out += fmt::format(
+      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">{}</DataArray>\n",
+      FormatDouble(time));
+  out += fmt::format(
+      "      <DataArray type=\"Int64\" Name=\"step\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">{}</DataArray>\n",
+      step);
+}
+
 std::string PvdText(const std::vector<std::pair<double, std::string>>& files) {
   std::string out;
   out += "<?xml version=\"1.0\"?>\n";

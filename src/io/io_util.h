@@ -3,6 +3,7 @@
 
 #include <bit>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <span>
 #include <string>
@@ -70,6 +71,9 @@ void AppendDataArray(const char* type, std::string_view name, int components, co
                      std::size_t value_count, std::string& out) {
   AppendBinaryDataArray(type, name, components, values, value_count * sizeof(T), out);
 }
+
+// Appends a frame's FieldData arrays TimeValue (its time, Float64) and step (Int64), ASCII.
+void AppendTimeAndStep(double time, std::int64_t step, std::string& out);
 
 // The PVD index of a series: one DataSet per (time, file name relative to the index).
 std::string PvdText(const std::vector<std::pair<double, std::string>>& files);

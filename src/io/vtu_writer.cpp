@@ -104,14 +104,7 @@ void VtuSeriesWriter::Write(const ParticleFrame& frame) {
       internal::kByteOrder);
   out += "  <UnstructuredGrid>\n";
   out += "    <FieldData>\n";
-  out += fmt::format(
-      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
-      "format=\"ascii\">{}</DataArray>\n",
-      internal::FormatDouble(frame.time));
-  out += fmt::format(
-      "      <DataArray type=\"Int64\" Name=\"step\" NumberOfTuples=\"1\" "
-      "format=\"ascii\">{}</DataArray>\n",
-      frame.step);
+  internal::AppendTimeAndStep(frame.time, frame.step, out);
   for (const StringList& list : lists_) internal::AppendStringArray(list, out);
   out += "    </FieldData>\n";
   out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
