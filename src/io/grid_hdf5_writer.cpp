@@ -21,30 +21,30 @@
 namespace moreau::io {
 namespace {
 
-constexpr int kFormatVersion = 1;
-constexpr char kFormatName[] = "moreau-fields";
+constexpr int kFieldsFormatVersion = 1;
+constexpr char kFieldsFormatName[] = "moreau-fields";
 // Target size of one chunk and the most frames one chunk holds.
-constexpr hsize_t kChunkBytes = hsize_t{1} << 20;
-constexpr hsize_t kMaxFramesPerChunk = 64;
-constexpr double kMissingValue = std::numeric_limits<double>::quiet_NaN();
+constexpr hsize_t kFieldChunkBytes = hsize_t{1} << 20;
+constexpr hsize_t kMaxFramesPerFieldChunk = 64;
+constexpr double kMissingFieldValue = std::numeric_limits<double>::quiet_NaN();
 
 using internal::Handle;
 
-// Chunk of a F×S dataset of float64: whole frames while a frame is at most kChunkBytes (as many
-// as fill about kChunkBytes, at most kMaxFramesPerChunk), else one frame cut along its slowest
-// axes to about kChunkBytes.
-std::vector<hsize_t> ChunkShape(const std::vector<hsize_t>& shape) {
+// Chunk of a F×S dataset of float64: whole frames while a frame is at most kFieldChunkBytes (as
+// many as fill about kFieldChunkBytes, at most kMaxFramesPerFieldChunk), else one frame cut along
+// its slowest axes to about kFieldChunkBytes.
+std::vector<hsize_t> FieldChunkShape(const std::vector<hsize_t>& shape) {
   std::vector<hsize_t> chunk{1};
   chunk.insert(chunk.end(), shape.begin(), shape.end());
   hsize_t bytes = 8;
   for (const hsize_t n : shape) bytes *= n;
-  if (bytes <= kChunkBytes) {
-    chunk[0] = std::clamp<hsize_t>(kChunkBytes / bytes, 1, kMaxFramesPerChunk);
+  if (bytes <= kFieldChunkBytes) {
+    chunk[0] = std::clamp<hsize_t>(kFieldChunkBytes / bytes, 1, kMaxFramesPerFieldChunk);
     return chunk;
   }
-  for (std::size_t a = 1; a < chunk.size() && bytes > kChunkBytes; ++a) {
+  for (std::size_t a = 1; a < chunk.size() && bytes > kFieldChunkBytes; ++a) {
     const hsize_t slab = bytes / chunk[a];  // bytes of one index along axis a
-    chunk[a] = std::max<hsize_t>(1, kChunkBytes / slab);
+    chunk[a] = std::max<hsize_t>(1, kFieldChunkBytes / slab);
     bytes = slab * chunk[a];
   }
   return chunk;
@@ -99,10 +99,10 @@ Hdf5GridWriter::Hdf5GridWriter(const std::filesystem::path& path, const GridSpec
   const std::int64_t no_step = -1;
   const hid_t file = file_.get();
   time_ = file_.CreateExtensible(file, "time", H5T_IEEE_F64LE, {256}, 0, H5T_NATIVE_DOUBLE,
-                                 &kMissingValue);
+                                 &kMissingFieldValue);
   step_ = file_.CreateExtensible(file, "step", H5T_STD_I64LE, {256}, 0, H5T_NATIVE_INT64, &no_step);
-  file_.WriteStringAttribute("format", kFormatName);
-  file_.WriteAttribute("format_version", H5T_STD_I32LE, H5T_NATIVE_INT, &kFormatVersion);
+  file_.WriteStringAttribute("format", kFieldsFormatName);
+  file_.WriteAttribute("format_version", H5T_STD_I32LE, H5T_NATIVE_INT, &kFieldsFormatVersion);
   file_.WriteAttribute("dimension", H5T_STD_I32LE, H5T_NATIVE_INT, &grid_.dimension);
   const auto k = static_cast<hsize_t>(grid_.dimension);
   const std::int64_t cells[3] = {nx, ny, nz};
@@ -114,11 +114,11 @@ Hdf5GridWriter::Hdf5GridWriter(const std::filesystem::path& path, const GridSpec
 }
 
 void Hdf5GridWriter::CreateFieldDatasets(const std::vector<std::string>& names) {
-  const std::vector<hsize_t> chunk = ChunkShape(shape_);
+  const std::vector<hsize_t> chunk = FieldChunkShape(shape_);
   for (const std::string& name : names) {
     fields_.push_back(file_.CreateExtensible(file_.get(), ("fields/" + name).c_str(),
                                              H5T_IEEE_F64LE, chunk, shape_.size(),
-                                             H5T_NATIVE_DOUBLE, &kMissingValue));
+                                             H5T_NATIVE_DOUBLE, &kMissingFieldValue));
   }
 }
 

@@ -44,7 +44,7 @@ void GridSpec::Validate() const {
 namespace internal {
 namespace {
 
-bool GoodName(std::string_view name) {
+bool IsGoodFieldName(std::string_view name) {
   if (name.empty() || name == "." || name == "..") return false;
   for (const char c : name) {
     const auto u = static_cast<unsigned char>(c);
@@ -76,7 +76,7 @@ void GridSeries::Check(const GridFrame& frame, std::int64_t voxels,
   if (frame.arrays.empty()) throw InputError(fmt::format("{} has no fields", where));
   for (std::size_t a = 0; a < frame.arrays.size(); ++a) {
     const GridArray& array = frame.arrays[a];
-    if (!GoodName(array.name)) {
+    if (!IsGoodFieldName(array.name)) {
       throw InputError(
           fmt::format("{}: field name '{}' must be non-empty, not . or .., without '/', ':', '\\', "
                       "whitespace or control characters",

@@ -88,7 +88,7 @@ GridSpec Grid2D() { return {2, {-1.0, 0.5, 7.0}, 0.25, {8, 6, 1}}; }
 GridSpec Grid3D() { return {3, {-1.0, 0.5, 2.0}, 0.5, {4, 3, 5}}; }
 const std::vector<double> kTimes{0.0, 0.5, 1.25};
 
-void WriteAll(GridWriter& writer, const GridFrames& frames) {
+void WriteGridFrames(GridWriter& writer, const GridFrames& frames) {
   for (std::size_t f = 0; f < frames.size(); ++f) writer.Write(frames.frame(f));
   writer.Close();
 }
@@ -102,7 +102,7 @@ std::vector<double> Stacked(const std::vector<std::vector<double>>& frames) {
 
 // --- HDF5 ---------------------------------------------------------------------------------------
 
-void ExpectHdf5Matches(const fs::path& path, const GridFrames& expected) {
+void ExpectGridHdf5Matches(const fs::path& path, const GridFrames& expected) {
   H5 file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   ASSERT_GE(file.get(), 0) << path;
   const GridSpec& g = expected.grid;
@@ -167,7 +167,7 @@ std::string Between(const std::string& text, const std::string& open, const std:
   return text.substr(start, text.find(close, start) - start);
 }
 
-void ExpectXdmfMatches(const fs::path& path, const GridFrames& expected) {
+void ExpectGridXdmfMatches(const fs::path& path, const GridFrames& expected) {
   const std::string xdmf = ReadText(path);
   const GridSpec& g = expected.grid;
   const auto [nx, ny, nz] = g.cells;
@@ -208,9 +208,9 @@ void ExpectXdmfMatches(const fs::path& path, const GridFrames& expected) {
 void ExpectHdf5RoundTrip(const GridSpec& grid, std::uint64_t seed) {
   TempDir dir;
   const GridFrames frames = MakeFrames(grid, kTimes, seed);
-  WriteAll(*MakeHdf5GridWriter(dir.path() / "fields.h5", frames.grid), frames);
-  ExpectHdf5Matches(dir.path() / "fields.h5", frames);
-  ExpectXdmfMatches(dir.path() / "fields.xdmf", frames);
+  WriteGridFrames(*MakeHdf5GridWriter(dir.path() / "fields.h5", frames.grid), frames);
+  ExpectGridHdf5Matches(dir.path() / "fields.h5", frames);
+  ExpectGridXdmfMatches(dir.path() / "fields.xdmf", frames);
 }
 
 TEST(Hdf5GridWriter, RoundTripsEveryValueBitForBit2D) { ExpectHdf5RoundTrip(Grid2D(), 3); }
@@ -219,15 +219,15 @@ TEST(Hdf5GridWriter, RoundTripsEveryValueBitForBit3D) { ExpectHdf5RoundTrip(Grid
 TEST(Hdf5GridWriter, FramesOverAMebibyteAreCutIntoChunksAlongZ) {
   TempDir dir;
   const GridFrames frames = MakeFrames({3, {0, 0, 0}, 1.0, {80, 80, 41}}, {0.0, 1.0}, 5);
-  WriteAll(*MakeHdf5GridWriter(dir.path() / "big.h5", frames.grid), frames);
-  ExpectHdf5Matches(dir.path() / "big.h5", frames);
+  WriteGridFrames(*MakeHdf5GridWriter(dir.path() / "big.h5", frames.grid), frames);
+  ExpectGridHdf5Matches(dir.path() / "big.h5", frames);
   H5 file(H5Fopen((dir.path() / "big.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   std::vector<double> values;
   const DatasetInfo info =
       ReadDataset(file.get(), "/fields/c", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, values);
   EXPECT_EQ(info.chunk, (std::vector<hsize_t>{1, 20, 80, 80}));  // 20 · 80 · 80 · 8 B ≤ 1 MiB
   const GridFrames small = MakeFrames(Grid2D(), kTimes, 6);
-  WriteAll(*MakeHdf5GridWriter(dir.path() / "small.h5", small.grid), small);
+  WriteGridFrames(*MakeHdf5GridWriter(dir.path() / "small.h5", small.grid), small);
   H5 small_file(H5Fopen((dir.path() / "small.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   EXPECT_EQ(
       ReadDataset(small_file.get(), "/fields/c", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, values).chunk,
@@ -293,7 +293,7 @@ void ExpectVtiSeriesMatches(const fs::path& dir, const std::string& prefix,
 void ExpectVtiRoundTrip(const GridSpec& grid, std::uint64_t seed) {
   TempDir dir;
   const GridFrames frames = MakeFrames(grid, kTimes, seed);
-  WriteAll(*MakeVtiSeriesWriter(dir.path(), "fields", frames.grid), frames);
+  WriteGridFrames(*MakeVtiSeriesWriter(dir.path(), "fields", frames.grid), frames);
   ExpectVtiSeriesMatches(dir.path(), "fields", frames);
 }
 
@@ -304,8 +304,8 @@ TEST(GridWriters, TheSameFramesGiveTheSameBytes) {
   TempDir a, b;
   const GridFrames frames = MakeFrames(Grid3D(), kTimes, 9);
   for (const TempDir* dir : {&a, &b}) {
-    WriteAll(*MakeHdf5GridWriter(dir->path() / "fields.h5", frames.grid), frames);
-    WriteAll(*MakeVtiSeriesWriter(dir->path(), "fields", frames.grid), frames);
+    WriteGridFrames(*MakeHdf5GridWriter(dir->path() / "fields.h5", frames.grid), frames);
+    WriteGridFrames(*MakeVtiSeriesWriter(dir->path(), "fields", frames.grid), frames);
   }
   for (const char* name : {"fields.h5", "fields.xdmf", "fields.pvd", "fields_000002.vti"}) {
     const std::string bytes = ReadText(a.path() / name);
@@ -396,8 +396,8 @@ TEST(Hdf5GridWriter, RejectsBadFramesAndKeepsTheGoodOnes) {
   const GridFrames frames = MakeFrames(Grid2D(), kTimes, 10);
   const fs::path path = dir.path() / "fields.h5";
   ExpectBadFramesRejected(*MakeHdf5GridWriter(path, frames.grid), path, frames);
-  ExpectHdf5Matches(path, frames);
-  ExpectXdmfMatches(dir.path() / "fields.xdmf", frames);
+  ExpectGridHdf5Matches(path, frames);
+  ExpectGridXdmfMatches(dir.path() / "fields.xdmf", frames);
 }
 
 TEST(VtiSeriesWriter, RejectsBadFramesAndKeepsTheGoodOnes) {
@@ -470,8 +470,8 @@ TEST(GridWriters, AFullDiskThrowsNamingTheFile) {
 // `frames`, and three particles at the same times inside the grid (radius 0.3, id 7, 8, 9).
 void WriteSample(const fs::path& dir, const GridFrames& frames) {
   fs::create_directories(dir / "vti");
-  WriteAll(*MakeHdf5GridWriter(dir / "fields.h5", frames.grid), frames);
-  WriteAll(*MakeVtiSeriesWriter(dir / "vti", "fields", frames.grid), frames);
+  WriteGridFrames(*MakeHdf5GridWriter(dir / "fields.h5", frames.grid), frames);
+  WriteGridFrames(*MakeVtiSeriesWriter(dir / "vti", "fields", frames.grid), frames);
   const GridSpec& g = frames.grid;
   const int k = g.dimension;
   auto particles = MakeHdf5Writer(dir / "trajectory.h5");
@@ -500,7 +500,7 @@ TEST(FieldSample, WritesTheFieldsAndParticlesOfA2DAnd3DRun) {
     const GridFrames frames = MakeFrames(grid, kTimes, 13);
     const fs::path out = root / (grid.dimension == 2 ? "fields2d" : "fields3d");
     WriteSample(out, frames);
-    ExpectHdf5Matches(out / "fields.h5", frames);
+    ExpectGridHdf5Matches(out / "fields.h5", frames);
     ExpectVtiSeriesMatches(out / "vti", "fields", frames);
     EXPECT_TRUE(fs::is_regular_file(out / "trajectory.xdmf"));
   }
