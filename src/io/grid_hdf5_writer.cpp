@@ -118,7 +118,7 @@ void Hdf5GridWriter::CreateFieldDatasets(const std::vector<std::string>& names) 
   for (const std::string& name : names) {
     fields_.push_back(file_.CreateExtensible(file_.get(), ("fields/" + name).c_str(),
                                              H5T_IEEE_F64LE, chunk, shape_.size(),
-                                             H5T_NATIVE_DOUBLE, &kMissingFieldValue));
+                                             H5T_NATIVE_DOUBLE, &kMissingFieldValue, shape_));
   }
 }
 

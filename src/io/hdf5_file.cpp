@@ -36,10 +36,13 @@ void Hdf5File::Check(std::int64_t status, const std::string& what) const {
 
 Handle Hdf5File::CreateExtensible(hid_t location, const char* name, hid_t file_type,
                                   const std::vector<hsize_t>& chunk, std::size_t fixed_tail,
-                                  hid_t memory_type, const void* fill) {
+                                  hid_t memory_type, const void* fill,
+                                  const std::vector<hsize_t>& fixed) {
   const std::size_t rank = chunk.size();
   std::vector<hsize_t> dims(rank, 0), max_dims(rank, H5S_UNLIMITED);
-  for (std::size_t a = rank - fixed_tail; a < rank; ++a) dims[a] = max_dims[a] = chunk[a];
+  for (std::size_t a = rank - fixed_tail; a < rank; ++a) {
+    dims[a] = max_dims[a] = fixed.empty() ? chunk[a] : fixed[a - (rank - fixed_tail)];
+  }
   const std::string what = fmt::format("creating /{}", name);
   Handle space(H5Screate_simple(static_cast<int>(rank), dims.data(), max_dims.data()), H5Sclose);
   Check(space.get(), what);

@@ -27,11 +27,13 @@ class Hdf5File {
 
   // Throws std::runtime_error naming the file and `what` when `status` < 0.
   void Check(std::int64_t status, const std::string& what) const;
-  // A chunked dataset of extent 0 along every axis but the last `fixed_tail` ones; every other
-  // axis is unlimited. `fill` (of `memory_type`) is what unwritten elements read as.
+  // A chunked dataset of extent 0 along every axis but the last `fixed_tail` ones, which have the
+  // extents `fixed` (default: the chunk's); every other axis is unlimited. `fill` (of
+  // `memory_type`) is what unwritten elements read as.
   Handle CreateExtensible(hid_t location, const char* name, hid_t file_type,
                           const std::vector<hsize_t>& chunk, std::size_t fixed_tail,
-                          hid_t memory_type, const void* fill);
+                          hid_t memory_type, const void* fill,
+                          const std::vector<hsize_t>& fixed = {});
   // Sets the extent of `dataset` to `dims` and writes `data` (shape `count`) at `start`.
   void WriteBlock(const Handle& dataset, const char* name, hid_t memory_type,
                   const std::vector<hsize_t>& dims, const std::vector<hsize_t>& start,
