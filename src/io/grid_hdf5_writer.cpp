@@ -84,7 +84,8 @@ class Hdf5GridWriter final : public GridWriter {
   GridSpec grid_;
   std::filesystem::path xdmf_path_;
   internal::Hdf5File file_;
-  std::vector<hsize_t> shape_;  // S: (n_y, n_x) or (n_z, n_y, n_x)
+  std::vector<hsize_t> shape_;       // S: (n_y, n_x) or (n_z, n_y, n_x)
+  std::vector<hsize_t> view_shape_;  // (n_z, n_y, n_x), n_z = 1 in 2D
   Handle time_, step_;
   std::vector<Handle> fields_;  // /fields/NAME, in the order of series_.names
   internal::GridSeries series_;
@@ -96,6 +97,10 @@ Hdf5GridWriter::Hdf5GridWriter(const std::filesystem::path& path, const GridSpec
   const auto [nx, ny, nz] = grid_.cells;
   shape_ = {static_cast<hsize_t>(ny), static_cast<hsize_t>(nx)};
   if (grid_.dimension == 3) shape_.insert(shape_.begin(), static_cast<hsize_t>(nz));
+  // The views are three-dimensional in 2D too: the XDMF 2 reader reads only n_y values of an
+  // (n_y, n_x) item on a mesh of one layer of voxels.
+  view_shape_ = {static_cast<hsize_t>(grid_.dimension == 3 ? nz : 1), shape_[shape_.size() - 2],
+                 shape_.back()};
   const std::int64_t no_step = -1;
   const hid_t file = file_.get();
   time_ = file_.CreateExtensible(file, "time", H5T_IEEE_F64LE, {256}, 0, H5T_NATIVE_DOUBLE,
@@ -141,7 +146,7 @@ void Hdf5GridWriter::Write(const GridFrame& frame) {
     file_.WriteBlock(fields_[i], source.c_str(), H5T_NATIVE_DOUBLE, dims, start, count,
                      frame.arrays[i].values.data());
     file_.CreateView(group.get(), name.c_str(), H5T_IEEE_F64LE, ("/" + source).c_str(), dims, start,
-                     count);
+                     count, view_shape_);
   }
   // Keep the file readable up to this frame even if the run stops without Close().
   file_.Flush();

@@ -125,8 +125,7 @@ std::string GridXdmfText(const std::string& h5_name, const GridSpec& grid,
       fmt::format("{} {} {}", FormatDouble(flat ? -0.5 * h : grid.origin[2]),
                   FormatDouble(grid.origin[1]), FormatDouble(grid.origin[0]));
   const std::string spacing = fmt::format("{0} {0} {0}", FormatDouble(h));
-  const std::string cells =
-      flat ? fmt::format("{} {}", ny, nx) : fmt::format("{} {} {}", nz, ny, nx);
+  const std::string cells = fmt::format("{} {} {}", flat ? 1 : nz, ny, nx);
   std::string out;
   out += "<?xml version=\"1.0\" ?>\n";
   out += "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";

@@ -87,7 +87,8 @@ void Hdf5File::WriteBlock(const Handle& dataset, const char* name, hid_t memory_
 
 void Hdf5File::CreateView(hid_t group, const char* name, hid_t file_type, const char* source,
                           const std::vector<hsize_t>& source_dims,
-                          const std::vector<hsize_t>& start, const std::vector<hsize_t>& count) {
+                          const std::vector<hsize_t>& start, const std::vector<hsize_t>& count,
+                          const std::vector<hsize_t>& shape) {
   const std::string what = fmt::format("view of /{}", source);
   Handle source_space(
       H5Screate_simple(static_cast<int>(source_dims.size()), source_dims.data(), nullptr),
@@ -96,11 +97,13 @@ void Hdf5File::CreateView(hid_t group, const char* name, hid_t file_type, const 
   Check(H5Sselect_hyperslab(source_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
                             nullptr),
         what);
-  // The view drops the axes of extent 1 at the front of the block (the frame axis).
-  const std::vector<hsize_t> shape(count.size() > 1 ? count.begin() + 1 : count.begin(),
-                                   count.end());
-  Handle view_space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr),
-                    H5Sclose);
+  // By default the view drops the axis of extent 1 at the front of the block (the frame axis).
+  const std::vector<hsize_t> view_shape =
+      !shape.empty()
+          ? shape
+          : std::vector<hsize_t>(count.size() > 1 ? count.begin() + 1 : count.begin(), count.end());
+  Handle view_space(
+      H5Screate_simple(static_cast<int>(view_shape.size()), view_shape.data(), nullptr), H5Sclose);
   Check(view_space.get(), what);
   Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   Check(properties.get(), what);

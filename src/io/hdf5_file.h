@@ -38,11 +38,12 @@ class Hdf5File {
   void WriteBlock(const Handle& dataset, const char* name, hid_t memory_type,
                   const std::vector<hsize_t>& dims, const std::vector<hsize_t>& start,
                   const std::vector<hsize_t>& count, const void* data);
-  // A virtual dataset `name` in `group` of shape `count` without its first axis (the frame axis,
-  // of extent 1) that shows the block of `source` (extent `source_dims`) at `start`.
+  // A virtual dataset `name` in `group` that shows the block of `source` (extent `source_dims`)
+  // of shape `count` at `start`; its shape is `shape` (as many elements), by default `count`
+  // without its first axis (the frame axis, of extent 1).
   void CreateView(hid_t group, const char* name, hid_t file_type, const char* source,
                   const std::vector<hsize_t>& source_dims, const std::vector<hsize_t>& start,
-                  const std::vector<hsize_t>& count);
+                  const std::vector<hsize_t>& count, const std::vector<hsize_t>& shape = {});
   // The group `name` (absolute path), without modification times.
   Handle CreateGroup(const std::string& name);
   // The root attribute `name`: a scalar, or when `count` > 0 an array of `count` values.

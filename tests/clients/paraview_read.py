@@ -41,7 +41,7 @@ def read_all_steps(kind, path):
         data = servermanager.Fetch(reader)
         if data.IsA("vtkMultiBlockDataSet"):  # the XDMF 2 reader may wrap a grid in a block
             data = data.GetBlock(0)
-        points = data.GetPoints()
+        points = data.GetPoints() if data.IsA("vtkPointSet") else None  # image data: implicit
         # Copies: the reader may free its arrays when it moves to the next time step.
         arrays[f"points_{i}"] = (np.array(vtk_to_numpy(points.GetData())) if points is not None
                                  else np.zeros((0, 3)))

@@ -75,7 +75,8 @@ class GridWriter {
 // version 1; F frames, shape S = (n_y, n_x) in 2D, (n_z, n_y, n_x) in 3D (C order: x fastest):
 //   /time (F) float64, /step (F) int64;
 //   /fields/NAME (F×S) float64: frame f of field NAME in [f], chunked, extensible along frames;
-//   /xdmf/frame_FFFFFF/NAME (S): virtual datasets showing frame f of each field (for the sidecar);
+//   /xdmf/frame_FFFFFF/NAME (n_z×n_y×n_x, n_z = 1 in 2D): virtual datasets showing frame f of each
+//     field (for the sidecar);
 // root attributes: format = "moreau-fields", format_version = 1, dimension = k,
 // origin (k float64), spacing (float64), cells (k int64, x first).
 // The sidecar is a temporal collection of 3DCoRectMesh grids with the fields as cell data; in 2D
