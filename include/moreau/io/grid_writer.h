@@ -36,7 +36,7 @@ struct GridSpec {
   double spacing = 1.0;                   // h > 0, the voxels' edge (length)
   std::array<int, 3> cells{1, 1, 1};      // (n_x, n_y, n_z), each ≥ 1; n_z = 1 in 2D
   std::int64_t voxel_count() const;       // n_x n_y n_z
-  // Throws InputError "GRID: spacing must be finite and > 0, got nan" and the like.
+  // Throws InputError(key, reason), e.g. "spacing: must be finite and > 0, got nan".
   void Validate() const;
 };
 
