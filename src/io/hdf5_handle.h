@@ -48,7 +48,10 @@ inline herr_t KeepInnermostError(unsigned /*n*/, const H5E_error2_t* error, void
   return 0;
 }
 
-// The description of the innermost error on HDF5's current error stack (which it clears).
+// The description of the innermost error on HDF5's current error stack (which it clears), on one
+// line. A failed system call's description spans lines (time, file, descriptor, errno, the system's
+// message, buffer, sizes): it is cut to its first words and the system's message, "file write
+// failed: File too large".
 inline std::string Hdf5ErrorText() {
   std::string text;
   const hid_t stack = H5Eget_current_stack();
@@ -56,7 +59,17 @@ inline std::string Hdf5ErrorText() {
     H5Ewalk2(stack, H5E_WALK_UPWARD, KeepInnermostError, &text);
     H5Eclose_stack(stack);
   }
-  return text.empty() ? std::string("unknown HDF5 error") : text;
+  if (text.empty()) return "unknown HDF5 error";
+  const std::string::size_type message = text.find("error message = '");
+  const std::string::size_type colon = text.find(':');
+  if (message != std::string::npos && colon < message) {
+    const std::string::size_type start = message + 17;
+    return text.substr(0, colon) + ": " + text.substr(start, text.find('\'', start) - start);
+  }
+  for (char& c : text) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return text;
 }
 
 }  // namespace moreau::io::internal

@@ -4,9 +4,11 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include "moreau/common/error.h"
 
@@ -177,6 +179,67 @@ void AppendStringArray(const StringList& list, std::string& out) {
     out += " 0";
   }
   out += "\n      </Array>\n";
+}
+
+void AppendBinaryDataArray(const char* type, std::string_view name, int components,
+                           const void* values, std::size_t bytes, std::string& out) {
+  out += fmt::format(
+      "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
+      "format=\"binary\">\n          ",
+      type, name, components);
+  const std::uint64_t header = bytes;
+  // Header and data form one base64 stream, as VTK's own writer encodes them.
+  std::vector<unsigned char> raw(sizeof(header) + bytes);
+  std::memcpy(raw.data(), &header, sizeof(header));
+  if (bytes > 0) std::memcpy(raw.data() + sizeof(header), values, bytes);
+  AppendBase64(raw.data(), raw.size(), out);
+  out += "\n        </DataArray>\n";
+}
+
+void AppendTimeAndStep(double time, std::int64_t step, std::string& out) {
+  out += fmt::format(
+      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">{}</DataArray>\n",
+      FormatDouble(time));
+  out += fmt::format(
+      "      <DataArray type=\"Int64\" Name=\"step\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">{}</DataArray>\n",
+      step);
+}
+
+std::string PvdText(const std::vector<std::pair<double, std::string>>& files) {
+  std::string out;
+  out += "<?xml version=\"1.0\"?>\n";
+  out +=
+      fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n", kByteOrder);
+  out += "  <Collection>\n";
+  for (const auto& [time, name] : files) {
+    out += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+                       FormatDouble(time), XmlEscape(name));
+  }
+  out += "  </Collection>\n";
+  out += "</VTKFile>\n";
+  return out;
+}
+
+std::filesystem::path StartSeriesIndex(const std::filesystem::path& dir, const std::string& prefix,
+                                       std::string_view kind) {
+  const std::filesystem::path pvd = dir / (prefix + ".pvd");
+  if (prefix.empty() || prefix.find('/') != std::string::npos) {
+    throw InputError(fmt::format("{} series prefix '{}' must be a non-empty file name without '/'",
+                                 kind, prefix));
+  }
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) {
+    throw InputError(fmt::format("cannot write the {} series {}: directory {} does not exist", kind,
+                                 pvd.string(), dir.string()));
+  }
+  try {
+    WriteWholeFile(pvd, PvdText({}));
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+  return pvd;
 }
 
 }  // namespace moreau::io::internal

@@ -16,26 +16,7 @@
 namespace moreau::io {
 namespace {
 
-constexpr const char* kByteOrder =
-    std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
 constexpr std::uint8_t kVtkVertex = 1;
-
-// Appends one inline binary DataArray: base64 of (UInt64 byte count, raw values).
-template <typename T>
-void AppendDataArray(const char* type, const char* name, int components, const T* values,
-                     std::size_t value_count, std::string& out) {
-  out += fmt::format(
-      "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
-      "format=\"binary\">\n          ",
-      type, name, components);
-  const std::uint64_t bytes = value_count * sizeof(T);
-  // Header and data form one base64 stream, as VTK's own writer encodes them.
-  std::vector<unsigned char> raw(sizeof(bytes) + bytes);
-  std::memcpy(raw.data(), &bytes, sizeof(bytes));
-  if (bytes > 0) std::memcpy(raw.data() + sizeof(bytes), values, bytes);
-  internal::AppendBase64(raw.data(), raw.size(), out);
-  out += "\n        </DataArray>\n";
-}
 
 // The frame's extra arrays (PointArray) as point data.
 void AppendPointArrays(const ParticleFrame& frame, std::string& out) {
@@ -44,11 +25,11 @@ void AppendPointArrays(const ParticleFrame& frame, std::string& out) {
     const std::string name = internal::XmlEscape(a.name);
     const std::size_t values = n * static_cast<std::size_t>(a.components);
     if (a.type == PointArray::Type::kInt64) {
-      AppendDataArray("Int64", name.c_str(), a.components, static_cast<const std::int64_t*>(a.data),
-                      values, out);
+      internal::AppendDataArray("Int64", name.c_str(), a.components,
+                                static_cast<const std::int64_t*>(a.data), values, out);
     } else {
-      AppendDataArray("Float64", name.c_str(), a.components, static_cast<const double*>(a.data),
-                      values, out);
+      internal::AppendDataArray("Float64", name.c_str(), a.components,
+                                static_cast<const double*>(a.data), values, out);
     }
   }
 }
@@ -69,8 +50,6 @@ class VtuSeriesWriter final : public TrajectoryWriter {
   void Close() override;
 
  private:
-  std::string PvdText() const;
-
   std::filesystem::path dir_;
   std::string prefix_;
   std::filesystem::path pvd_path_;
@@ -87,26 +66,10 @@ class VtuSeriesWriter final : public TrajectoryWriter {
 
 VtuSeriesWriter::VtuSeriesWriter(std::filesystem::path dir, std::string prefix,
                                  std::vector<StringList> lists)
-    : dir_(std::move(dir)),
-      prefix_(std::move(prefix)),
-      pvd_path_(dir_ / (prefix_ + ".pvd")),
-      lists_(std::move(lists)) {
+    : dir_(std::move(dir)), prefix_(std::move(prefix)), lists_(std::move(lists)) {
   constexpr std::string_view kTaken[] = {"TimeValue", "step"};
-  internal::ValidateLists(lists_, kTaken, pvd_path_);
-  if (prefix_.empty() || prefix_.find('/') != std::string::npos) {
-    throw InputError(
-        fmt::format("VTU series prefix '{}' must be a non-empty file name without '/'", prefix_));
-  }
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir_, ec)) {
-    throw InputError(fmt::format("cannot write the VTU series {}: directory {} does not exist",
-                                 pvd_path_.string(), dir_.string()));
-  }
-  try {
-    internal::WriteWholeFile(pvd_path_, PvdText());
-  } catch (const std::runtime_error& e) {
-    throw InputError(e.what());
-  }
+  internal::ValidateLists(lists_, kTaken, dir_ / (prefix_ + ".pvd"));
+  pvd_path_ = internal::StartSeriesIndex(dir_, prefix_, "VTU");
 }
 
 void VtuSeriesWriter::Write(const ParticleFrame& frame) {
@@ -138,32 +101,25 @@ void VtuSeriesWriter::Write(const ParticleFrame& frame) {
   out += fmt::format(
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"{}\" "
       "header_type=\"UInt64\">\n",
-      kByteOrder);
+      internal::kByteOrder);
   out += "  <UnstructuredGrid>\n";
   out += "    <FieldData>\n";
-  out += fmt::format(
-      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
-      "format=\"ascii\">{}</DataArray>\n",
-      internal::FormatDouble(frame.time));
-  out += fmt::format(
-      "      <DataArray type=\"Int64\" Name=\"step\" NumberOfTuples=\"1\" "
-      "format=\"ascii\">{}</DataArray>\n",
-      frame.step);
+  internal::AppendTimeAndStep(frame.time, frame.step, out);
   for (const StringList& list : lists_) internal::AppendStringArray(list, out);
   out += "    </FieldData>\n";
   out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
   out += "      <PointData Scalars=\"radius\">\n";
-  AppendDataArray("Float64", "radius", 1, frame.radii, n, out);
-  AppendDataArray("Int64", "id", 1, frame.ids, n, out);
+  internal::AppendDataArray("Float64", "radius", 1, frame.radii, n, out);
+  internal::AppendDataArray("Int64", "id", 1, frame.ids, n, out);
   AppendPointArrays(frame, out);
   out += "      </PointData>\n";
   out += "      <Points>\n";
-  AppendDataArray("Float64", "Points", 3, points_.data(), 3 * n, out);
+  internal::AppendDataArray("Float64", "Points", 3, points_.data(), 3 * n, out);
   out += "      </Points>\n";
   out += "      <Cells>\n";
-  AppendDataArray("Int64", "connectivity", 1, connectivity_.data(), n, out);
-  AppendDataArray("Int64", "offsets", 1, offsets_.data(), n, out);
-  AppendDataArray("UInt8", "types", 1, types_.data(), n, out);
+  internal::AppendDataArray("Int64", "connectivity", 1, connectivity_.data(), n, out);
+  internal::AppendDataArray("Int64", "offsets", 1, offsets_.data(), n, out);
+  internal::AppendDataArray("UInt8", "types", 1, types_.data(), n, out);
   out += "      </Cells>\n";
   out += "    </Piece>\n";
   out += "  </UnstructuredGrid>\n";
@@ -176,22 +132,7 @@ void VtuSeriesWriter::Close() {
   if (closed_) return;
   closed_ = true;
   std::string().swap(text_);
-  internal::WriteWholeFile(pvd_path_, PvdText());
-}
-
-std::string VtuSeriesWriter::PvdText() const {
-  std::string out;
-  out += "<?xml version=\"1.0\"?>\n";
-  out +=
-      fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n", kByteOrder);
-  out += "  <Collection>\n";
-  for (const auto& [time, name] : files_) {
-    out += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
-                       internal::FormatDouble(time), internal::XmlEscape(name));
-  }
-  out += "  </Collection>\n";
-  out += "</VTKFile>\n";
-  return out;
+  internal::WriteWholeFile(pvd_path_, internal::PvdText(files_));
 }
 
 }  // namespace

@@ -15,6 +15,7 @@ import numpy as np
 from paraview import servermanager
 from paraview import simple
 from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersCore import vtkCellCenters
 
 
 def open_reader(kind, path):
@@ -40,7 +41,7 @@ def read_all_steps(kind, path):
         data = servermanager.Fetch(reader)
         if data.IsA("vtkMultiBlockDataSet"):  # the XDMF 2 reader may wrap a grid in a block
             data = data.GetBlock(0)
-        points = data.GetPoints()
+        points = data.GetPoints() if data.IsA("vtkPointSet") else None  # image data: implicit
         # Copies: the reader may free its arrays when it moves to the next time step.
         arrays[f"points_{i}"] = (np.array(vtk_to_numpy(points.GetData())) if points is not None
                                  else np.zeros((0, 3)))
@@ -48,6 +49,12 @@ def read_all_steps(kind, path):
             array = data.GetPointData().GetArray(name)
             arrays[f"{name}_{i}"] = np.array(vtk_to_numpy(array)) if array is not None else np.zeros(0)
         arrays[f"cells_{i}"] = np.array(data.GetNumberOfCells())
+        if data.IsA("vtkImageData"):
+            arrays[f"bounds_{i}"] = np.array(data.GetBounds())
+            centres = vtkCellCenters()
+            centres.SetInputData(data)
+            centres.Update()
+            arrays[f"cellcentres_{i}"] = np.array(vtk_to_numpy(centres.GetOutput().GetPoints().GetData()))
         for prefix, attributes in (("point", data.GetPointData()), ("cell", data.GetCellData())):
             for a in range(attributes.GetNumberOfArrays()):
                 array = attributes.GetArray(a)
