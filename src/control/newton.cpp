@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
 
@@ -246,6 +247,9 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
   for (int it = 0;; ++it) {
     if (norm <= options.residual_tolerance) {
       return finish(Termination::kConverged, "");
+    }
+    if (StopRequested()) {
+      throw Interrupted(fmt::format("stopped on request before Newton iteration {}", it + 1));
     }
     if (it >= options.max_iterations) {
       return finish(Termination::kMaxIterations,
