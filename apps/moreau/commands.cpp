@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include "signals.h"
+
 namespace moreau::cli {
 
 std::string ScenarioArgs::OutDir(std::string_view suffix) const {
@@ -18,7 +20,7 @@ CLI::App* AddScenarioCommand(CLI::App& app, const std::string& name, const std::
   cmd->add_option("--set", args->overrides, "Override a scenario value: key=value (repeatable)");
   cmd->add_option("--out", args->out, "Output folder (default " + default_out + ")");
   cmd->callback([run = std::move(run)] {
-    const int code = run();
+    const int code = RunStoppable(run);
     if (code != 0) throw CLI::RuntimeError(code);
   });
   return cmd;

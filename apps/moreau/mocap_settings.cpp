@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "signals.h"
+
 namespace moreau::cli {
 
 std::string FillMethodNames() {
@@ -34,7 +36,7 @@ CLI::App* AddRecordingCommand(CLI::App& app, const std::string& name,
   cmd->add_option("--set", args->overrides, "Set a value: key=value (repeatable)");
   cmd->add_option("--out", args->out, "Output folder (default " + default_out + ")");
   cmd->callback([run = std::move(run)] {
-    const int code = run();
+    const int code = RunStoppable(run);
     if (code != 0) throw CLI::RuntimeError(code);
   });
   return cmd;

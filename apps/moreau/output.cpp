@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 
 extern char** environ;
 
@@ -238,8 +239,11 @@ void OutputDir::WriteText(const std::string& name, const std::string& content) {
   }
 }
 
-void OutputDir::Commit() {
+void OutputDir::Commit(WhenStopped when_stopped) {
   if (scratch_) throw std::logic_error("OutputDir::Commit on a scratch folder");
+  if (when_stopped == WhenStopped::kPublishNothing && StopRequested()) {
+    throw Interrupted(fmt::format("stopped on request before {} was published", dir_.string()));
+  }
   if (publish_ == Publish::kReplace) {
     ReplaceTarget();
   } else {
@@ -390,6 +394,7 @@ std::string RunFigureScript(const std::string& script, const std::vector<std::st
 }
 
 bool RunPlotScript(const std::string& script, const std::vector<std::string>& args) {
+  if (StopRequested()) return false;  // stopping: the numbers only
   const std::string failure = RunFigureScript(script, args);
   if (failure.empty()) return true;
   std::fprintf(stderr, "moreau: warning: %s; figures skipped (numbers are written)\n",

@@ -10,6 +10,8 @@
 //
 // While an OutputDir is alive it holds an advisory lock (flock) on the file .DIR.moreau-lock
 // beside DIR: a second run into the same folder is refused with an InputError (exit code 2).
+// The destructor removes the staging folder and the lock file whatever ended the command (an
+// error, a stop on request: signals.h).
 #pragma once
 
 #include <filesystem>
@@ -23,6 +25,12 @@ enum class Publish {
   kReplace,  // the staging folder becomes DIR in one rename; the previous DIR is removed
   kMerge,    // each staged file is renamed into DIR, other files of DIR stay (a sweep's folder
              // with its journal)
+};
+
+// What Commit() does once a stop was requested (SIGINT/SIGTERM, signals.h).
+enum class WhenStopped {
+  kPublishNothing,  // throws Interrupted: a result only meaningful complete (control, fill-gaps)
+  kPublish,         // publishes what was staged: complete, or marked interrupted by the command
 };
 
 class OutputDir {
@@ -47,8 +55,9 @@ class OutputDir {
   // Where an already staged NAME lies until Commit() (to read it back, e.g. for a figure).
   std::filesystem::path StagedPath(const std::string& name) const { return staging_ / name; }
 
-  // Publishes the staged files (see Publish). Throws InputError when DIR cannot be written.
-  void Commit();
+  // Publishes the staged files (see Publish). Throws InputError when DIR cannot be written, and
+  // Interrupted (publishing nothing) after a stop request unless `when_stopped` is kPublish.
+  void Commit(WhenStopped when_stopped = WhenStopped::kPublishNothing);
 
  private:
   struct ScratchTag {};
@@ -78,7 +87,8 @@ std::string RunFigureScript(const std::string& script, const std::vector<std::st
 
 // RunFigureScript, with one warning line on stderr when it fails ("moreau: warning: REASON;
 // figures skipped (numbers are written)"): figures are an extra, never a reason to lose the
-// numbers. Returns true when the script succeeded.
+// numbers. Returns true when the script succeeded. After a stop request (signals.h) it runs
+// nothing and returns false.
 bool RunPlotScript(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace moreau::cli

@@ -10,11 +10,12 @@
 namespace moreau::cli {
 namespace {
 
-std::atomic<int> g_signal{0};       // the first SIGINT/SIGTERM received, or 0
 std::atomic<int> g_scope_depth{0};  // live StopScopes
-static_assert(std::atomic<int>::is_always_lock_free);
+std::atomic<bool> g_quiet{false};   // QuietStopMessages
+static_assert(std::atomic<int>::is_always_lock_free && std::atomic<bool>::is_always_lock_free);
 
 void WriteAll(const char* text) {
+  if (g_quiet.load()) return;
   std::size_t left = std::strlen(text);
   while (left > 0) {
     const ssize_t n = ::write(STDERR_FILENO, text, left);
@@ -26,11 +27,15 @@ void WriteAll(const char* text) {
 
 // Async-signal-safe: atomics, write(2) and _exit(2) only.
 void OnStopSignal(int signal) {
-  int none = 0;
-  const bool first = g_signal.compare_exchange_strong(none, signal);
-  if (first && g_scope_depth.load() > 0) return;  // the loop stops after its current step
-  WriteAll(signal == SIGINT ? "moreau: interrupted by SIGINT; no result published\n"
-                            : "moreau: interrupted by SIGTERM; no result published\n");
+  const bool first = RequestStop(signal);
+  if (first && g_scope_depth.load() > 0) return;  // the loops stop at their next poll
+  if (first) {
+    WriteAll(signal == SIGINT ? "moreau: interrupted by SIGINT; no result published\n"
+                              : "moreau: interrupted by SIGTERM; no result published\n");
+  } else {
+    WriteAll(signal == SIGINT ? "moreau: interrupted by SIGINT again; stopped at once\n"
+                              : "moreau: interrupted by SIGTERM again; stopped at once\n");
+  }
   ::_exit(128 + signal);
 }
 
@@ -48,13 +53,29 @@ void InstallStopHandlers() {
 StopScope::StopScope() { g_scope_depth.fetch_add(1); }
 StopScope::~StopScope() { g_scope_depth.fetch_sub(1); }
 
-bool StopRequested() { return g_signal.load(std::memory_order_relaxed) != 0; }
+int RunStoppable(const std::function<int()>& run) {
+  const StopScope stop_on_signal;
+  int code = 0;
+  try {
+    code = run();
+  } catch (const Interrupted& e) {
+    return ReportInterrupted(std::string(e.what()) + "; no result published");
+  }
+  if (code == 0 && StopRequested()) {
+    return ReportInterrupted("the result was complete and is published");
+  }
+  return code;
+}
+
+void QuietStopMessages() { g_quiet.store(true); }
 
 int ReportInterrupted(const std::string& message) {
-  const int signal = g_signal.load();
-  std::fprintf(stderr, "moreau: interrupted by %s: %s\n", signal == SIGTERM ? "SIGTERM" : "SIGINT",
-               message.c_str());
-  return 128 + (signal != 0 ? signal : SIGINT);
+  const int signal = StopReason();
+  if (!g_quiet.load()) {
+    std::fprintf(stderr, "moreau: interrupted by %s: %s\n",
+                 signal == SIGTERM ? "SIGTERM" : "SIGINT", message.c_str());
+  }
+  return 128 + (signal == SIGINT || signal == SIGTERM ? signal : SIGINT);
 }
 
 int RunExitCode(Termination termination, const std::string& message) {

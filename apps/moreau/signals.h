@@ -1,17 +1,22 @@
 // SIGINT and SIGTERM for the `moreau` tool (docs/reliability.md, "Interrupting a run").
 //
-// main() installs the handlers once. Outside a StopScope a signal ends the process at once
-// (exit 128 + signal, one line on stderr): nothing is published, the output folder keeps what it
-// held, and the staging folder left behind is removed by the next run beside it. Inside a
-// StopScope (the time loops of `moreau run`) the signal only sets a flag: the loop finishes its
-// current step and stops, and the command publishes what is complete, marked "interrupted", and
-// exits 128 + signal (130 for SIGINT, 143 for SIGTERM). A second signal ends the process at once.
+// main() installs the handlers once; each command that writes an output folder runs its body
+// through RunStoppable. Inside it the first signal only records a stop request
+// (moreau/common/stop.h): the loops stop at their next step, Newton iteration, trial or run —
+// a particle or population run, a sweep, a study and an evaluation publish what is complete,
+// marked "interrupted"; the other commands throw Interrupted, which unwinds through every
+// OutputDir (its destructor removes the staging folder and the lock) — and the tool exits
+// 128 + signal (130 for SIGINT, 143 for SIGTERM) after one line on stderr. Outside
+// RunStoppable (parsing the command line, `inspect`, `keys`), and on a second signal anywhere,
+// the signal ends the process at once.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include <fmt/format.h>
 
+#include "moreau/common/stop.h"
 #include "moreau/common/termination.h"
 
 namespace moreau::cli {
@@ -28,9 +33,10 @@ class StopScope {
   StopScope& operator=(const StopScope&) = delete;
 };
 
-// True once SIGINT or SIGTERM arrived (inside a StopScope): the loops' "should stop" check; a
-// library loop's observer returns false then, and the loop ends after the step just taken.
-bool StopRequested();
+// Runs a command's body in a StopScope and returns its exit code: ReportInterrupted's when the
+// body ends with Interrupted ("…; no result published") or returns 0 after a signal came (its
+// result was complete and is published).
+int RunStoppable(const std::function<int()>& run);
 
 // SUMMARY (of a loop its observer stopped after STEP, at time T) marked kInterrupted, with the
 // message of a stop on request.
@@ -42,8 +48,13 @@ Summary InterruptedSummary(Summary summary, long long step, double t) {
 }
 
 // After a run that ended interrupted: prints "moreau: interrupted by SIGINT: MESSAGE" on stderr
-// and returns the exit code, 128 + the signal (130 when no signal is recorded).
+// (unless QuietStopMessages) and returns the exit code, 128 + the signal (130 when no signal is
+// recorded).
 int ReportInterrupted(const std::string& message);
+
+// No "interrupted" line from this process (an MPI rank other than 0: rank 0 speaks for the job,
+// and a rank that mpirun ends after another rank's error has nothing true to add).
+void QuietStopMessages();
 
 // The exit code of a run that ended with `termination`: 0 on success, ReportInterrupted's when
 // interrupted, 3 after a numerical failure (printed on stderr with `message`).

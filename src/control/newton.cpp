@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
 
@@ -187,6 +188,13 @@ double LineSearch(const PontryaginDiscretization& disc, const NewtonOptions& opt
   return 0.0;
 }
 
+// Throws Interrupted before Newton iteration ITERATION (1-based) once a stop was requested.
+void ThrowIfStopRequested(int iteration) {
+  if (StopRequested()) {
+    throw Interrupted(fmt::format("stopped on request before Newton iteration {}", iteration));
+  }
+}
+
 }  // namespace
 
 NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
@@ -247,6 +255,7 @@ NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOpti
     if (norm <= options.residual_tolerance) {
       return finish(Termination::kConverged, "");
     }
+    ThrowIfStopRequested(it + 1);
     if (it >= options.max_iterations) {
       return finish(Termination::kMaxIterations,
                     fmt::format("residual {:.3e} > tolerance {:.1e} after {} iterations", norm,

@@ -11,6 +11,7 @@
 #include "mocap/evaluate_internal.h"
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
+#include "moreau/common/stop.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
 #include "moreau/mocap/complete_part.h"
@@ -258,15 +259,30 @@ EvaluationSummary EvaluateComplete(const Recording& truth, const EvaluationOptio
   std::vector<double> seconds(trials.size() * options.methods.size());
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   const auto n_trials = static_cast<std::int64_t>(trials.size());
+  std::vector<char> done(trials.size(), 0);  // 0: skipped after a stop request
 #pragma omp parallel num_threads(threads)
   {
     Recording work = truth;  // per thread: the truth with one trial's gaps cleared at a time
 #pragma omp for schedule(dynamic)
     for (std::int64_t i = 0; i < n_trials; ++i) {
-      EvaluateTrial(truth, work, trials[static_cast<std::size_t>(i)], options,
-                    &summary.rows[static_cast<std::size_t>(i) * per_trial],
-                    &seconds[static_cast<std::size_t>(i) * options.methods.size()]);
+      if (StopRequested()) continue;
+      try {
+        EvaluateTrial(truth, work, trials[static_cast<std::size_t>(i)], options,
+                      &summary.rows[static_cast<std::size_t>(i) * per_trial],
+                      &seconds[static_cast<std::size_t>(i) * options.methods.size()]);
+        done[static_cast<std::size_t>(i)] = 1;
+      } catch (const Interrupted&) {  // `work` is left dirty: every later trial is skipped
+      }
     }
+  }
+  const auto trials_done = std::count(done.begin(), done.end(), 1);
+  if (trials_done < n_trials) {
+    std::vector<EvaluationRow> kept;
+    for (std::size_t i = 0; i < done.size(); ++i) {
+      const auto first = summary.rows.begin() + static_cast<std::ptrdiff_t>(i * per_trial);
+      if (done[i]) kept.insert(kept.end(), first, first + static_cast<std::ptrdiff_t>(per_trial));
+    }
+    summary.rows = std::move(kept);
   }
   summary.method_seconds.assign(options.methods.size(), 0.0);
   for (std::size_t i = 0; i < seconds.size(); ++i) {
@@ -277,6 +293,11 @@ EvaluationSummary EvaluateComplete(const Recording& truth, const EvaluationOptio
                                 lengths.size(), options.trials);
   if (options.markers_per_gap > 1) {
     summary.message += fmt::format(" × {} markers", options.markers_per_gap);
+  }
+  if (trials_done < n_trials) {
+    summary.termination = Termination::kInterrupted;
+    summary.message = fmt::format("stopped on request after {} of {} trials ({})", trials_done,
+                                  n_trials, summary.message);
   }
   summary.total_seconds = total.Seconds();
   return summary;

@@ -153,7 +153,9 @@ std::vector<EvaluationStatistics> EvaluationStatisticsOf(const std::vector<Evalu
       stats.method = method;
       stats.gap_seconds = options.gap_seconds[g];
       stats.gap_frames = lengths[g];
-      stats.trials = options.trials;
+      // options.trials, fewer when a stop request skipped trials
+      stats.trials =
+          std::min(options.trials, static_cast<int>(of.size()) / options.markers_per_gap);
       statistics.push_back(StatisticsOfRows(stats, of));
     }
   }

@@ -10,6 +10,7 @@
 #include "mocap/fill_internal.h"
 #include "moreau/common/enum_names.h"
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
 
@@ -316,7 +317,15 @@ FillSummary FillEachGap(const Recording& in, const std::vector<Gap>& gaps,
   options.Validate();
   CheckGaps(in, gaps);
   FillSummary summary = internal::SummarizeFills(
-      in, gaps, ToString(options.method), [&](std::size_t i) { return fill_gap(gaps[i]); }, out);
+      in, gaps, ToString(options.method),
+      [&](std::size_t i) {
+        if (StopRequested()) {
+          throw Interrupted(
+              fmt::format("stopped on request before gap {} of {}", i + 1, gaps.size()));
+        }
+        return fill_gap(gaps[i]);
+      },
+      out);
   summary.settings = options.ToJson();
   summary.total_seconds = total.Seconds();
   return summary;

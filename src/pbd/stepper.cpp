@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/summary_json.h"
 
@@ -154,7 +155,7 @@ SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
   const Stopwatch stopwatch;
   Vector x = x0;
   Vector last_good = x0;
-  bool go_on = !observer || observer(0, 0.0, x);
+  bool go_on = (!observer || observer(0, 0.0, x)) && !StopRequested();
   std::int64_t done = 0;  // steps taken
   for (std::int64_t k = 1; k <= n && go_on; ++k) {
     stepper.Step(x);
@@ -171,12 +172,13 @@ SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
     }
     summary.final_time = static_cast<double>(k) * options.h;
     done = k;
-    go_on = !observer || observer(k, summary.final_time, x);
+    go_on = (!observer || observer(k, summary.final_time, x)) && !StopRequested();
     last_good = x;
   }
   if (!go_on && done < n) {
     summary.termination = Termination::kInterrupted;
-    summary.message = fmt::format("stopped by the observer after step {}", done);
+    summary.message = fmt::format("stopped {} after step {}",
+                                  StopRequested() ? "on request" : "by the observer", done);
   }
   summary.counters = stepper.counters();
   summary.total_seconds = stopwatch.Seconds();

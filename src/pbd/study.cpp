@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 #include "moreau/common/summary_json.h"
 
 namespace moreau::pbd {
@@ -64,6 +65,9 @@ SampledTrajectory ComputeReference(const StudyProblem& problem, const StepperOpt
                  if (k % stride == 0) reference.Append(x);
                  return true;
                });
+  if (summary.termination == Termination::kInterrupted) {
+    throw Interrupted("reference solution: " + summary.message);
+  }
   if (!summary.ok()) throw NumericalError("reference solution: " + summary.message);
   return reference;
 }

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 #include "sweep/run_queue.h"
 
 namespace moreau::sweep {
@@ -43,7 +44,7 @@ std::vector<nlohmann::json> RunQueueWorkers(RunQueue& queue, int jobs, const Run
 
 std::int64_t RunQueue::Pop() {
   const std::lock_guard lock(mutex_);
-  if (closed_) return -1;
+  if (closed_ || StopRequested()) return -1;  // after a stop request no run starts
   const std::int64_t position = claim_ ? claim_() : next_++;
   if (position >= static_cast<std::int64_t>(todo_.size())) {
     closed_ = true;  // every later claim would be past the end too
@@ -55,6 +56,12 @@ std::int64_t RunQueue::Pop() {
 void RunQueue::Close() {
   const std::lock_guard lock(mutex_);
   closed_ = true;
+}
+
+void CheckJobs(int jobs) {
+  if (jobs < 1 || jobs > kMaxJobs) {
+    throw InputError("--jobs", fmt::format("must be between 1 and {} (got {})", kMaxJobs, jobs));
+  }
 }
 
 #ifndef MOREAU_WITH_MPI
@@ -72,6 +79,7 @@ MpiSession::MpiSession() {
 }
 MpiSession::~MpiSession() = default;
 bool MpiSession::BuiltWithMpi() { return false; }
+void MpiSession::Abort(int code) const { std::exit(code); }
 
 std::vector<nlohmann::json> Dispatch(const MpiSession& /*session*/,
                                      const std::vector<std::int64_t>& todo, int jobs,

@@ -109,6 +109,11 @@ MpiSession::~MpiSession() {
 
 bool MpiSession::BuiltWithMpi() { return true; }
 
+void MpiSession::Abort(int code) const {
+  if (active_) MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
+}
+
 std::vector<nlohmann::json> Dispatch(const MpiSession& session,
                                      const std::vector<std::int64_t>& todo, int jobs,
                                      const RunTask& task, const RunFinished& finished) {

@@ -180,14 +180,17 @@ def test_type_keys_by_name_on_the_command_line_and_in_a_sweep(tmp_path, write_sc
     assert [t["death_rate"] for t in types] == [0.0, 0.5]
     r = run_cli("run", scenario, "--set", "types.stroma.radius=1", "--out", tmp_path / "b")
     rejected(r, "types.stroma.radius=1", 'no [[types]] entry has name = "stroma"')
-    # In a sweep's axes the key reaches the type's field and its check (a bad value fails that
-    # run alone, with the reason the tool gives).
+    # In a sweep's axes the key reaches the type's field and its check (a bad value is refused
+    # before any run, naming the run and the reason the tool gives).
     sweep = tmp_path / "sweep.toml"
     sweep.write_text(f'command = "run"\nscenario = "{scenario}"\n'
                      "[axes]\ntypes.tumour.death_rate = [0.5, -1.0]\n")
+    rejected(run_cli("sweep", sweep, "--out", tmp_path / "s"), "axes.types.tumour.death_rate",
+             "run 1", "types.tumour.death_rate: must be ≥ 0 (got -1)")
+    assert not (tmp_path / "s").exists()
+    sweep.write_text(sweep.read_text().replace("[0.5, -1.0]", "[0.5]"))
     r = run_cli("sweep", sweep, "--out", tmp_path / "s")
     with open(tmp_path / "s/results.csv") as f:
         rows = list(csv.DictReader(f))
-    assert [row["types.tumour.death_rate"] for row in rows] == ["0.5", "-1.0"], r.stderr
+    assert [row["types.tumour.death_rate"] for row in rows] == ["0.5"], r.stderr
     assert rows[0]["status"] == "completed", rows[0]
-    assert "types.tumour.death_rate: must be ≥ 0 (got -1)" in rows[1]["message"], rows[1]

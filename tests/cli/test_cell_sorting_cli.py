@@ -55,12 +55,16 @@ def test_adhesion_keys_from_the_command_line_and_a_sweep(tmp_path):
     sets = "".join(f"{s}\n" for s in SMALL if not s.startswith("problem.T"))
     sweep.write_text(f'command = "run"\nscenario = "{SORTING}"\n[set]\n{sets}problem.T = 5\n'
                      "[axes]\npopulation.adhesion.dark.dark = [2.0, -1.0]\n")
+    # A bad value of an axis is refused before any run, naming the run and the reason.
+    rejected(run_cli("sweep", sweep, "--out", tmp_path / "s"), "axes.population.adhesion.dark.dark",
+             "run 1", "population.adhesion.dark.dark: must be ≥ 0 (got -1)")
+    assert not (tmp_path / "s").exists()
+    sweep.write_text(sweep.read_text().replace("[2.0, -1.0]", "[2.0]"))
     run_cli("sweep", sweep, "--out", tmp_path / "s")
     with open(tmp_path / "s/results.csv") as f:
         rows = list(csv.DictReader(f))
-    assert [row["population.adhesion.dark.dark"] for row in rows] == ["2.0", "-1.0"]
+    assert [row["population.adhesion.dark.dark"] for row in rows] == ["2.0"]
     assert rows[0]["status"] == "completed", rows[0]
-    assert "population.adhesion.dark.dark: must be ≥ 0 (got -1)" in rows[1]["message"], rows[1]
 
 
 BAD = [

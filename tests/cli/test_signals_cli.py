@@ -1,7 +1,7 @@
 """SIGINT and SIGTERM (docs/reliability.md): a time loop finishes its current step,
 the completed part is published marked "interrupted" (summary, readable HDF5 trajectory), no
-staging folder stays, and the exit code is 128 + the signal. Outside a time loop nothing is
-published and the folder keeps what it held."""
+staging folder stays, and the exit code is 128 + the signal. A paper's case publishes nothing
+and the folder keeps what it held (the other commands: test_stop_cli.py)."""
 import json
 import pathlib
 import signal
@@ -72,9 +72,9 @@ def test_an_interrupted_particle_run_publishes_what_is_complete(tmp_path, sig, c
     assert hidden_leftovers(tmp_path) == []
 
 
-def test_outside_a_time_loop_nothing_is_published(tmp_path):
-    """The paper's sliding case has no loop that stops between steps: a signal ends the tool at
-    once, and the folder keeps the previous result."""
+def test_a_paper_case_publishes_nothing(tmp_path):
+    """The paper's sliding case stops at its next step and publishes nothing: the folder keeps
+    the previous result."""
     example = ROOT / "examples" / "sliding.toml"
     out = tmp_path / "out"
     assert run_cli("run", example, "--out", out, "--set", "solver.h=0.01").returncode == 0
@@ -82,7 +82,10 @@ def test_outside_a_time_loop_nothing_is_published(tmp_path):
     rc, _, stderr = start_and_signal(["run", example, "--out", out, "--set", "solver.h=1e-7"],
                                      signal.SIGTERM, lambda pid: cpu_seconds(pid) > 0.5)
     assert rc == 143
-    assert stderr.strip().splitlines() == ["moreau: interrupted by SIGTERM; no result published"]
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("moreau: interrupted by SIGTERM: stopped on "
+                                                    "request after step"), stderr
+    assert lines[0].endswith("; no result published")
     assert (out / "summary.json").read_bytes() == before
     assert hidden_leftovers(tmp_path) == []
 

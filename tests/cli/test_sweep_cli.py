@@ -39,8 +39,9 @@ diffusion = 0.01
 h = 0.01
 """
 
-# 2 door widths × 3 speeds (one invalid: 4 failed rows) × 2 seeds = 12 runs; with failed runs the
-# sweep writes its table and exits 3.
+# 2 door widths × 3 radii (one too large to place 12 people in the room, which only the run's
+# set-up finds: 4 failed rows) × 2 seeds = 12 runs; with failed runs the sweep writes its table
+# and exits 3.
 SWEEP = """
 command = "run"
 scenario = "base.toml"
@@ -48,7 +49,7 @@ seeds = 2
 collect = ["evacuated", "evacuation_time", "msd", "positions_hash", "steps", "settings.room.door_width"]
 [axes]
 room.door_width = [0.8, 1.6]
-forces.propulsion_speed = [1.0, 3.0, -1.0]
+problem.radius = [0.2, 0.15, 1.5]
 """
 
 
@@ -79,14 +80,14 @@ def test_table_has_one_row_per_run_in_grid_order_with_failed_runs_reported(sweep
     table = rows(out)
     assert [int(row["run"]) for row in table] == list(range(12))
     assert len({row["hash"] for row in table}) == 12
-    expected = [(w, v, s) for w in ("0.8", "1.6") for v in ("1.0", "3.0", "-1.0") for s in ("1", "2")]
-    assert [(row["room.door_width"], row["forces.propulsion_speed"], row["problem.seed"])
+    expected = [(w, v, s) for w in ("0.8", "1.6") for v in ("0.2", "0.15", "1.5") for s in ("1", "2")]
+    assert [(row["room.door_width"], row["problem.radius"], row["problem.seed"])
             for row in table] == expected
-    failed = [row for row in table if row["forces.propulsion_speed"] == "-1.0"]
+    failed = [row for row in table if row["problem.radius"] == "1.5"]
     assert len(failed) == 4
     for row in failed:  # the failing runs are rows with their status and message
         assert row["status"] == "input_error"
-        assert "propulsion" in row["message"] and row["evacuated"] == ""
+        assert "could not place" in row["message"] and row["evacuated"] == ""
     for row in table:
         if row not in failed:
             assert row["status"] == "completed" and row["message"] == ""

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "output.h"
+#include "signals.h"
 
 namespace moreau::cli {
 namespace {
@@ -111,7 +112,7 @@ int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
                   recording.rate(), settings.evaluation.trials, summary.units);
   RunPlotScript("plot_gap_errors.py", {out.StagedPath("evaluation.csv").string(),
                                        out.Stage("errors.png").string(), title});
-  out.Commit();
+  out.Commit(WhenStopped::kPublish);
   fmt::print("{}: {} trials × {} gap lengths × {} methods in {:.3g} s\n", input,
              settings.evaluation.trials, settings.evaluation.gap_seconds.size(),
              settings.evaluation.methods.size(), summary.total_seconds);
@@ -127,7 +128,7 @@ int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
       "means:\n{}",
       summary.units, settings.evaluation.filter_hz, summary.units, DynamicsTable(summary));
   fmt::print("wrote {}/evaluation.csv, summary.json, errors.png\n", out.dir().string());
-  return 0;
+  return RunExitCode(summary.termination, summary.message);
 }
 
 }  // namespace moreau::cli

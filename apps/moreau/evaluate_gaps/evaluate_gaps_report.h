@@ -36,7 +36,8 @@ std::string EvaluationTable(const mocap::EvaluationSummary& summary);
 std::string DynamicsTable(const mocap::EvaluationSummary& summary);
 
 // Writes DIR (staged, committed only once everything is written), prints the table and returns
-// the exit code (0).
+// the exit code: 0, or 128 + signal when a stop request cut the trials short (the trials done
+// are published, marked interrupted).
 int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
                        const mocap::EvaluationSummary& summary, const mocap::Recording& recording,
                        const std::string& input, const std::string& out_dir);

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "moreau/common/stop.h"
 #include "moreau/common/summary_json.h"
 #include "moreau/mocap/recording_io.h"
 #include "output.h"
@@ -91,6 +92,7 @@ bool IsNonEmptyFile(const fs::path& path) {
 // gaps.png from the staged filled.csv and report.json: true when it was written; otherwise one
 // warning line saying why, and no partial figure is left to publish.
 bool WriteGapsFigure(OutputDir& out) {
+  if (StopRequested()) return false;  // stopping: nothing is published
   const fs::path png = out.Stage("gaps.png");
   std::string failure =
       RunFigureScript("plot_gaps.py", {out.StagedPath("filled.csv").string(),

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 #include "run/particles_checkpoint.h"
 #include "run/particles_report.h"
 #include "run/particles_run.h"
@@ -33,6 +34,7 @@ struct PreparedRun::Impl {
   void PrepareParticles(Scenario& scenario) {
     particles = ReadParticleScenario(scenario, request.fix_overlaps);
     scenario.CheckAllKeysUsed();
+    if (request.check_only) return;
     if (!writes()) {  // no trajectory, no figures: the numbers only
       particles->output.hdf5 = false;
       particles->output.vtu = false;
@@ -51,6 +53,10 @@ struct PreparedRun::Impl {
 
   RunOutcome RunPaperCase(const std::filesystem::path& out_dir) const {
     const PbdRunResult result = RunPbdScenario(*pbd);
+    // Only meaningful complete: a stop on request publishes nothing.
+    if (result.summary.termination == Termination::kInterrupted) {
+      throw Interrupted(result.summary.message);
+    }
     RunOutcome o{PbdRunJson(*pbd, result, scenario_file), "", result.summary.termination,
                  result.summary.message};
     if (writes()) {

@@ -40,6 +40,7 @@ struct RunRequest {
   std::string resume;                 // --resume DIR
   std::string out_dir;                // where the checkpoints go by default (<out_dir>.checkpoint)
   std::string fingerprint;            // ScenarioFingerprint, for the checkpoints
+  bool check_only = false;  // read and check every key, set nothing up (the run cannot be run)
 };
 
 struct RunOutcome {

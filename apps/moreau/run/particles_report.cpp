@@ -96,7 +96,7 @@ std::string ReportParticleRun(const ParticleScenario& scenario, const ParticleSe
   if (result.evacuated) out.WriteText("evacuation.csv", result.evacuation_csv);
   out.WriteText("summary.json", summary.dump(2) + "\n");
   if (figures) WriteFigures(scenario, setup.engine.model(), result, out);
-  out.Commit();
+  out.Commit(WhenStopped::kPublish);  // a run stopped on request is a result
 
   std::string report = result.summary.BriefReport() + "\n";
   if (result.evacuated) {

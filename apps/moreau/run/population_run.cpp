@@ -184,7 +184,7 @@ std::string ReportPopulationRun(const particles::Population& population,
   out.WriteText("agents.csv", AgentsCsv(population));
   out.WriteText("lineage.csv", result.lineage_csv);
   out.WriteText("summary.json", summary.dump(2) + "\n");
-  out.Commit();
+  out.Commit(WhenStopped::kPublish);
   const particles::PopulationSummary& s = result.summary;
   return fmt::format(
       "{}\nagents: {} (births {}, deaths {}, removals {}){}{}\n"

@@ -11,6 +11,7 @@
 #include "run/pbd_scenario.h"
 #include "study/study_report.h"
 #include "study/study_run.h"
+#include "sweep/sweep_run.h"
 
 namespace moreau::cli {
 namespace {
@@ -21,16 +22,23 @@ struct StudyArgs : ScenarioArgs {
 };
 
 int Study(const StudyArgs& args) {
+  std::optional<Scenario> scenario;
+  std::optional<PbdScenario> pbd_scenario;
+  std::optional<PbdStudyPlan> plan;
+  CheckBeforeMpi([&] {
+    scenario.emplace(Scenario::Load(args.scenario, args.overrides));
+    pbd_scenario.emplace(ReadPbdScenario(*scenario));
+    scenario->CheckAllKeysUsed();
+    sweep::CheckJobs(args.jobs);
+    plan.emplace(MakeStudyPlan(args.request, *pbd_scenario));
+  });
   const sweep::MpiSession mpi;
-  Scenario scenario = Scenario::Load(args.scenario, args.overrides);
-  const PbdScenario pbd_scenario = ReadPbdScenario(scenario);
-  scenario.CheckAllKeysUsed();
-  if (args.jobs < 1) throw InputError(fmt::format("--jobs: must be ≥ 1 (got {})", args.jobs));
-  const PbdStudyPlan plan = MakeStudyPlan(args.request, pbd_scenario);
-  const std::optional<PbdStudyResult> result =
-      RunPbdStudy(mpi, scenario, pbd_scenario, plan, args.jobs);
-  if (!result) return 0;  // not rank 0: rank 0 writes
-  return ReportPbdStudy(pbd_scenario, plan, *result, args.scenario, args.OutDir("_study"));
+  return RunOnRanks(mpi, [&] {
+    const std::optional<PbdStudyResult> result =
+        RunPbdStudy(mpi, *scenario, *pbd_scenario, *plan, args.jobs);
+    if (!result) return 0;  // not rank 0: rank 0 writes
+    return ReportPbdStudy(*pbd_scenario, *plan, *result, args.scenario, args.OutDir("_study"));
+  });
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "moreau/common/summary_json.h"
 #include "output.h"
+#include "signals.h"
 
 namespace moreau::cli {
 namespace {
@@ -22,6 +23,12 @@ nlohmann::json MethodJson(const std::vector<pbd::StudyRow>& rows, const std::str
     h_all.push_back(r.h);
     e_all.push_back(r.error);
     runs.push_back(r.ToJson());
+  }
+  if (h_all.empty()) {  // a study stopped before any run of this method finished
+    return {{"observed_order", nullptr},
+            {"observed_order_all_h", nullptr},
+            {"fit_h_range", nullptr},
+            {"runs", runs}};
   }
   // The rows run from large to small h: the asymptotic range is the tail.
   const auto k = static_cast<std::ptrdiff_t>(
@@ -96,6 +103,12 @@ nlohmann::json StudyJson(const PbdScenario& scenario, const PbdStudyPlan& plan,
   nlohmann::json j =
       SummaryJson(failed == 0 ? Termination::kCompleted : Termination::kNonFinite,
                   failed == 0 ? "" : fmt::format("{} runs failed", failed), result.total_seconds);
+  if (result.interrupted) {
+    j = SummaryJson(Termination::kInterrupted,
+                    fmt::format("stopped on request: {} of {} runs finished{}", result.rows.size(),
+                                result.runs, failed == 0 ? "" : fmt::format(", {} failed", failed)),
+                    result.total_seconds);
+  }
   j["scenario_file"] = scenario_file;
   j["settings"] = EchoPbdScenario(scenario);
   j["fit_points"] = plan.fit_points;
@@ -116,10 +129,10 @@ int ReportPbdStudy(const PbdScenario& scenario, const PbdStudyPlan& plan,
   RunPlotScript("plot_study.py",
                 {out.StagedPath("study.csv").string(), out.Stage("convergence.png").string(),
                  fmt::format("{} case", scenario.kind)});
-  out.Commit();
+  out.Commit(WhenStopped::kPublish);  // a study stopped on request: the runs finished
   PrintStudy(plan, result, j);
   std::printf("wrote %s/study.csv, summary.json, convergence.png\n", out.dir().c_str());
-  return 0;
+  return result.interrupted ? ReportInterrupted(j["message"].get<std::string>()) : 0;
 }
 
 }  // namespace moreau::cli

@@ -18,7 +18,8 @@ std::string StudyCsv(const PbdStudyResult& result);
 nlohmann::json StudyJson(const PbdScenario& scenario, const PbdStudyPlan& plan,
                          const PbdStudyResult& result, const std::string& scenario_file);
 
-// Writes DIR, prints the table and the orders. Returns 0.
+// Writes DIR, prints the table and the orders. Returns 0, or 128 + signal for a study stopped on
+// request (its finished runs published, marked interrupted).
 int ReportPbdStudy(const PbdScenario& scenario, const PbdStudyPlan& plan,
                    const PbdStudyResult& result, const std::string& scenario_file,
                    const std::string& out_dir);

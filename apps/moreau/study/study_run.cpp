@@ -144,10 +144,15 @@ std::optional<PbdStudyResult> RunPbdStudy(const sweep::MpiSession& mpi, const Sc
   progress.Finish();
   if (!root) return std::nullopt;
   PbdStudyResult result;
-  result.rows.resize(todo.size());
+  result.runs = grid.RunCount();
+  std::vector<std::optional<pbd::StudyRow>> rows(todo.size());
   for (const nlohmann::json& entry : entries) {
-    result.rows[entry["index"].get<std::size_t>()] = RowFromEntry(plan, entry);
+    rows[entry["index"].get<std::size_t>()] = RowFromEntry(plan, entry);
   }
+  for (std::optional<pbd::StudyRow>& row : rows) {
+    if (row && row->termination != Termination::kInterrupted) result.rows.push_back(*row);
+  }
+  result.interrupted = static_cast<std::int64_t>(result.rows.size()) < result.runs;
   result.total_seconds = stopwatch.Seconds();
   return result;
 }

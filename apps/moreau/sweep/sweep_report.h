@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "moreau/sweep/results_table.h"
+#include "output.h"
 #include "sweep/sweep_scenario.h"
 
 namespace moreau::cli {
@@ -25,15 +26,19 @@ struct SweepCounts {
 };
 
 // Columns: run (grid position), hash, each axis key, the seed key (with seeds), status, each
-// collected quantity, message. Throws InputError when a run of the grid is not in `journal`.
+// collected quantity, message. Throws InputError when a run of the grid is not in `journal`,
+// unless `partial` (a sweep stopped on request): then such a run is a row with status
+// "not_run" and empty cells.
 sweep::ResultsTable SweepTable(const SweepScenario& sweep,
-                               const std::map<std::string, nlohmann::json>& journal);
+                               const std::map<std::string, nlohmann::json>& journal,
+                               bool partial = false);
 
-// Writes results.csv, results.h5 and summary.json into DIR and prints the brief report.
-// Returns the exit code: 0 when every run of the table succeeded, else 3 (after one line on
-// stderr counting the failed runs; they are rows of the table with their status and message).
+// Stages results.csv, results.h5 and summary.json in OUT (the sweep's folder, Publish::kMerge),
+// publishes them and prints the brief report. Returns the exit code: 0 when every run of the
+// table succeeded; 128 + signal when a run is "interrupted" or "not_run" (summary.json:
+// termination "interrupted", ok false); else 3 (after one line on stderr counting the failed
+// runs; they are rows of the table with their status and message).
 int ReportSweep(const SweepScenario& sweep, const sweep::ResultsTable& table,
-                const SweepCounts& counts, const std::string& sweep_file,
-                const std::filesystem::path& dir);
+                const SweepCounts& counts, const std::string& sweep_file, OutputDir& out);
 
 }  // namespace moreau::cli

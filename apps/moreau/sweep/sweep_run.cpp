@@ -1,5 +1,7 @@
 #include "sweep/sweep_run.h"
 
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include <fmt/format.h>
@@ -12,11 +14,13 @@
 #include "fill_gaps/fill_gaps_scenario.h"
 #include "mocap_settings.h"
 #include "moreau/common/error.h"
+#include "moreau/common/stop.h"
 #include "moreau/common/stopwatch.h"
 #include "moreau/common/termination.h"
 #include "moreau/sweep/grid.h"
 #include "output.h"
 #include "run/dispatch.h"
+#include "signals.h"
 
 namespace moreau::cli {
 namespace {
@@ -60,11 +64,12 @@ SweepPointRun PrepareControlPoint(const SweepScenario& sweep,
 
 // command = "run": the run command's dispatch; a run folder gets what `moreau run` writes but
 // the figures, and without one nothing is written (no trajectory either).
-SweepPointRun PrepareRunPoint(const SweepScenario& sweep,
-                              const std::vector<std::string>& overrides) {
+SweepPointRun PrepareRunPoint(const SweepScenario& sweep, const std::vector<std::string>& overrides,
+                              bool check_only) {
   Scenario scenario = Scenario::Load(sweep.scenario, overrides);
   RunRequest request;
   request.files = sweep.run_folders ? RunFiles::kNoFigures : RunFiles::kNone;
+  request.check_only = check_only;
   auto run = std::make_shared<PreparedRun>(scenario, std::move(request));
   return [run](const fs::path& run_dir) { return run->Run(run_dir).summary; };
 }
@@ -93,25 +98,68 @@ std::string BlamedSweepKey(const SweepScenario& sweep, const std::string& messag
 }  // namespace
 
 SweepPointRun PrepareSweepPoint(const SweepScenario& sweep,
-                                const std::vector<std::string>& overrides) {
+                                const std::vector<std::string>& overrides, bool check_only) {
   if (sweep.command == "fill-gaps") return PrepareFillGapsPoint(sweep, overrides);
   if (sweep.command == "control") return PrepareControlPoint(sweep, overrides);
-  return PrepareRunPoint(sweep, overrides);
+  return PrepareRunPoint(sweep, overrides, check_only);
 }
 
-void CheckFirstRun(const SweepScenario& sweep, const Scenario& file) {
-  try {
-    PrepareSweepPoint(sweep, sweep.Overrides(0));
-  } catch (const InputError& e) {
-    std::string settings;
-    for (const sweep::Setting& setting : sweep.grid.Run(0)) {
-      settings +=
-          fmt::format("{}{} = {}", settings.empty() ? " (" : ", ", setting.key, setting.value);
+void CheckRuns(const SweepScenario& sweep, const Scenario& file) {
+  for (std::int64_t i = 0; i < sweep.grid.RunCount(); ++i) {
+    try {
+      PrepareSweepPoint(sweep, sweep.Overrides(i), /*check_only=*/i > 0);
+    } catch (const InputError& e) {
+      std::string settings;
+      for (const sweep::Setting& setting : sweep.grid.Run(i)) {
+        settings +=
+            fmt::format("{}{} = {}", settings.empty() ? " (" : ", ", setting.key, setting.value);
+      }
+      if (!settings.empty()) settings += ")";
+      file.Fail(
+          BlamedSweepKey(sweep, e.what()),
+          fmt::format("{}{} is rejected: {}", i == 0 ? "the first run" : fmt::format("run {}", i),
+                      settings, e.what()));
     }
-    if (!settings.empty()) settings += ")";
-    file.Fail(BlamedSweepKey(sweep, e.what()),
-              fmt::format("the first run{} is rejected: {}", settings, e.what()));
   }
+}
+
+int RunOnRanks(const sweep::MpiSession& mpi, const std::function<int()>& body) {
+  if (!mpi.active()) return body();
+  if (mpi.rank() != 0) QuietStopMessages();
+  int code = 1;
+  try {
+    return body();
+  } catch (const Interrupted& e) {
+    code = ReportInterrupted(std::string(e.what()) + "; no result published");
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "moreau: error: %s\n", e.what());
+    code = 2;
+  } catch (const NumericalError& e) {
+    std::fprintf(stderr, "moreau: numerical failure: %s\n", e.what());
+    code = 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "moreau: error: %s\n", e.what());
+  }
+  std::fflush(stderr);
+  QuietStopMessages();  // the SIGTERM mpirun sends the other ranks is no news
+  mpi.Abort(code);
+}
+
+void CheckBeforeMpi(const std::function<void()>& checks) {
+  try {
+    checks();
+  } catch (const InputError&) {
+    for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"}) {
+      const char* rank = std::getenv(name);
+      if (rank != nullptr && std::atoi(rank) != 0) std::exit(2);
+    }
+    throw;
+  }
+}
+
+bool RowInterrupted(const nlohmann::json& status) {
+  return status.is_string() &&
+         status.get_ref<const std::string&>() == ToString(Termination::kInterrupted);
 }
 
 bool RowSucceeded(const nlohmann::json& status) {
@@ -143,6 +191,8 @@ nlohmann::json SweepEntry(const SweepScenario& sweep, std::int64_t index, const 
     row = {{"status", summary.value("termination", "completed")},
            {"message", summary.value("message", "")}};
     for (const std::string& key : sweep.collect) row[key] = SummaryValue(summary, key);
+  } catch (const Interrupted& e) {
+    row = FailedRow(ToString(Termination::kInterrupted), e.what());
   } catch (const InputError& e) {
     row = FailedRow("input_error", e.what());
   } catch (const NumericalError& e) {

@@ -97,7 +97,8 @@ struct NewtonSummary {
   nlohmann::json ToJson() const;
 };
 
-// Newton on F(y) = 0 starting from y (overwritten by the best iterate).
+// Newton on F(y) = 0 starting from y (overwritten by the best iterate). Throws Interrupted
+// (common/stop.h) before an iteration when a stop was requested.
 NewtonSummary SolveNewton(const PontryaginDiscretization& disc, const NewtonOptions& options,
                           Eigen::VectorXd& y);
 

@@ -231,7 +231,7 @@ struct FillSummary {
 // Fills `gaps` (normally FindGaps(in)) of `in` with options.method and writes the result to
 // *out (which may be &in): a copy of `in` with every filled sample set and marked observed.
 // Throws InputError for invalid options or a gap that does not match `in` (CheckGaps,
-// recording.h).
+// recording.h), and Interrupted (common/stop.h) before a gap when a stop was requested.
 FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps, const FillOptions& options,
                      Recording* out);
 

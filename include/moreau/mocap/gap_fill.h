@@ -58,7 +58,7 @@ struct GapFillOptions {
 // prior_reason "optimal_control_off" (kPrior), "optimal_control_failed" (kFallback, the window
 // did not converge or was rejected) or "rejected_by_guard" (kFallback, converged but turned down
 // by the guard); kUnfillable when nothing filled it. Throws InputError as FillGaps and FillGapsOcp
-// do.
+// do, and Interrupted (common/stop.h) as FillGaps and SolveNewton do after a stop request.
 FillSummary FillGaps(const Recording& in, const std::vector<Gap>& gaps,
                      const GapFillOptions& options, Recording* out);
 

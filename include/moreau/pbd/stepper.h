@@ -117,8 +117,8 @@ using Observer = std::function<bool(std::int64_t, double, ConstVectorRef)>;
 
 // Runs n = T/h steps from x0 (T/h must be a whole number to within 1e−9, else InputError).
 // Stops early, with termination kNonFinite and the last finite state in *final_state, if the
-// state stops being finite, or with kInterrupted when the observer returns false (the state is
-// that of the step it saw). final_state may be null.
+// state stops being finite, or with kInterrupted when the observer returns false or a stop was
+// requested (common/stop.h; the state is that of the last step taken). final_state may be null.
 SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
                            const StepperOptions& options, ConstVectorRef x0, double T,
                            const Observer& observer = {}, Vector* final_state = nullptr);

@@ -41,6 +41,8 @@ class MpiSession {
   MpiSession& operator=(const MpiSession&) = delete;
 
   static bool BuiltWithMpi();
+  // Ends every rank with exit code CODE (MPI_Abort; without MPI, std::exit).
+  [[noreturn]] void Abort(int code) const;
   bool active() const { return active_; }
   int rank() const { return rank_; }
   int size() const { return size_; }
@@ -51,10 +53,16 @@ class MpiSession {
   int size_ = 1;
 };
 
-// Runs every index of `todo` (each exactly once) on the session's ranks, `jobs` ≥ 1 threads
+// The most runs at a time in one process (`--jobs`): each is a thread.
+constexpr int kMaxJobs = 1024;
+// Throws InputError("--jobs", …) unless 1 ≤ jobs ≤ kMaxJobs.
+void CheckJobs(int jobs);
+
+// Runs every index of `todo` (each at most once) on the session's ranks, `jobs` ≥ 1 threads
 // each; every rank calls it (`todo` is read on rank 0 only). Returns when all runs are finished:
 // on rank 0 the entries of every run of every rank (each rank's in the order they finished, rank
-// by rank), on the other ranks nothing.
+// by rank), on the other ranks nothing. After a stop request (common/stop.h) no run starts on
+// the rank that saw it: the runs not started have no entry.
 std::vector<nlohmann::json> Dispatch(const MpiSession& session,
                                      const std::vector<std::int64_t>& todo, int jobs,
                                      const RunTask& task, const RunFinished& finished);
