@@ -46,6 +46,7 @@ FieldSet::FieldSet(Grid grid, std::vector<Substrate> substrates, int threads)
   for (auto* sources : {&secretion_, &secretion_target_, &uptake_, &source_}) {
     sources->assign(count, std::vector<double>(n, 0.0));
   }
+  sources_written_.assign(count, 0);
 }
 
 int FieldSet::SubstrateIndex(std::string_view name) const {
@@ -57,12 +58,16 @@ int FieldSet::SubstrateIndex(std::string_view name) const {
   throw InputError(fmt::format("unknown substrate '{}' (substrates: {})", name, known));
 }
 
-std::span<double> FieldSet::secretion(int s) { return secretion_.at(static_cast<std::size_t>(s)); }
-std::span<double> FieldSet::secretion_target(int s) {
-  return secretion_target_.at(static_cast<std::size_t>(s));
+std::span<double> FieldSet::secretion(int s) { return SourcesFor(secretion_, s); }
+std::span<double> FieldSet::secretion_target(int s) { return SourcesFor(secretion_target_, s); }
+std::span<double> FieldSet::uptake(int s) { return SourcesFor(uptake_, s); }
+std::span<double> FieldSet::source(int s) { return SourcesFor(source_, s); }
+
+std::span<double> FieldSet::SourcesFor(std::vector<std::vector<double>>& term, int s) {
+  std::vector<double>& v = term.at(static_cast<std::size_t>(s));
+  sources_written_[static_cast<std::size_t>(s)] = 1;
+  return v;
 }
-std::span<double> FieldSet::uptake(int s) { return uptake_.at(static_cast<std::size_t>(s)); }
-std::span<double> FieldSet::source(int s) { return source_.at(static_cast<std::size_t>(s)); }
 
 void FieldSet::ClearSources() {
   for (auto* sources : {&secretion_, &secretion_target_, &uptake_, &source_}) {

@@ -148,6 +148,7 @@ void FieldSet::Deposit(int s, std::span<const double> positions, std::span<const
   if (volumes.empty() && (!secretion.empty() || !uptake.empty())) {
     throw InputError("volumes", "needed with secretion or uptake (rates per agent volume)");
   }
+  sources_written_[u] = 1;
   const bool with_target = !secretion.empty() && !saturation.empty();
   const double inverse_volume = 1.0 / grid_.voxel_volume();
   const auto k = static_cast<std::size_t>(grid_.dimension);

@@ -5,8 +5,9 @@
 // thread that runs it, so the bits do not depend on the thread count. The x lines are contiguous
 // and solved kLinesTogether at a time (independent recurrences the processor overlaps); the lines
 // of y and z are solved many at once, a row of contiguous x at a time (the inner loop vectorises),
-// in blocks of columns small enough to stay in cache between the elimination and the
-// back substitution.
+// in blocks small enough to stay in cache between the elimination and the back substitution. The
+// sources are applied to a group of x lines just before its solve; a substrate whose sources were
+// never handed out for writing skips them.
 #include <algorithm>
 #include <cmath>
 
@@ -36,97 +37,6 @@ void Factor(const std::vector<double>& diagonal, double off, internal::LineSolve
     f->inverse_pivot[i] = 1.0 / pivot;
     previous_upper = i + 1 < n ? -off / pivot : 0.0;
     f->upper[i] = previous_upper;
-  }
-}
-
-// Solves the factored system for one line of n values with stride `stride`, in place (the face
-// terms added to the first and last rows).
-void SolveOne(const internal::LineSolve& f, double* c, std::int64_t n, std::int64_t stride) {
-  c[0] += f.lower_face;
-  c[(n - 1) * stride] += f.upper_face;
-  c[0] *= f.inverse_pivot[0];
-  for (std::int64_t i = 1; i < n; ++i) {
-    c[i * stride] = (c[i * stride] + f.off * c[(i - 1) * stride]) * f.inverse_pivot[i];
-  }
-  for (std::int64_t i = n - 2; i >= 0; --i) c[i * stride] -= f.upper[i] * c[(i + 1) * stride];
-  if (!f.periodic_z.empty()) {
-    const double y = (c[0] + f.periodic_corner * c[(n - 1) * stride]) * f.periodic_scale;
-    for (std::int64_t i = 0; i < n; ++i) c[i * stride] -= y * f.periodic_z[i];
-  }
-}
-
-// The line solve of an axis of n voxels: diagonal 1 + Δt λ/k + 2r, r = D Δt / h², changed on the
-// face rows (zero flux: the ghost mirrors the voxel, −r; fixed: the ghost is 2 c_b − c, +r and
-// 2 r c_b on the right-hand side), or cyclic on a periodic axis.
-internal::LineSolve MakeLineSolve(int n, double r, double decay_part, const FaceBoundary& lower,
-                                  const FaceBoundary& upper) {
-  internal::LineSolve f;
-  const double base = 1.0 + decay_part + 2.0 * r;
-  std::vector<double> diagonal(static_cast<std::size_t>(n), base);
-  if (lower.kind == BoundaryKind::kPeriodic) {
-    if (n <= 2) {  // the neighbours on both sides are the same voxel (n = 2) or the voxel itself
-      diagonal.assign(static_cast<std::size_t>(n), n == 1 ? 1.0 + decay_part : base);
-      Factor(diagonal, n == 1 ? 0.0 : 2.0 * r, &f);
-      return f;
-    }
-    // Sherman–Morrison: A = T + u vᵀ, u = (γ, 0, …, −r), v = (1, 0, …, −r/γ), γ = −base.
-    const double gamma = -base;
-    diagonal.front() = base - gamma;
-    diagonal.back() = base - r * r / gamma;
-    Factor(diagonal, r, &f);
-    std::vector<double> z(static_cast<std::size_t>(n), 0.0);
-    z.front() = gamma;
-    z.back() = -r;
-    SolveOne(f, z.data(), n, 1);
-    f.periodic_corner = -r / gamma;
-    f.periodic_scale = 1.0 / (1.0 + z.front() + f.periodic_corner * z.back());
-    f.periodic_z = std::move(z);
-    return f;
-  }
-  const auto face = [&](const FaceBoundary& b, double* row, double* rhs) {
-    *row += b.kind == BoundaryKind::kFixed ? r : -r;
-    *rhs = b.kind == BoundaryKind::kFixed ? 2.0 * r * b.value : 0.0;
-  };
-  double lower_face = 0.0;
-  double upper_face = 0.0;
-  face(lower, &diagonal.front(), &lower_face);
-  face(upper, &diagonal.back(), &upper_face);
-  Factor(diagonal, r, &f);
-  f.lower_face = lower_face;
-  f.upper_face = upper_face;
-  return f;
-}
-
-// The sources of one voxel: c ← (c + Δt (S c* + R)) / (1 + Δt (S + U)), over n voxels.
-void ApplySources(double dt, std::int64_t n, double* c, const double* secretion,
-                  const double* target, const double* uptake, const double* source) {
-  for (std::int64_t i = 0; i < n; ++i) {
-    c[i] = (c[i] + dt * (target[i] + source[i])) / (1.0 + dt * (secretion[i] + uptake[i]));
-  }
-}
-
-// `count` ≤ kLinesTogether contiguous lines of n values, the first at c, each the next's n
-// before it; the same operations per line as SolveOne.
-void SolveContiguousLines(const internal::LineSolve& f, double* c, std::int64_t n, int count) {
-  double* line[kLinesTogether];
-  for (int k = 0; k < count; ++k) {
-    line[k] = c + k * n;
-    line[k][0] += f.lower_face;
-    line[k][n - 1] += f.upper_face;
-    line[k][0] *= f.inverse_pivot[0];
-  }
-  for (std::int64_t i = 1; i < n; ++i) {
-    const double inverse = f.inverse_pivot[i];
-    for (int k = 0; k < count; ++k) line[k][i] = (line[k][i] + f.off * line[k][i - 1]) * inverse;
-  }
-  for (std::int64_t i = n - 2; i >= 0; --i) {
-    const double upper = f.upper[i];
-    for (int k = 0; k < count; ++k) line[k][i] -= upper * line[k][i + 1];
-  }
-  if (f.periodic_z.empty()) return;
-  for (int k = 0; k < count; ++k) {
-    const double y = (line[k][0] + f.periodic_corner * line[k][n - 1]) * f.periodic_scale;
-    for (std::int64_t i = 0; i < n; ++i) line[k][i] -= y * f.periodic_z[i];
   }
 }
 
@@ -164,6 +74,86 @@ void SolveStridedLines(const internal::LineSolve& f, double* c, std::int64_t n, 
   }
 }
 
+// The line solve of an axis of n voxels: diagonal 1 + Δt λ/k + 2r, r = D Δt / h², changed on the
+// face rows (zero flux: the ghost mirrors the voxel, −r; fixed: the ghost is 2 c_b − c, +r and
+// 2 r c_b on the right-hand side), or cyclic on a periodic axis.
+internal::LineSolve MakeLineSolve(int n, double r, double decay_part, const FaceBoundary& lower,
+                                  const FaceBoundary& upper) {
+  internal::LineSolve f;
+  const double base = 1.0 + decay_part + 2.0 * r;
+  std::vector<double> diagonal(static_cast<std::size_t>(n), base);
+  if (lower.kind == BoundaryKind::kPeriodic) {
+    if (n <= 2) {  // the neighbours on both sides are the same voxel (n = 2) or the voxel itself
+      diagonal.assign(static_cast<std::size_t>(n), n == 1 ? 1.0 + decay_part : base);
+      Factor(diagonal, n == 1 ? 0.0 : 2.0 * r, &f);
+      return f;
+    }
+    // Sherman–Morrison: A = T + u vᵀ, u = (γ, 0, …, −r), v = (1, 0, …, −r/γ), γ = −base.
+    const double gamma = -base;
+    diagonal.front() = base - gamma;
+    diagonal.back() = base - r * r / gamma;
+    Factor(diagonal, r, &f);
+    std::vector<double> z(static_cast<std::size_t>(n), 0.0);
+    z.front() = gamma;
+    z.back() = -r;
+    SolveStridedLines(f, z.data(), n, 1, 1);
+    f.periodic_corner = -r / gamma;
+    f.periodic_scale = 1.0 / (1.0 + z.front() + f.periodic_corner * z.back());
+    f.periodic_z = std::move(z);
+    return f;
+  }
+  const auto face = [&](const FaceBoundary& b, double* row, double* rhs) {
+    *row += b.kind == BoundaryKind::kFixed ? r : -r;
+    *rhs = b.kind == BoundaryKind::kFixed ? 2.0 * r * b.value : 0.0;
+  };
+  double lower_face = 0.0;
+  double upper_face = 0.0;
+  face(lower, &diagonal.front(), &lower_face);
+  face(upper, &diagonal.back(), &upper_face);
+  Factor(diagonal, r, &f);
+  f.lower_face = lower_face;
+  f.upper_face = upper_face;
+  return f;
+}
+
+// The sources of one voxel: c ← (c + Δt (S c* + R)) / (1 + Δt (S + U)), over n voxels.
+void ApplySources(double dt, std::int64_t n, double* c, const double* secretion,
+                  const double* target, const double* uptake, const double* source) {
+  for (std::int64_t i = 0; i < n; ++i) {
+    c[i] = (c[i] + dt * (target[i] + source[i])) / (1.0 + dt * (secretion[i] + uptake[i]));
+  }
+}
+
+// `count` ≤ kLinesTogether contiguous x lines of n values from c (the sources applied first when
+// `sources` is not null), solved together: the same operations per line as SolveStridedLines, the
+// lines' recurrences interleaved so that the processor overlaps them.
+void SolveXLines(const internal::LineSolve& f, double* c, std::int64_t n, int count,
+                 const double* const* sources, double dt) {
+  if (sources != nullptr) {
+    ApplySources(dt, count * n, c, sources[0], sources[1], sources[2], sources[3]);
+  }
+  double* line[kLinesTogether];
+  for (int k = 0; k < count; ++k) {
+    line[k] = c + k * n;
+    line[k][0] += f.lower_face;
+    line[k][n - 1] += f.upper_face;
+    line[k][0] *= f.inverse_pivot[0];
+  }
+  for (std::int64_t i = 1; i < n; ++i) {
+    const double inverse = f.inverse_pivot[i];
+    for (int k = 0; k < count; ++k) line[k][i] = (line[k][i] + f.off * line[k][i - 1]) * inverse;
+  }
+  for (std::int64_t i = n - 2; i >= 0; --i) {
+    const double upper = f.upper[i];
+    for (int k = 0; k < count; ++k) line[k][i] -= upper * line[k][i + 1];
+  }
+  if (f.periodic_z.empty()) return;
+  for (int k = 0; k < count; ++k) {
+    const double y = (line[k][0] + f.periodic_corner * line[k][n - 1]) * f.periodic_scale;
+    for (std::int64_t i = 0; i < n; ++i) line[k][i] -= y * f.periodic_z[i];
+  }
+}
+
 }  // namespace
 
 void FieldSet::FactorLines(double dt) {
@@ -195,18 +185,17 @@ void FieldSet::SolveAxis(int s, int axis) {
     const std::int64_t lines = plane / nx * n[2];
     const std::int64_t groups = (lines + kLinesTogether - 1) / kLinesTogether;
     const auto u = static_cast<std::size_t>(s);
-    const double* sources[4] = {secretion_[u].data(), secretion_target_[u].data(),
-                                uptake_[u].data(), source_[u].data()};
     const double dt = line_solves_dt_;
+    const bool with_sources = sources_written_[u] != 0;
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
     for (std::int64_t g = 0; g < groups; ++g) {
       const std::int64_t begin = g * kLinesTogether * nx;
-      const int count =
-          static_cast<int>(std::min<std::int64_t>(kLinesTogether, lines - g * kLinesTogether));
-      const std::int64_t size = count * nx;
-      ApplySources(dt, size, c + begin, sources[0] + begin, sources[1] + begin, sources[2] + begin,
-                   sources[3] + begin);
-      SolveContiguousLines(f, c + begin, nx, count);
+      const double* sources[4] = {secretion_[u].data() + begin, secretion_target_[u].data() + begin,
+                                  uptake_[u].data() + begin, source_[u].data() + begin};
+      SolveXLines(
+          f, c + begin, nx,
+          static_cast<int>(std::min<std::int64_t>(kLinesTogether, lines - g * kLinesTogether)),
+          with_sources ? sources : nullptr, dt);
     }
     return;
   }

@@ -190,6 +190,7 @@ class FieldSet {
  private:
   void FactorLines(double dt);
   void SolveAxis(int s, int axis);
+  std::span<double> SourcesFor(std::vector<std::vector<double>>& term, int s);
 
   Grid grid_;
   std::vector<Substrate> substrates_;
@@ -200,6 +201,9 @@ class FieldSet {
   std::int64_t steps_ = 0;
   std::vector<internal::LineSolve> line_solves_;  // substrate-major, then axis; for line_solves_dt_
   double line_solves_dt_ = 0.0;                   // 0: none yet
+  // Per substrate: whether its sources were ever handed out for writing (a span or Deposit); Step
+  // reads no source array of a substrate whose sources were not.
+  std::vector<char> sources_written_;
 };
 
 }  // namespace moreau::fields
