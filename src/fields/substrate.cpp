@@ -18,6 +18,16 @@ std::string KindList() {
   return out;
 }
 
+// of(face) when every face gives the same, else null.
+template <typename F>
+nlohmann::json Shared(const Substrate& s, F of) {
+  const nlohmann::json first = of(s.boundary[0]);
+  for (const FaceBoundary& f : s.boundary) {
+    if (of(f) != first) return nlohmann::json();
+  }
+  return first;
+}
+
 // "boundary": every face's kind; reads as the kind when all faces share it, else null.
 FieldList<Substrate>::Field EveryFaceKind() {
   return {"boundary",
@@ -26,10 +36,9 @@ FieldList<Substrate>::Field EveryFaceKind() {
           "",
           "every face's condition at once (then per face: x_min, …)",
           [](const Substrate& s) {
-            for (const FaceBoundary& f : s.boundary) {
-              if (f.kind != s.boundary[0].kind) return nlohmann::json();
-            }
-            return nlohmann::json(std::string(EnumName(kBoundaryKindNames, s.boundary[0].kind)));
+            return Shared(s, [](const FaceBoundary& f) {
+              return nlohmann::json(std::string(EnumName(kBoundaryKindNames, f.kind)));
+            });
           },
           [](Substrate& s, const nlohmann::json& j) -> std::string {
             if (!j.is_string()) return ExpectedType("a string", j);
@@ -51,10 +60,7 @@ FieldList<Substrate>::Field EveryFaceValue() {
           "amount/volume",
           "c_b of every fixed face at once (then per face: x_min_value, …)",
           [](const Substrate& s) {
-            for (const FaceBoundary& f : s.boundary) {
-              if (f.value != s.boundary[0].value) return nlohmann::json();
-            }
-            return nlohmann::json(s.boundary[0].value);
+            return Shared(s, [](const FaceBoundary& f) { return nlohmann::json(f.value); });
           },
           [](Substrate& s, const nlohmann::json& j) -> std::string {
             if (!j.is_number()) return ExpectedType("a number", j);
