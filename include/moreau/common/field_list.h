@@ -227,6 +227,10 @@ class FieldList {
                 [ref, too_few](const S& s) { return too_few(std::invoke(ref, s).size()); }});
   }
 
+  // A field with its get, set and check written out (one key over several members, a fixed number
+  // of numbers); `check` may be empty.
+  FieldList& Custom(Field field) { return Add(std::move(field)); }
+
   // A rule over several fields, run by Validate() after the fields' own ranges.
   FieldList& Rule(std::string key, std::function<std::string(const S&)> reason) {
     checks_.push_back({std::move(key), std::move(reason)});

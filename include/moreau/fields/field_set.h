@@ -63,10 +63,10 @@ struct Grid {
   double spacing = 0.1;  // h > 0
 
   static const FieldList<Grid>& Fields();
-  void Validate() const;                 // InputError(key, reason)
-  std::array<int, 3> cells() const;      // (n_x, n_y, n_z); n_z = 1 in 2D
-  std::int64_t voxel_count() const;      // n_x n_y n_z
-  double voxel_volume() const;           // h^k
+  void Validate() const;             // InputError(key, reason)
+  std::array<int, 3> cells() const;  // (n_x, n_y, n_z); n_z = 1 in 2D
+  std::int64_t voxel_count() const;  // n_x n_y n_z
+  double voxel_volume() const;       // h^k
   // The voxel that holds point x (k coordinates), each index clamped into [0, n_a − 1].
   std::int64_t VoxelOf(const double* x) const;
   // The centre of voxel `index` (k coordinates written to `centre`).
@@ -75,10 +75,10 @@ struct Grid {
 
 // One substrate: its name, coefficients, initial value and boundary conditions.
 struct Substrate {
-  std::string name = "oxygen";  // unique among the substrates, not empty
-  double diffusion = 1.0;       // D > 0 (length²/time)
-  double decay = 0.0;           // λ ≥ 0 (1/time)
-  double initial = 0.0;         // c(x, 0), finite
+  std::string name = "oxygen";                  // unique among the substrates, not empty
+  double diffusion = 1.0;                       // D > 0 (length²/time)
+  double decay = 0.0;                           // λ ≥ 0 (1/time)
+  double initial = 0.0;                         // c(x, 0), finite
   std::array<FaceBoundary, kFaces> boundary{};  // per face; periodic on both faces of an axis
 
   // Keys: name, diffusion, decay, initial, boundary (every face's kind at once), boundary_value
@@ -113,6 +113,27 @@ struct SteadyStateSummary {
   nlohmann::json ToJson() const;
 };
 
+namespace internal {
+
+// The tridiagonal factorisation of one axis of one substrate for a time step, kept by FieldSet
+// while Δt is unchanged (src/fields/lod_diffusion.cpp): every grid line of the axis has the same
+// matrix, (1 + Δt λ/k + 2r) on the diagonal, −r off it, r = D Δt / h², changed on the face rows
+// by the faces' conditions (off is 2r on a periodic axis of two voxels).
+struct LineSolve {
+  std::vector<double> inverse_pivot;  // Thomas: 1 / (b_i + r c'_{i−1})
+  std::vector<double> upper;          // c'_i = −r / (b_i + r c'_{i−1})
+  double off = 0.0;                   // r: minus the off-diagonal entries
+  double lower_face = 0.0;            // 2 r c_b added to the first row (a fixed face), else 0
+  double upper_face = 0.0;            // the same for the last row
+  // A periodic axis (Sherman–Morrison on the cyclic matrix): the solution of the modified
+  // matrix for the corner vector, and x = y − z (y_0 + corner y_{n−1}) · periodic_scale.
+  std::vector<double> periodic_z;
+  double periodic_corner = 0.0;
+  double periodic_scale = 0.0;
+};
+
+}  // namespace internal
+
 class FieldSet {
  public:
   // Throws InputError: the grid's or a substrate's key ("substrates.oxygen.diffusion", …), a name
@@ -131,10 +152,10 @@ class FieldSet {
 
   // The per-voxel source terms of substrate s for the next steps (S, S c*, U, R; voxel_count each),
   // read and write; ClearSources zeroes all four for every substrate. Deposit adds to them.
-  std::span<double> secretion(int s);           // S (1/time)
-  std::span<double> secretion_target(int s);    // S c* (amount/(volume·time))
-  std::span<double> uptake(int s);              // U (1/time)
-  std::span<double> source(int s);              // R (amount/(volume·time))
+  std::span<double> secretion(int s);         // S (1/time)
+  std::span<double> secretion_target(int s);  // S c* (amount/(volume·time))
+  std::span<double> uptake(int s);            // U (1/time)
+  std::span<double> source(int s);            // R (amount/(volume·time))
   void ClearSources();
 
   // Adds the agents' terms to substrate s's sources: agent i at x_i (k·N positions) with volume
@@ -167,6 +188,10 @@ class FieldSet {
   void Restore(std::vector<std::vector<double>> values, double time, std::int64_t steps);
 
  private:
+  void FactorLines(double dt);
+  void SolveAxis(int s, int axis);
+  std::span<double> SourcesFor(std::vector<std::vector<double>>& term, int s);
+
   Grid grid_;
   std::vector<Substrate> substrates_;
   int threads_ = 1;
@@ -174,6 +199,11 @@ class FieldSet {
   std::vector<std::vector<double>> secretion_, secretion_target_, uptake_, source_;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
+  std::vector<internal::LineSolve> line_solves_;  // substrate-major, then axis; for line_solves_dt_
+  double line_solves_dt_ = 0.0;                   // 0: none yet
+  // Per substrate: whether its sources were ever handed out for writing (a span or Deposit); Step
+  // reads no source array of a substrate whose sources were not.
+  std::vector<char> sources_written_;
 };
 
 }  // namespace moreau::fields

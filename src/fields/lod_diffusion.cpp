@@ -1,0 +1,230 @@
+// One Step: the sources per voxel, then diffusion and decay axis by axis (LOD), one tridiagonal
+// solve per grid line with a factorisation shared by every line of the axis.
+//
+// Every line is solved by the same operations in the same order whatever its neighbours and the
+// thread that runs it, so the bits do not depend on the thread count. The x lines are contiguous
+// and solved kLinesTogether at a time (independent recurrences the processor overlaps); the lines
+// of y and z are solved many at once, a row of contiguous x at a time (the inner loop vectorises),
+// in blocks small enough to stay in cache between the elimination and the back substitution. The
+// sources are applied to a group of x lines just before its solve; a substrate whose sources were
+// never handed out for writing skips them.
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "fields/team.h"
+#include "moreau/common/error.h"
+#include "moreau/fields/field_set.h"
+
+namespace moreau::fields {
+namespace {
+
+constexpr int kLinesTogether = 8;
+// Doubles in one block of columns of a y or z sweep (256 KiB).
+constexpr std::int64_t kBlockDoubles = 32768;
+
+// Factors the tridiagonal matrix `diagonal` (n entries), −off above and below it, in place into
+// the line solve's pivots and upper coefficients.
+void Factor(const std::vector<double>& diagonal, double off, internal::LineSolve* f) {
+  const std::size_t n = diagonal.size();
+  f->off = off;
+  f->inverse_pivot.resize(n);
+  f->upper.assign(n, 0.0);
+  double previous_upper = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double pivot = diagonal[i] + off * previous_upper;
+    f->inverse_pivot[i] = 1.0 / pivot;
+    previous_upper = i + 1 < n ? -off / pivot : 0.0;
+    f->upper[i] = previous_upper;
+  }
+}
+
+// `width` lines side by side: line q's value i at c[q + i·stride], n values each.
+void SolveStridedLines(const internal::LineSolve& f, double* c, std::int64_t n, std::int64_t stride,
+                       std::int64_t width) {
+  double* first = c;
+  double* last = c + (n - 1) * stride;
+  for (std::int64_t q = 0; q < width; ++q) {
+    first[q] += f.lower_face;
+    last[q] += f.upper_face;
+    first[q] *= f.inverse_pivot[0];
+  }
+  for (std::int64_t i = 1; i < n; ++i) {
+    double* row = c + i * stride;
+    const double* before = row - stride;
+    const double inverse = f.inverse_pivot[i];
+    for (std::int64_t q = 0; q < width; ++q) row[q] = (row[q] + f.off * before[q]) * inverse;
+  }
+  for (std::int64_t i = n - 2; i >= 0; --i) {
+    double* row = c + i * stride;
+    const double* after = row + stride;
+    const double upper = f.upper[i];
+    for (std::int64_t q = 0; q < width; ++q) row[q] -= upper * after[q];
+  }
+  if (f.periodic_z.empty()) return;
+  std::vector<double> y(static_cast<std::size_t>(width));
+  for (std::int64_t q = 0; q < width; ++q) {
+    y[q] = (first[q] + f.periodic_corner * last[q]) * f.periodic_scale;
+  }
+  for (std::int64_t i = 0; i < n; ++i) {
+    double* row = c + i * stride;
+    const double z = f.periodic_z[i];
+    for (std::int64_t q = 0; q < width; ++q) row[q] -= y[q] * z;
+  }
+}
+
+// The line solve of an axis of n voxels: diagonal 1 + Δt λ/k + 2r, r = D Δt / h², changed on the
+// face rows (zero flux: the ghost mirrors the voxel, −r; fixed: the ghost is 2 c_b − c, +r and
+// 2 r c_b on the right-hand side), or cyclic on a periodic axis.
+internal::LineSolve MakeLineSolve(int n, double r, double decay_part, const FaceBoundary& lower,
+                                  const FaceBoundary& upper) {
+  internal::LineSolve f;
+  const double base = 1.0 + decay_part + 2.0 * r;
+  std::vector<double> diagonal(static_cast<std::size_t>(n), base);
+  if (lower.kind == BoundaryKind::kPeriodic) {
+    if (n <= 2) {  // the neighbours on both sides are the same voxel (n = 2) or the voxel itself
+      diagonal.assign(static_cast<std::size_t>(n), n == 1 ? 1.0 + decay_part : base);
+      Factor(diagonal, n == 1 ? 0.0 : 2.0 * r, &f);
+      return f;
+    }
+    // Sherman–Morrison: A = T + u vᵀ, u = (γ, 0, …, −r), v = (1, 0, …, −r/γ), γ = −base.
+    const double gamma = -base;
+    diagonal.front() = base - gamma;
+    diagonal.back() = base - r * r / gamma;
+    Factor(diagonal, r, &f);
+    std::vector<double> z(static_cast<std::size_t>(n), 0.0);
+    z.front() = gamma;
+    z.back() = -r;
+    SolveStridedLines(f, z.data(), n, 1, 1);
+    f.periodic_corner = -r / gamma;
+    f.periodic_scale = 1.0 / (1.0 + z.front() + f.periodic_corner * z.back());
+    f.periodic_z = std::move(z);
+    return f;
+  }
+  const auto face = [&](const FaceBoundary& b, double* row, double* rhs) {
+    *row += b.kind == BoundaryKind::kFixed ? r : -r;
+    *rhs = b.kind == BoundaryKind::kFixed ? 2.0 * r * b.value : 0.0;
+  };
+  double lower_face = 0.0;
+  double upper_face = 0.0;
+  face(lower, &diagonal.front(), &lower_face);
+  face(upper, &diagonal.back(), &upper_face);
+  Factor(diagonal, r, &f);
+  f.lower_face = lower_face;
+  f.upper_face = upper_face;
+  return f;
+}
+
+// The sources of one voxel: c ← (c + Δt (S c* + R)) / (1 + Δt (S + U)), over n voxels.
+void ApplySources(double dt, std::int64_t n, double* c, const double* secretion,
+                  const double* target, const double* uptake, const double* source) {
+  for (std::int64_t i = 0; i < n; ++i) {
+    c[i] = (c[i] + dt * (target[i] + source[i])) / (1.0 + dt * (secretion[i] + uptake[i]));
+  }
+}
+
+// `count` ≤ kLinesTogether contiguous x lines of n values from c (the sources applied first when
+// `sources` is not null), solved together: the same operations per line as SolveStridedLines, the
+// lines' recurrences interleaved so that the processor overlaps them.
+void SolveXLines(const internal::LineSolve& f, double* c, std::int64_t n, int count,
+                 const double* const* sources, double dt) {
+  if (sources != nullptr) {
+    ApplySources(dt, count * n, c, sources[0], sources[1], sources[2], sources[3]);
+  }
+  double* line[kLinesTogether];
+  for (int k = 0; k < count; ++k) {
+    line[k] = c + k * n;
+    line[k][0] += f.lower_face;
+    line[k][n - 1] += f.upper_face;
+    line[k][0] *= f.inverse_pivot[0];
+  }
+  for (std::int64_t i = 1; i < n; ++i) {
+    const double inverse = f.inverse_pivot[i];
+    for (int k = 0; k < count; ++k) line[k][i] = (line[k][i] + f.off * line[k][i - 1]) * inverse;
+  }
+  for (std::int64_t i = n - 2; i >= 0; --i) {
+    const double upper = f.upper[i];
+    for (int k = 0; k < count; ++k) line[k][i] -= upper * line[k][i + 1];
+  }
+  if (f.periodic_z.empty()) return;
+  for (int k = 0; k < count; ++k) {
+    const double y = (line[k][0] + f.periodic_corner * line[k][n - 1]) * f.periodic_scale;
+    for (std::int64_t i = 0; i < n; ++i) line[k][i] -= y * f.periodic_z[i];
+  }
+}
+
+}  // namespace
+
+void FieldSet::FactorLines(double dt) {
+  const std::array<int, 3> n = grid_.cells();
+  const int k = grid_.dimension;
+  const double h2 = grid_.spacing * grid_.spacing;
+  line_solves_.clear();
+  for (const Substrate& sub : substrates_) {
+    for (int a = 0; a < 3; ++a) {
+      if (a >= k) {
+        line_solves_.emplace_back();
+        continue;
+      }
+      line_solves_.push_back(MakeLineSolve(n[a], sub.diffusion * dt / h2, dt * sub.decay / k,
+                                           sub.boundary[2 * a], sub.boundary[2 * a + 1]));
+    }
+  }
+  line_solves_dt_ = dt;
+}
+
+void FieldSet::SolveAxis(int s, int axis) {
+  const std::array<int, 3> n = grid_.cells();
+  const internal::LineSolve& f = line_solves_[static_cast<std::size_t>(3 * s + axis)];
+  double* c = values_[static_cast<std::size_t>(s)].data();
+  const std::int64_t nx = n[0];
+  const std::int64_t plane = nx * n[1];
+  const int threads = internal::TeamSize(threads_, plane * n[2]);
+  if (axis == 0) {
+    const std::int64_t lines = plane / nx * n[2];
+    const std::int64_t groups = (lines + kLinesTogether - 1) / kLinesTogether;
+    const auto u = static_cast<std::size_t>(s);
+    const double dt = line_solves_dt_;
+    const bool with_sources = sources_written_[u] != 0;
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+    for (std::int64_t g = 0; g < groups; ++g) {
+      const std::int64_t begin = g * kLinesTogether * nx;
+      const double* sources[4] = {secretion_[u].data() + begin, secretion_target_[u].data() + begin,
+                                  uptake_[u].data() + begin, source_[u].data() + begin};
+      SolveXLines(
+          f, c + begin, nx,
+          static_cast<int>(std::min<std::int64_t>(kLinesTogether, lines - g * kLinesTogether)),
+          with_sources ? sources : nullptr, dt);
+    }
+    return;
+  }
+  // y: per z plane, rows of x at stride nx; z: per y row, rows of x at stride nx n_y.
+  const std::int64_t length = n[axis];
+  const std::int64_t stride = axis == 1 ? nx : plane;
+  const std::int64_t outer = axis == 1 ? n[2] : n[1];
+  const std::int64_t outer_stride = axis == 1 ? plane : nx;
+  const std::int64_t width =
+      std::min(nx, std::max<std::int64_t>(kBlockDoubles / length / 8 * 8, 8));
+  const std::int64_t blocks = (nx + width - 1) / width;
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+  for (std::int64_t item = 0; item < outer * blocks; ++item) {
+    const std::int64_t begin = item % blocks * width;
+    SolveStridedLines(f, c + item / blocks * outer_stride + begin, length, stride,
+                      std::min(width, nx - begin));
+  }
+}
+
+void FieldSet::Step(double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    throw InputError("dt", fmt::format("must be > 0 and finite (got {})", dt));
+  }
+  if (dt != line_solves_dt_) FactorLines(dt);
+  for (int s = 0; s < substrate_count(); ++s) {
+    for (int a = 0; a < grid_.dimension; ++a) SolveAxis(s, a);
+  }
+  time_ += dt;
+  ++steps_;
+}
+
+}  // namespace moreau::fields
