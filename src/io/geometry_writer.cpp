@@ -23,7 +23,8 @@ void AppendAscii(const char* type, const char* name, int components, const std::
       type, name, components);
   for (const T& v : values) {
     if constexpr (std::is_floating_point_v<T>) {
-      out += " " + internal::FormatDouble(v);
+      out += ' ';
+      out += internal::FormatDouble(v);
     } else {
       out += fmt::format(" {}", v);
     }
