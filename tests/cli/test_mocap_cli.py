@@ -300,7 +300,8 @@ def test_evaluate_gaps_hides_a_segment_at_the_end_and_reports_every_measure(tmp_
         rows = list(csv.DictReader(f))
     assert list(rows[0].keys()) == EVALUATION_COLUMNS + [
         "gap_seconds", "status", "p90_error", "velocity_error", "acceleration_error",
-        "velocity_jump_start", "velocity_jump_end", "distance_deviation", "distance_z", "outcome"]
+        "velocity_jump_start", "velocity_jump_end", "distance_deviation", "distance_z", "outcome",
+        "prior_reason"]
     assert len(rows) == 2 * 2 * 3
     for trial in ("0", "1"):
         group = [x for x in rows if x["trial"] == trial]
