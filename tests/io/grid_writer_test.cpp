@@ -340,7 +340,9 @@ TEST(GridWriters, BadGridsThrowBeforeAnyFileIsMade) {
       {{3, {0, 0, 0}, 1.0, {2, 0, 2}}, "cells: n_y must be ≥ 1, got 0"},
       {{2, {0, 0, 0}, 1.0, {2, 2, 3}}, "cells: n_z must be 1 in 2D, got 3"},
   };
-  for (const auto& [grid, needle] : bad) {
+  for (const auto& entry : bad) {
+    const GridSpec& grid = entry.first;
+    const auto& needle = entry.second;
     ExpectInputError([&] { MakeHdf5GridWriter(h5, grid); }, h5, needle);
     ExpectInputError([&] { MakeVtiSeriesWriter(dir.path(), "fields", grid); }, pvd, needle);
   }
