@@ -10,6 +10,15 @@
 
 namespace moreau::io::internal {
 
+namespace {
+// No clean-up of HDF5 at exit. A file whose close failed (a full disk: closing flushes, and the
+// flush fails again) stays half-closed inside HDF5, and the library's exit handler that closes it
+// once more dereferences freed state and crashes the process after its error was reported. Every
+// writer closes its file itself, so the exit handler has nothing left to do; H5dont_atexit must
+// come before HDF5's first call, hence a static initialiser.
+[[maybe_unused]] const bool kNoHdf5ExitHandler = H5dont_atexit() >= 0;
+}  // namespace
+
 Hdf5File::Hdf5File(std::filesystem::path path, int compression)
     : path_(std::move(path)), compression_(compression) {
   // The library never prints: errors are turned into exceptions below.
