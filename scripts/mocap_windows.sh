@@ -4,7 +4,8 @@
 # at its start and at its end, gap lengths 0.2, 0.5, 1 and 2 s (the longest dropped while they do
 # not fit), 10 seeded trials per length. Writes docs/results/mocap/ocp_windows.csv: per recording,
 # K, placement and gap length, the hidden markers' gaps and how many the optimal control filled
-# (the others kept the prior: the window did not converge or the guard turned it down).
+# (the others kept the prior: the window did not converge, or it converged and the guard turned
+# it down, counted in rejected_by_guard).
 #
 #   scripts/mocap_windows.sh MOREAU [DATA]     (about 10 minutes on 2 cores)
 set -euo pipefail
@@ -29,10 +30,11 @@ work, dest = pathlib.Path(sys.argv[1]), sys.argv[2]
 with open(dest, "w", newline="") as f:
     w = csv.writer(f, lineterminator="\n")
     w.writerow(["recording", "markers_per_gap", "placement", "gap_seconds", "gaps",
-                "optimal_control", "prior", "unfilled"])
+                "optimal_control", "prior", "rejected_by_guard", "unfilled"])
     for path in sorted(work.glob("*/summary.json")):
         recording, k, placement = path.parent.name.rsplit("-", 2)
         for s in json.loads(path.read_text())["statistics"]:
             w.writerow([recording, k, placement, s["gap_seconds"], s["gaps"],
-                        s["optimal_control"], s["prior"], s["failed"]])
+                        s["optimal_control"], s["prior"], s["rejected_by_guard"],
+                        s["failed"]])
 PY

@@ -89,3 +89,25 @@ def test_docs_mocap_quotes_the_committed_window_counts():
         share = 100 * sum(int(r["optimal_control"]) for r in mine) / sum(int(r["gaps"]) for r in mine)
         text = "100 %" if share == 100 else f"{share:.1f} %"
         assert f"{recording} {text}" in page or f"{recording} and " in page, recording
+
+
+def test_docs_mocap_quotes_the_committed_solved_windows():
+    # Solved to tolerance: filled by the optimal control, or converged and turned down by the guard.
+    with open(ROOT / "docs/results/mocap/ocp_windows.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert all(0 <= int(r["rejected_by_guard"]) <= int(r["prior"]) for r in rows)
+    solved = sum(int(r["optimal_control"]) + int(r["rejected_by_guard"]) for r in rows)
+    gaps = sum(int(r["gaps"]) for r in rows)
+    rejected = sum(int(r["rejected_by_guard"]) for r in rows)
+    page = re.sub(r"\s+", " ", (ROOT / "docs/mocap.md").read_text())
+    assert f"(`rejected_by_guard`, {rejected} gaps" in page
+    assert f"{solved} of {gaps} gaps ({100 * solved / gaps:.1f} %)" in page
+    for recording in {r["recording"] for r in rows}:
+        mine = [r for r in rows if r["recording"] == recording]
+        share = 100 * sum(int(r["optimal_control"]) + int(r["rejected_by_guard"])
+                          for r in mine) / sum(int(r["gaps"]) for r in mine)
+        sentence = page[page.index("Windows solved to tolerance"):].split(". ")[0]
+        if share == 100:
+            assert recording in sentence.split(" 100 %")[0], recording
+        else:
+            assert f"{recording} {share:.1f} %" in sentence, recording
