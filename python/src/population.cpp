@@ -247,6 +247,8 @@ void BindViews(py::class_<Population>& c) {
 
 }  // namespace
 
+void BindPopulationFields(py::class_<Population>& c);  // population_fields.cpp
+
 void RegisterPopulation(py::module_& m) {
   BindVariable(m);
   py::class_<Population> c(m, "Population",
@@ -277,6 +279,7 @@ void RegisterPopulation(py::module_& m) {
         "domain (its radii are the agents'). Keyword arguments are EngineOptions fields.");
   BindRuns(c);
   BindViews(c);
+  BindPopulationFields(c);
   c.def_property_readonly("count", &Population::count)
       .def_property_readonly("dimension",
                              [](const Population& p) { return p.engine().dimension(); })

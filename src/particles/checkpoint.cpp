@@ -113,6 +113,53 @@ EngineState EngineState::FromJson(const nlohmann::json& j) {
   return s;
 }
 
+namespace {
+
+// Arrays of doubles as CBOR byte strings (the machine's little-endian doubles, every bit kept).
+nlohmann::json BytesOf(const std::vector<std::vector<double>>& arrays) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::vector<double>& a : arrays) {
+    std::vector<std::uint8_t> bytes(a.size() * sizeof(double));
+    if (!a.empty()) std::memcpy(bytes.data(), a.data(), bytes.size());
+    out.push_back(nlohmann::json::binary(std::move(bytes)));
+  }
+  return out;
+}
+
+void GetBytes(const nlohmann::json& j, const char* key, std::vector<std::vector<double>>* out) {
+  const auto it = j.find(key);
+  if (it == j.end() || !it->is_array()) {
+    throw InputError(fmt::format("checkpoint: fields.{} is missing", key));
+  }
+  for (const nlohmann::json& item : *it) {
+    if (!item.is_binary() || item.get_binary().size() % sizeof(double) != 0) {
+      throw InputError(fmt::format("checkpoint: fields.{} is not an array of doubles", key));
+    }
+    const auto& bytes = item.get_binary();
+    std::vector<double> a(bytes.size() / sizeof(double));
+    if (!a.empty()) std::memcpy(a.data(), bytes.data(), bytes.size());
+    out->push_back(std::move(a));
+  }
+}
+
+nlohmann::json FieldsJson(const PopulationState& s) {
+  return {{"values", BytesOf(s.field_values)},
+          {"samples", BytesOf(s.field_samples)},
+          {"gradients", BytesOf(s.field_gradients)},
+          {"time", s.field_time},
+          {"steps", s.field_steps}};
+}
+
+void FieldsFromJson(const nlohmann::json& j, PopulationState* s) {
+  GetBytes(j, "values", &s->field_values);
+  GetBytes(j, "samples", &s->field_samples);
+  GetBytes(j, "gradients", &s->field_gradients);
+  Get(j, "time", &s->field_time);
+  Get(j, "steps", &s->field_steps);
+}
+
+}  // namespace
+
 nlohmann::json PopulationState::ToJson() const {
   nlohmann::json a = nlohmann::json::object();
   for (const Agent& x : agents) {
@@ -126,7 +173,7 @@ nlohmann::json PopulationState::ToJson() const {
     a["mother"].push_back(x.mother);
   }
   const PopulationSummary& c = counters;
-  return {{"agents", a},
+  nlohmann::json j = {{"agents", a},
           {"variables", variables},
           {"last_positions", last_positions},
           {"last_deaths", last_deaths},
@@ -145,6 +192,8 @@ nlohmann::json PopulationState::ToJson() const {
             {"max_overlap_before", c.max_overlap_before},
             {"rules_seconds", c.rules_seconds},
             {"total_seconds", c.total_seconds}}}};
+  if (!field_values.empty()) j["fields"] = FieldsJson(*this);
+  return j;
 }
 
 namespace {
@@ -215,6 +264,7 @@ PopulationState PopulationState::FromJson(const nlohmann::json& j, EngineState e
   Get(*it, "max_overlap_before", &c.max_overlap_before);
   Get(*it, "rules_seconds", &c.rules_seconds);
   Get(*it, "total_seconds", &c.total_seconds);
+  if (const auto f = j.find("fields"); f != j.end()) FieldsFromJson(*f, &s);
   return s;
 }
 

@@ -119,7 +119,8 @@ std::vector<double> Population::ActiveVelocities() const {
   const int k = geometry_.dimension;
   bool any = false;
   for (const AgentType& t : rules_.types) any = any || t.speed > 0.0;
-  if (!any) return {};
+  const bool chemotaxis = HasChemotaxis();
+  if (!any && !chemotaxis) return {};
   std::vector<double> v(static_cast<std::size_t>(k) * agents_.size());
   for (std::size_t i = 0; i < agents_.size(); ++i) {
     const double speed = rules_.types[static_cast<std::size_t>(agents_[i].type)].speed;
@@ -128,6 +129,7 @@ std::vector<double> Population::ActiveVelocities() const {
           speed * agents_[i].polarity[static_cast<std::size_t>(a)];
     }
   }
+  if (chemotaxis) AddFieldDrift(&v);  // χ ∇c / (1 + |∇c|/g), population_fields.h
   return v;
 }
 
@@ -278,6 +280,7 @@ void Population::ApplyRules() {
     aligns = aligns || t.alignment > 0.0;
     inhibits = inhibits || t.max_contacts > 0.0;
   }
+  if (fields_) StepFields(x, dt);  // deposit, step, sample: before the rules read the samples
   std::vector<std::uint8_t> divide, die;
   if (rule_) ApplyUserRule(&divide, &die);
   rules_pending_ = false;  // from here on nothing is redone: an error stops or is final
@@ -292,10 +295,15 @@ void Population::ApplyRules() {
   std::int64_t births = 0;
   for (std::size_t i = 0; i < agents_.size(); ++i) {
     Agent a = agents_[i];
+    bool starved = false;  // below a proliferation threshold
+    if (fields_ && FieldFate(i, &a, &starved)) {
+      Depart(a.id, false);  // necrosis
+      continue;
+    }
     const AgentType& type = rules_.types[static_cast<std::size_t>(a.type)];
     const double* xi = x.data() + uk * i;
-    const bool inhibited =
-        type.max_contacts > 0.0 && static_cast<double>(contacts[i]) >= type.max_contacts;
+    const bool inhibited = starved || (type.max_contacts > 0.0 &&
+                                       static_cast<double>(contacts[i]) >= type.max_contacts);
     if (!inhibited) a.radius += type.growth_rate * dt;
     a.age += dt;
     if (!die.empty() && die[i] != 0) {  // the user rule's death
@@ -326,8 +334,20 @@ void Population::ApplyRules() {
     Stop(Termination::kCompleted, fmt::format("no agents left at step {}", step));
     return;
   }
+  samples_current_ = false;  // the samples are the old roster's until AfterRepopulate
   motility_ = ActiveVelocities();
   engine_.Repopulate(ModelOf(geometry_, rules_, agents_), y, motility_);
+  AfterRepopulate();
+  summary_.rules_seconds += stopwatch.Seconds();
+  if (rules_.max_count > 0 && count() >= rules_.max_count) {
+    Stop(Termination::kCompleted, fmt::format("the count reached {} (max_count {}) at step {}",
+                                              count(), rules_.max_count, step));
+  }
+}
+
+// The overlap right after the repopulation, the relaxation, the positions velocity alignment
+// reads, and with fields the samples at the new positions and the chemotaxis they give.
+void Population::AfterRepopulate() {
   overlap_before_ = engine_.MaxPairOverlap();
   summary_.max_overlap_before = std::max(summary_.max_overlap_before, overlap_before_);
   if (rules_.relax) {
@@ -338,11 +358,11 @@ void Population::ApplyRules() {
   bool follows_velocity = false;
   for (const AgentType& t : rules_.types) follows_velocity |= t.velocity_alignment > 0.0;
   if (follows_velocity) last_positions_ = engine_.Positions();
-  summary_.rules_seconds += stopwatch.Seconds();
-  if (rules_.max_count > 0 && count() >= rules_.max_count) {
-    Stop(Termination::kCompleted, fmt::format("the count reached {} (max_count {}) at step {}",
-                                              count(), rules_.max_count, step));
-  }
+  if (!fields_) return;
+  SampleFields();
+  if (!HasChemotaxis()) return;
+  motility_ = ActiveVelocities();
+  engine_.SetActiveVelocities(motility_);
 }
 
 bool Population::Step() {

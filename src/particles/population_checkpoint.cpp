@@ -38,6 +38,22 @@ void CheckPopulationState(const PopulationState& s, const PopulationRules& rules
 
 }  // namespace
 
+// The fields' values and the samples (the state's agents are already in place).
+void Population::RestoreFields(const PopulationState& s) {
+  const auto substrates = static_cast<std::size_t>(fields_->substrate_count());
+  const std::size_t n = agents_.size(), k = static_cast<std::size_t>(geometry_.dimension);
+  bool fits = s.field_values.size() == substrates && s.field_samples.size() == substrates &&
+              s.field_gradients.size() == substrates;
+  for (std::size_t f = 0; fits && f < substrates; ++f) {
+    fits = s.field_samples[f].size() == n && s.field_gradients[f].size() == k * n;
+  }
+  if (!fits) throw InputError("checkpoint: the fields' state does not fit the population's fields");
+  fields_->Restore(s.field_values, s.field_time, s.field_steps);
+  field_samples_ = s.field_samples;
+  field_gradients_ = s.field_gradients;
+  samples_current_ = true;
+}
+
 PopulationState Population::SaveState() const {
   PopulationState s;
   s.engine = engine_.SaveState();
@@ -51,6 +67,16 @@ PopulationState Population::SaveState() const {
   s.counters.settings = {};
   s.overlap_before = overlap_before_;
   s.stopped = stopped_;
+  if (fields_) {
+    for (int f = 0; f < fields_->substrate_count(); ++f) {
+      const std::span<const double> v = fields_->values(f);
+      s.field_values.emplace_back(v.begin(), v.end());
+    }
+    s.field_samples = field_samples_;
+    s.field_gradients = field_gradients_;
+    s.field_time = fields_->time();
+    s.field_steps = fields_->steps();
+  }
   return s;
 }
 
@@ -76,6 +102,7 @@ void Population::RestoreState(const PopulationState& s) {
   variables_ = s.variables;
   ids_.clear();
   for (const Agent& a : agents_) ids_.insert(a.id);
+  if (fields_) RestoreFields(s);
   motility_ = ActiveVelocities();
   drifting_ = false;
   engine_.Repopulate(ModelOf(geometry_, rules_, agents_), x, motility_);

@@ -9,6 +9,7 @@
 #include "moreau/common/random.h"
 #include "moreau/common/steps.h"
 #include "run/force_fields.h"
+#include "run/fields_scenario.h"
 #include "run/population_scenario.h"
 
 namespace moreau::cli {
@@ -348,6 +349,7 @@ FieldTable<PS> MakeParticleFields() {
       .CapThreads("solver.threads")
       .Text("solver.method", &PS::method, "pbd (the only method of the particle engine)");
   AddPopulationFields(t);
+  AddFieldCouplingFields(t);
   AddOutputFields(t);
   AddChecks(t);
   AddParticleLimitChecks(t);

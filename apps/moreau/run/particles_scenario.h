@@ -58,6 +58,15 @@ struct PopulationSettings {
   particles::Vec3 exit_normal{1.0, 0.0, 0.0};
 };
 
+// [fields] and the types' tables per substrate: diffusing fields the agents are coupled to
+// (docs/fields.md "Agents and fields"); none when no substrate is given.
+struct FieldSettings {
+  std::optional<double> spacing;              // h of the grid over the domain box
+  std::vector<fields::Substrate> substrates;  // [fields.<name>], in the order of their names
+  particles::FieldCouplingOptions coupling;   // interpolation, substeps, the types' responses
+  bool enabled() const { return !substrates.empty(); }
+};
+
 struct ParticleScenario {
   std::string kind = "particles";
   int dimension = 2;             // 2 or 3
@@ -85,6 +94,7 @@ struct ParticleScenario {
   std::string method = "pbd";       // the particle engine runs pbd only
   ParticleOutputSettings output;
   PopulationSettings population;
+  FieldSettings fields;
 
   bool is_population() const { return !population.rules.types.empty(); }
   // The rules with the exit plane and, unless population.seed is given, the problem's seed.
@@ -100,6 +110,10 @@ struct ParticleScenario {
   particles::Forces MakeForces() const;
   // The engine options with the seed of [problem].
   particles::EngineOptions MakeEngineOptions() const;
+  // The fields over the domain box (periodic faces on the periodic axes), on `threads` threads.
+  // Throws InputError naming the scenario key (fields.spacing, fields.<substrate>.<key>).
+  fields::FieldSet MakeFields(int threads) const;
+  fields::Grid FieldGrid() const;  // the grid of MakeFields
 };
 
 // The checks of sizes and geometry (particles_limits.cpp): frames and in-memory series against

@@ -1,5 +1,7 @@
 #include "run/population_frames.h"
 
+#include <cstring>
+
 #include <filesystem>
 #include <string_view>
 
@@ -120,6 +122,39 @@ PopulationFrames::PopulationFrames(OutputDir& out, const ParticleScenario& scena
     std::filesystem::create_directories(dir);
     writers_.push_back(io::MakeVtuSeriesWriter(dir, "frame", lists));
   }
+  if (!scenario.fields.enabled()) return;
+  const fields::Grid g = scenario.FieldGrid();
+  io::GridSpec spec;
+  spec.dimension = g.dimension;
+  spec.origin = g.lower;
+  spec.spacing = g.spacing;
+  spec.cells = g.cells();
+  for (const fields::Substrate& sub : scenario.fields.substrates) substrate_names_.push_back(sub.name);
+  if (scenario.output.hdf5) {
+    out.Stage("fields.xdmf");
+    grid_writers_.push_back(io::MakeHdf5GridWriter(out.Stage("fields.h5"), spec));
+  }
+  if (scenario.output.vtu) {
+    const std::filesystem::path dir = out.Stage("vti");
+    std::filesystem::create_directories(dir);
+    grid_writers_.push_back(io::MakeVtiSeriesWriter(dir, "fields", spec));
+  }
+}
+
+void PopulationFrames::EmitFields(std::int64_t step, double t,
+                                  const std::vector<std::vector<double>>& values) {
+  if (keep_frames_) {
+    nlohmann::json bytes = nlohmann::json::array();
+    for (const std::vector<double>& v : values) {
+      std::vector<std::uint8_t> b(v.size() * sizeof(double));
+      if (!v.empty()) std::memcpy(b.data(), v.data(), b.size());
+      bytes.push_back(nlohmann::json::binary(std::move(b)));
+    }
+    kept_fields_.push_back({{"step", step}, {"t", t}, {"values", std::move(bytes)}});
+  }
+  std::vector<io::GridArray> arrays;
+  for (std::size_t s = 0; s < values.size(); ++s) arrays.push_back({substrate_names_[s], values[s]});
+  for (auto& writer : grid_writers_) writer->Write({step, t, arrays});
 }
 
 void PopulationFrames::Write(const particles::Population& p, const Lineage& lineage, bool force) {
@@ -149,6 +184,12 @@ void PopulationFrames::Write(const particles::Population& p, const Lineage& line
     variables.emplace_back(p.variable(v).begin(), p.variable(v).end());
   }
   Emit(p.engine().step(), p.engine().time(), p.engine().dimension(), x, variables);
+  if (grid_writers_.empty() || p.fields() == nullptr) return;
+  std::vector<std::vector<double>> values;
+  for (int s = 0; s < p.fields()->substrate_count(); ++s) {
+    values.emplace_back(p.fields()->values(s).begin(), p.fields()->values(s).end());
+  }
+  EmitFields(p.engine().step(), p.engine().time(), values);
 }
 
 void PopulationFrames::Emit(std::int64_t step, double t, int k, const std::vector<double>& x,
@@ -189,7 +230,9 @@ void PopulationFrames::Emit(std::int64_t step, double t, int k, const std::vecto
 }
 
 nlohmann::json PopulationFrames::State() const {
-  return {{"frames", kept_}, {"last_slot", last_slot_}};
+  nlohmann::json j = {{"frames", kept_}, {"last_slot", last_slot_}};
+  if (!grid_writers_.empty()) j["field_frames"] = kept_fields_;
+  return j;
 }
 
 void PopulationFrames::Resume(const nlohmann::json& state) {
@@ -222,13 +265,32 @@ void PopulationFrames::Resume(const nlohmann::json& state) {
       Emit(f.at("step").get<std::int64_t>(), f.at("t").get<double>(), k, x, variables);
     }
     state.at("last_slot").get_to(last_slot_);
+    if (!grid_writers_.empty()) ResumeFields(state.at("field_frames"));
   } catch (const nlohmann::json::exception&) {
     throw InputError("checkpoint: the run's frames are malformed");
   }
 }
 
+// The kept frames of the fields (State): written again, bit for bit.
+void PopulationFrames::ResumeFields(const nlohmann::json& frames) {
+  for (const nlohmann::json& f : frames) {
+    std::vector<std::vector<double>> values;
+    for (const nlohmann::json& item : f.at("values")) {
+      const auto& bytes = item.get_binary();
+      std::vector<double> v(bytes.size() / sizeof(double));
+      if (!v.empty()) std::memcpy(v.data(), bytes.data(), v.size() * sizeof(double));
+      values.push_back(std::move(v));
+    }
+    if (values.size() != substrate_names_.size()) {
+      throw InputError("checkpoint: a frame of the fields does not fit the run");
+    }
+    EmitFields(f.at("step").get<std::int64_t>(), f.at("t").get<double>(), values);
+  }
+}
+
 void PopulationFrames::Close() {
   for (auto& writer : writers_) writer->Close();
+  for (auto& writer : grid_writers_) writer->Close();
 }
 
 }  // namespace moreau::cli

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "moreau/io/grid_writer.h"
 #include "moreau/io/trajectory.h"
 #include "moreau/particles/population.h"
 #include "output.h"
@@ -56,7 +57,8 @@ class Lineage {
 // (3 components), contacts (the engine's ContactCounts with the rules' contact_factor) and each
 // user variable by its name ("variable_NAME" when the name is taken or has a '/'), with the
 // types' names as the string list "type_names"; written at the rule steps that cross a multiple
-// of the stride.
+// of the stride. With diffusing fields the same frames of every substrate (by its name) go to
+// fields.h5 + fields.xdmf (with the trajectory's HDF5) and vti/fields.pvd (with its VTU).
 class PopulationFrames {
  public:
   PopulationFrames(OutputDir& out, const ParticleScenario& scenario, std::int64_t stride);
@@ -73,14 +75,20 @@ class PopulationFrames {
   // Writes the frame held in the member arrays (and keeps it when asked).
   void Emit(std::int64_t step, double t, int k, const std::vector<double>& x,
             const std::vector<std::vector<double>>& variables);
+  // Writes one frame of the fields (per substrate its values) and keeps it when asked.
+  void EmitFields(std::int64_t step, double t, const std::vector<std::vector<double>>& values);
+  void ResumeFields(const nlohmann::json& frames);
   std::int64_t stride_;
   std::int64_t last_slot_ = -1;
   std::vector<std::unique_ptr<io::TrajectoryWriter>> writers_;
+  std::vector<std::unique_ptr<io::GridWriter>> grid_writers_;  // fields.h5, vti/fields.pvd
+  std::vector<std::string> substrate_names_;
   std::vector<std::string> variable_names_;  // the array name of each user variable
   std::vector<std::int64_t> ids_, type_, generation_, divisions_, mother_, display_, contacts_;
   std::vector<double> radii_, age_, polarity_;
   bool keep_frames_ = false;
   nlohmann::json kept_ = nlohmann::json::array();  // the frames written so far
+  nlohmann::json kept_fields_ = nlohmann::json::array();  // the fields' frames written so far
 };
 
 }  // namespace moreau::cli

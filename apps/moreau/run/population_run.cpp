@@ -62,6 +62,12 @@ particles::Population SetUpPopulationRun(const ParticleScenario& scenario, const
     population.emplace(std::move(model), scenario.MakeForces(), scenario.MakeEngineOptions(),
                        scenario.MakeRules(), scenario.InitialTypes(), x0);
   });
+  if (scenario.fields.enabled()) {
+    WithKey(file, "", [&] {
+      population->CoupleFields(scenario.MakeFields(population->engine().threads()),
+                               scenario.fields.coupling);
+    });
+  }
   return std::move(*population);
 }
 
@@ -188,11 +194,16 @@ std::string ReportPopulationRun(const particles::Population& population,
   const particles::PopulationSummary& s = result.summary;
   return fmt::format(
       "{}\nagents: {} (births {}, deaths {}, removals {}){}{}\n"
-      "wrote {}/summary.json, population.csv, agents.csv, lineage.csv{}{}{}\n",
+      "wrote {}/summary.json, population.csv, agents.csv, lineage.csv{}{}{}{}\n",
       s.engine.BriefReport(), population.count(), s.births, s.deaths, s.removals,
       s.message.empty() ? "" : " — ", s.message, out.dir().string(),
       result.hdf5 ? ", trajectory.h5 + .xdmf" : "", result.vtu ? ", vtu/frame.pvd" : "",
-      result.geometry ? ", geometry.vtp" : "");
+      result.geometry ? ", geometry.vtp" : "",
+      population.fields() == nullptr ? ""
+      : result.hdf5 && result.vtu    ? ", fields.h5 + .xdmf, vti/fields.pvd"
+      : result.hdf5                  ? ", fields.h5 + .xdmf"
+      : result.vtu                   ? ", vti/fields.pvd"
+                                     : "");
 }
 
 }  // namespace moreau::cli

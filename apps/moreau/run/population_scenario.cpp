@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "run/fields_scenario.h"
 
 namespace moreau::cli {
 namespace {
@@ -16,7 +17,9 @@ using particles::AgentType;
 
 // One [[types]] table (the keys of AgentType::Fields()); errors name the key as --set does,
 // types.<name>.<key> (types[i].<key> while the type has no name).
-AgentType ReadType(const Scenario& sc, const std::string& at, const toml::table& t) {
+// A table inside the entry is the type's response to a substrate (run/fields_scenario.h).
+AgentType ReadType(const Scenario& sc, const std::string& at, const toml::table& t,
+                   FieldSettings* fields) {
   AgentType a;
   if (!t.contains("name")) sc.Fail(at + ".name", "required key is missing");
   const std::string why = AgentType::Fields().Find("name")->set(a, NodeToJson(*t.get("name")));
@@ -24,6 +27,10 @@ AgentType ReadType(const Scenario& sc, const std::string& at, const toml::table&
   const std::string prefix = "types." + a.name;
   for (const auto& [key, node] : t) {
     const std::string field(key.str());
+    if (const toml::table* sub = node.as_table(); sub != nullptr) {
+      ReadSubstrateResponse(sc, a.name, field, *sub, fields);
+      continue;
+    }
     const auto* f = AgentType::Fields().Find(field);
     if (f == nullptr) sc.Fail(prefix + "." + field, "unknown key");
     const std::string reason = f->set(a, NodeToJson(node));
@@ -40,7 +47,8 @@ void ReadTypes(Scenario& sc, PS& s, const std::string& key) {
   for (std::size_t i = 0; i < arr->size(); ++i) {
     const toml::table* t = (*arr)[i].as_table();
     if (t == nullptr) sc.Fail(key, "expected an array of tables ([[types]])");
-    s.population.rules.types.push_back(ReadType(sc, fmt::format("{}[{}]", key, i), *t));
+    s.population.rules.types.push_back(
+        ReadType(sc, fmt::format("{}[{}]", key, i), *t, &s.fields));
   }
 }
 

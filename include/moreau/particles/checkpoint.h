@@ -54,6 +54,12 @@ struct PopulationState {
   PopulationSummary counters;  // rule steps, births, …, timings, termination (not engine/settings)
   double overlap_before = 0.0;
   bool stopped = false;
+  // With diffusing fields (Population::CoupleFields): per substrate the grid's values, and the
+  // samples at the agents (N and k·N); the fields' time and step count. A checkpoint stores the
+  // arrays as bytes (CBOR byte strings of little-endian doubles), every bit kept.
+  std::vector<std::vector<double>> field_values, field_samples, field_gradients;
+  double field_time = 0.0;
+  std::int64_t field_steps = 0;
 
   // Everything but `engine` (a checkpoint file stores that in its own part).
   nlohmann::json ToJson() const;

@@ -55,7 +55,9 @@
 #include "moreau/common/enum_names.h"
 #include "moreau/common/field_list.h"
 #include "moreau/common/termination.h"
+#include "moreau/fields/field_set.h"
 #include "moreau/particles/engine.h"
+#include "moreau/particles/population_fields.h"
 
 namespace moreau::particles {
 
@@ -296,6 +298,21 @@ class Population {
   std::span<Agent> MutableAgents() { return agents_; }
   std::span<double> MutableVariable(std::size_t index) { return variables_.at(index); }
   const Engine& engine() const { return engine_; }
+
+  // Diffusing fields (population_fields.h): the population takes `fields` and couples its agents
+  // to them at every rule step (deposit, field steps, samples; proliferation, necrosis and
+  // chemotaxis by the samples), and samples them now. Call before the first step; a grid of
+  // another dimension, or options that do not fit the rules, throw InputError.
+  void CoupleFields(fields::FieldSet fields, FieldCouplingOptions options);
+  // The fields (nullptr without), read and write between steps.
+  const fields::FieldSet* fields() const { return fields_ ? &*fields_ : nullptr; }
+  fields::FieldSet* MutableFields() { return fields_ ? &*fields_ : nullptr; }
+  const FieldCouplingOptions& field_coupling() const { return coupling_; }
+  // Substrate s sampled at every agent (index order) at the last rule step, or at the coupling:
+  // c (N values) and ∇c (k·N). Empty without fields.
+  std::span<const double> FieldSamples(int s) const;
+  std::span<const double> FieldGradients(int s) const;
+
   int count() const { return static_cast<int>(agents_.size()); }
   // The observables now (one pass over the candidate pairs for the contacts).
   PopulationObservables Observe() const;
@@ -324,6 +341,15 @@ class Population {
   void ApplyUserRule(std::vector<std::uint8_t>* divide, std::vector<std::uint8_t>* die);
   void Inherit(std::size_t mother, bool divides, std::vector<std::vector<double>>* next) const;
   PopulationSummary RunTo(std::int64_t last_step, const PopulationObserver& observer);
+  void AfterRepopulate();
+  // Fields (population_coupling.cpp): deposit, steps and samples before the rules; the samples
+  // at the current positions; the necrosis and proliferation rules of agent i (true: it dies).
+  void StepFields(std::span<const double> x, double dt);
+  void SampleFields();
+  bool FieldFate(std::size_t i, Agent* a, bool* starved) const;
+  bool HasChemotaxis() const;
+  void RestoreFields(const PopulationState& s);
+  void AddFieldDrift(std::vector<double>* velocity) const;
 
   ParticleModel geometry_;
   PopulationRules rules_;
@@ -344,6 +370,11 @@ class Population {
   double overlap_before_ = 0.0;
   bool stopped_ = false;
   std::vector<std::int64_t> last_deaths_, last_removals_;
+  std::optional<fields::FieldSet> fields_;
+  FieldCouplingOptions coupling_;
+  std::vector<int> response_index_;  // [type · substrates + substrate]: coupling_.responses, or -1
+  std::vector<std::vector<double>> field_samples_, field_gradients_;  // per substrate
+  bool samples_current_ = false;  // the samples are those of the current roster
 };
 
 inline std::span<const double> PopulationView::positions() const {
