@@ -155,6 +155,12 @@ demo: build
 	  --trials 20 --seed 1 --out $(OUT)/qualisys_evaluation
 	$(MOREAU) fill-gaps $(MOCAP_DATA)/Vicon.c3d --out $(OUT)/vicon_filled
 	PYTHONPATH=$(BUILD)/python $(PYTHON) examples/python/cell_colony.py $(OUT)/python_cell_colony
+	$(MOREAU) run examples/abm/spheroid_3d.toml --out $(OUT)/spheroid
+	$(PYTHON) scripts/plot_field.py $(OUT)/spheroid/fields.h5 --field oxygen --z 0 \
+	  --trajectory $(OUT)/spheroid/trajectory.h5 --out $(OUT)/spheroid/oxygen.png
+	$(MOREAU) run examples/abm/chemotaxis_2d.toml --out $(OUT)/chemotaxis
+	$(PYTHON) scripts/plot_field.py $(OUT)/chemotaxis/fields.h5 --field signal \
+	  --trajectory $(OUT)/chemotaxis/trajectory.h5 --out $(OUT)/chemotaxis/signal.png
 	@echo "demo: figures are in $(OUT)/ (README.md says how to read them)"
 
 # The agent-based examples' outputs that docs/abm.md quotes (docs/results/abm/) and their figures,

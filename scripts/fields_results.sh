@@ -7,7 +7,7 @@
 #                                     (count, radius, oxygen at the surface and the centre, rim
 #                                     thickness, φ, L_eff, theories) and the growth laws' fits
 #   spheroid_oxygen.png               the oxygen through the centre with the cells at the end
-#   rim.csv, rim.png                  the rim thickness at R ≈ 8 for uptake rates 50 … 400
+#   rim.csv, rim.png                  the rim thickness at R ≈ 8 for uptake rates 50, 100, 200
 #   chemotaxis.csv, chemotaxis.png    examples/abm/chemotaxis_2d.toml against χ = 0: mean
 #                                     nearest-neighbour distance and clusters per frame
 #   chemotaxis_t<T>.png               the attractant with the cells at a few times
@@ -31,7 +31,7 @@ PARAMS="lambda=0.5 diffusion=200 c_p=0.3 c_n=0.1 dt=0.1"
   --field oxygen --z 0 --trajectory "$OUT/spheroid/trajectory.h5"
 
 RUNS=()
-for u in 50 100 200 400; do
+for u in 50 100 200; do
   "$MOREAU" run "$SPHEROID" --set types.cell.oxygen.uptake_rate=$u --out "$OUT/u$u" > /dev/null
   RUNS+=("$OUT/u$u:$u")
 done
