@@ -12,7 +12,7 @@ MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON) -DMOREAU_UNITY_BUILD=ON
 
 .PHONY: all deps build python test test-build test-release sanitize-build test-asan test-clients test-fuzz fuzz \
-        fuzz-build demo abm-results bench format clean
+        fuzz-build demo abm-results fields-results bench format clean
 
 all: build
 
@@ -155,12 +155,23 @@ demo: build
 	  --trials 20 --seed 1 --out $(OUT)/qualisys_evaluation
 	$(MOREAU) fill-gaps $(MOCAP_DATA)/Vicon.c3d --out $(OUT)/vicon_filled
 	PYTHONPATH=$(BUILD)/python $(PYTHON) examples/python/cell_colony.py $(OUT)/python_cell_colony
+	$(MOREAU) run examples/abm/spheroid_3d.toml --out $(OUT)/spheroid
+	$(PYTHON) scripts/plot_field.py $(OUT)/spheroid/fields.h5 --field oxygen --z 0 \
+	  --trajectory $(OUT)/spheroid/trajectory.h5 --out $(OUT)/spheroid/oxygen.png
+	$(MOREAU) run examples/abm/chemotaxis_2d.toml --out $(OUT)/chemotaxis
+	$(PYTHON) scripts/plot_field.py $(OUT)/chemotaxis/fields.h5 --field signal \
+	  --trajectory $(OUT)/chemotaxis/trajectory.h5 --out $(OUT)/chemotaxis/signal.png
 	@echo "demo: figures are in $(OUT)/ (README.md says how to read them)"
 
 # The agent-based examples' outputs that docs/abm.md quotes (docs/results/abm/) and their figures,
 # about 30 s (docs/abm.md, "Where the numbers come from"; ABM_RESULTS_FLAGS=--long: the studies too).
 abm-results: build
 	./scripts/abm_results.sh $(MOREAU) $(ABM_RESULTS_FLAGS)
+
+# The fields examples' outputs that docs/fields.md quotes (docs/results/fields/) and their figures:
+# the 3D spheroid, its rim against the diffusion length, chemotactic aggregation (about 4 min).
+fields-results: build
+	./scripts/fields_results.sh $(MOREAU)
 
 # Step sizes of the studies: h0 / 2^k.
 SLIDING_H := 0.4,0.2,0.1,0.05,0.025,0.0125,0.00625,0.003125,0.0015625,0.00078125,0.000390625,0.0001953125,0.00009765625,0.000048828125,0.0000244140625
