@@ -37,6 +37,9 @@ def test_the_example_writes_fields_on_the_trajectory_frames(tmp_path):
     s = summary(out)
     assert s["scenario"]["fields"]["oxygen"]["diffusion"] == 10.0
     assert s["scenario"]["fields"]["interpolation"] == "linear"
+    cell = next(t for t in s["scenario"]["types"] if t["name"] == "cell")
+    assert cell["oxygen"]["uptake_rate"] == 0.5  # the types' responses are echoed too
+    assert cell["oxygen"]["necrotic_type"] == "necrotic"
     with h5py.File(out / "fields.h5", "r") as f, h5py.File(out / "trajectory.h5", "r") as t:
         assert sorted(f["fields"]) == ["oxygen", "signal"]
         assert f["fields/oxygen"].shape[1:] == (32, 32)

@@ -52,9 +52,16 @@ void ReadTypes(Scenario& sc, PS& s, const std::string& key) {
   }
 }
 
+// The types' keys, each with its responses to the substrates (types.<type>.<substrate>.*).
 nlohmann::json EchoTypes(const PS& s) {
   if (!s.is_population()) return nullptr;
-  return s.population.rules.ToJson()["types"];
+  nlohmann::json types = s.population.rules.ToJson()["types"];
+  for (nlohmann::json& type : types) {
+    for (const particles::SubstrateResponse& r : s.fields.coupling.responses) {
+      if (type["name"] == r.type) type[r.substrate] = particles::SubstrateResponse::Fields().ToJson(r);
+    }
+  }
+  return types;
 }
 
 // initial.types: one name, or one name per agent.
