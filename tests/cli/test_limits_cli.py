@@ -126,3 +126,12 @@ def test_running_out_of_memory_is_one_line_naming_what_was_read(tmp_path, write_
     assert len(lines) == 1, r.stderr
     assert lines[0].startswith(f"moreau: out of memory: {scenario}: out of memory while reading the file")
     assert not (tmp_path / "out").exists()
+
+
+def test_the_fields_memory_is_checked_before_the_grid_is_allocated(tmp_path):
+    # A voxel of 1e-3 on the 32 × 32 box of the example: 10^9 voxels, two substrates.
+    example = ROOT / "examples/abm/oxygen_spheroid_2d.toml"
+    r = run_with_address_space(1 << 31, "run", example, "--set", "fields.spacing=0.001",
+                               "--out", tmp_path / "out")
+    line = rejected(r, "fields.spacing", "voxels × 2 substrates need about", "ulimit -v")
+    assert "out of memory" not in line
