@@ -40,7 +40,9 @@ void NamingAllocations(const Scenario& scenario, std::string_view key,
     work();
   } catch (const std::bad_alloc&) {
     throw OutOfMemoryError(
-        fmt::format("{}: {}: out of memory while reading this key", scenario.path(), key));
+        key.empty() ? fmt::format("{}: out of memory while checking the scenario", scenario.path())
+                    : fmt::format("{}: {}: out of memory while reading this key", scenario.path(),
+                                  key));
   }
 }
 
