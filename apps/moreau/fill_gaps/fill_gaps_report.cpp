@@ -113,7 +113,7 @@ int ReportFillGaps(const FillGapsSettings& settings, const FillGapsResult& resul
   OutputDir out(out_dir);
   mocap::WriteRecording(result.filled, out.Stage("filled.c3d"));
   mocap::WriteRecording(result.filled, out.Stage("filled.csv"));
-  out.WriteText("report.json", FillGapsReportJson(settings, result, inputs).dump(2) + "\n");
+  out.WriteText("report.json", JsonText(FillGapsReportJson(settings, result, inputs)) + "\n");
   std::vector<std::string> written = {"filled.c3d", "filled.csv", "report.json"};
   for (const std::string& name : written) {
     if (!IsNonEmptyFile(out.StagedPath(name))) {
