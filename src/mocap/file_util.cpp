@@ -41,8 +41,9 @@ void WriteFileAtomically(const std::filesystem::path& file, std::string_view con
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
     out.close();
     if (!out) {
+      const int error = errno != 0 ? errno : EIO;
       std::filesystem::remove(temporary, ec);
-      Fail(file, "file", "write failed");
+      Fail(file, "file", fmt::format("write failed ({})", std::strerror(error)));
     }
   }
   std::filesystem::rename(temporary, file, ec);
