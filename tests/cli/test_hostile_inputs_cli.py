@@ -48,7 +48,7 @@ def test_a_sweep_of_billions_of_seeds_is_refused_before_they_are_listed(tmp_path
     sweep.write_text(f'command = "run"\nscenario = "{SLIDING}"\nseeds = 4294967297\n')
     out = tmp_path / "out"
     r = run_limited("sweep", sweep, "--out", out)
-    rejected(r, str(sweep), "seeds", "between 1 and 10000000", "4294967297")
+    rejected(r, str(sweep), "seeds", "≤ 10000000", "4294967297")
     nothing_written(out)
 
 
@@ -230,3 +230,25 @@ def test_a_seed_that_is_not_an_integer_says_what_it_got(tmp_path):
     r = run_cli("evaluate-gaps", QUALISYS, "--seed", "1e23", "--trials", "2", "--methods",
                 "linear", "--out", tmp_path / "out")
     rejected(r, "evaluation.seed", "expected an integer, got a number")
+
+
+@pytest.fixture
+def full_disk(tmp_path):
+    """A folder on a 64 KiB tmpfs (mounting needs root: skipped otherwise), unmounted after."""
+    folder = tmp_path / "small"
+    folder.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(folder)],
+                      capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a small tmpfs here (needs root)")
+    yield folder
+    subprocess.run(["umount", str(folder)], check=True)
+
+
+@needs_data
+def test_a_full_disk_is_one_line_naming_the_folder_the_file_and_the_reason(full_disk):
+    r = run_cli("control", OSCILLATOR, "--out", full_disk / "control")
+    rejected(r, f"{full_disk / 'control'}: cannot write", "(No space left on device)")
+    r = run_cli("fill-gaps", QUALISYS, "--method", "linear", "--out", full_disk / "filled")
+    line = rejected(r, str(full_disk / "filled" / "filled.c3d"), "No space left on device")
+    assert ".moreau-staging" not in line
+    assert not any(full_disk.iterdir()), list(full_disk.iterdir())

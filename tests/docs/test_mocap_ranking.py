@@ -89,3 +89,14 @@ def test_docs_mocap_quotes_the_committed_window_counts():
         share = 100 * sum(int(r["optimal_control"]) for r in mine) / sum(int(r["gaps"]) for r in mine)
         text = "100 %" if share == 100 else f"{share:.1f} %"
         assert f"{recording} {text}" in page or f"{recording} and " in page, recording
+
+
+def test_docs_mocap_names_the_tools_default_method():
+    keys = (ROOT / "docs/keys.md").read_text()
+    default = re.search(r"^\| `fill\.method` \|[^|]*\| \"(\w+)\" \|", keys, re.M).group(1)
+    page = re.sub(r"\s+", " ", (ROOT / "docs/mocap.md").read_text())
+    assert f"The default is `{default}`" in page and f"({default}, the default)" in page
+    for other in ("linear", "spline", "pchip", "rigid", "pca", "average", "ocp"):
+        if other != default:
+            assert f"The default is `{other}`" not in page, other
+            assert f"({other}, the default)" not in page, other

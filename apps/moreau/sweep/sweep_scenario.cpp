@@ -76,7 +76,7 @@ void ReadSeeds(Scenario& file, SweepScenario& s, const std::string& key) {
   if (node == nullptr) return;
   if (const auto n = node->value_exact<std::int64_t>()) {
     if (*n < 1 || *n > sweep::Grid::kMaxRuns) {
-      file.Fail(key, fmt::format("must be between 1 and {} (got {})", sweep::Grid::kMaxRuns, *n));
+      file.Fail(key, fmt::format("must be ≥ 1 and ≤ {} (got {})", sweep::Grid::kMaxRuns, *n));
     }
     WithKey(file, key, [&] {
       CheckMemory(fmt::format("{} runs", *n), sweep::Grid::kBytesPerRun * static_cast<double>(*n));
@@ -164,7 +164,7 @@ const FieldTable<SweepScenario>& SweepFields() {
 
 std::string ReadBytes(Scenario& file, const std::string& key, const std::string& path) {
   if (const std::string why = NotAnInputFile(path); !why.empty()) {
-    file.Fail(key, fmt::format("{} {}", path, why));
+    file.Fail(key, fmt::format("cannot read {}: it {}", path, why));
   }
   return ReadInputFile(path);
 }
