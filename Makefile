@@ -71,7 +71,7 @@ endef
 # The unit tests and the fuzz targets in the sanitizer build.
 sanitize-build: deps
 	$(configure-sanitize)
-	+@cmake --build $(ASAN) $(PARALLEL) --target moreau_tests scenario_fuzz c3d_fuzz
+	+@cmake --build $(ASAN) $(PARALLEL) --target moreau_tests scenario_fuzz c3d_fuzz sweep_fuzz gaps_fuzz
 
 # The unit tests except *Slow* under the sanitizers, in JOBS GoogleTest shards side by side; the
 # log of a failing shard is printed (all logs: $(ASAN)/unit_tests.<shard>.log).
@@ -112,12 +112,12 @@ endef
 test-clients: test-build $(CLIENTS_VENV)/installed
 	$(run-clients)
 
-# libFuzzer targets of the scenario and C3D readers (fuzz/, in the sanitizer build): `make fuzz`
+# libFuzzer targets of the scenario, sweep, gap-list and C3D readers (fuzz/, in the sanitizer build): `make fuzz`
 # runs each for FUZZ_SECONDS, `make test` for FUZZ_TEST_SECONDS; a finding fails the run
 # (fuzz/run.sh).
 fuzz-build: deps
 	$(configure-sanitize)
-	+@cmake --build $(ASAN) $(PARALLEL) --target scenario_fuzz c3d_fuzz
+	+@cmake --build $(ASAN) $(PARALLEL) --target scenario_fuzz c3d_fuzz sweep_fuzz gaps_fuzz
 
 fuzz: fuzz-build
 	@./fuzz/run.sh $(ASAN) $(FUZZ_SECONDS) $(MOCAP_DATA)

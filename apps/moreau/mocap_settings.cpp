@@ -44,10 +44,22 @@ CLI::App* AddRecordingCommand(CLI::App& app, const std::string& name,
 
 mocap::Recording ReadRecordingReportingWarnings(const std::string& path,
                                                 const mocap::ReadOptions& options,
-                                                std::vector<std::string>* warnings) {
+                                                std::vector<std::string>* warnings,
+                                                const std::string& allow_truncated) {
   std::vector<std::string> local;
   std::vector<std::string>* out = warnings != nullptr ? warnings : &local;
-  mocap::Recording recording = mocap::ReadRecording(path, options, out);
+  mocap::Recording recording;
+  try {
+    recording = mocap::ReadRecording(path, options, out);
+  } catch (const InputError& e) {
+    std::string message = e.what();
+    constexpr std::string_view kOption = "; allow_truncated reads";
+    if (const std::size_t at = message.find(kOption); at != std::string::npos) {
+      message.replace(at + 2, kOption.size() - 2 - 6, allow_truncated);
+      throw InputError(message);
+    }
+    throw;
+  }
   for (const std::string& w : *out) std::fprintf(stderr, "moreau: warning: %s\n", w.c_str());
   return recording;
 }

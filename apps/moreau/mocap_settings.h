@@ -47,8 +47,11 @@ CLI::App* AddRecordingCommand(CLI::App& app, const std::string& name,
                               const std::string& default_out, std::function<int()> run);
 
 // Reads a recording (format by extension); the reader's warnings go to stderr, one line each.
-mocap::Recording ReadRecordingReportingWarnings(const std::string& path,
-                                                const mocap::ReadOptions& options,
-                                                std::vector<std::string>* warnings = nullptr);
+// A truncated file's error names how the command reads it anyway: `allow_truncated`, the
+// library's option, as the command spells it (inspect: "--allow-truncated").
+mocap::Recording ReadRecordingReportingWarnings(
+    const std::string& path, const mocap::ReadOptions& options,
+    std::vector<std::string>* warnings = nullptr,
+    const std::string& allow_truncated = "--set read.allow_truncated=true");
 
 }  // namespace moreau::cli

@@ -231,11 +231,32 @@ fs::path OutputDir::Stage(const std::string& name) {
 
 void OutputDir::WriteText(const std::string& name, const std::string& content) {
   const fs::path path = Stage(name);
-  std::ofstream out(path, std::ios::binary);
-  out << content;
-  out.close();
-  if (!out) {
-    throw InputError(fmt::format("{}: cannot write {}", dir_.string(), name));
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  bool written = file != nullptr && std::fwrite(content.data(), 1, content.size(), file) ==
+                                        content.size();
+  int error = written ? 0 : errno;
+  if (file != nullptr && std::fclose(file) != 0 && written) {
+    written = false;
+    error = errno;
+  }
+  if (!written) {
+    throw InputError(fmt::format("{}: cannot write {} ({})", dir_.string(), name,
+                                 std::strerror(error != 0 ? error : EIO)));
+  }
+}
+
+void OutputDir::WriteWith(const std::string& name,
+                          const std::function<void(const fs::path&)>& write) {
+  const fs::path path = Stage(name);
+  try {
+    write(path);
+  } catch (const InputError& e) {
+    std::string message = e.what();
+    const std::string staged = path.string();
+    for (std::size_t at; (at = message.find(staged)) != std::string::npos;) {
+      message.replace(at, staged.size(), (dir_ / name).string());
+    }
+    throw InputError(message);
   }
 }
 

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,7 +52,13 @@ class OutputDir {
 
   // The staging path where NAME is to be written (absolute); it is published by Commit().
   std::filesystem::path Stage(const std::string& name);
+  // Writes `content` as file `name`; InputError "DIR: cannot write NAME (REASON)" on failure
+  // (a full disk: "No space left on device").
   void WriteText(const std::string& name, const std::string& content);
+  // Runs write(the staged path of `name`); an InputError it throws names DIR/NAME instead of
+  // the staging folder (a user never sees the staging name).
+  void WriteWith(const std::string& name,
+                 const std::function<void(const std::filesystem::path&)>& write);
   // Where an already staged NAME lies until Commit() (to read it back, e.g. for a figure).
   std::filesystem::path StagedPath(const std::string& name) const { return staging_ / name; }
 

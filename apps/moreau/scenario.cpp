@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/input_file.h"
 #include "moreau/common/memory.h"
 
 namespace moreau::cli {
@@ -68,13 +69,16 @@ const char* TypeName(const toml::node& node) {
   }
 }
 
+// The keys of values, and of empty tables with a "." appended ("bogus." for `[bogus]`).
 void CollectLeafKeys(const toml::table& table, const std::string& prefix,
                      std::vector<std::string>* keys) {
   for (const auto& [k, node] : table) {
     const std::string full =
         prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    if (const toml::table* sub = node.as_table()) {
+    if (const toml::table* sub = node.as_table(); sub != nullptr && !sub->empty()) {
       CollectLeafKeys(*sub, full, keys);
+    } else if (node.is_table()) {
+      keys->push_back(full + ".");
     } else {
       keys->push_back(full);
     }
@@ -112,6 +116,65 @@ std::string Suggestion(std::string_view key, const Range& candidates) {
   return best.empty() ? "" : fmt::format(" (did you mean {}?)", best);
 }
 
+
+// The deepest key path of a TOML text: the parts of a table header or of a dotted key (dots
+// outside quotes), under the last header, plus the inline tables and arrays around the key.
+// It counts only what can nest and parses no value, so it never underestimates. toml++ builds
+// and frees such a path by recursion, so a path thousands of parts deep would overflow the stack;
+// nested inline values are bounded by toml++ itself (TOML_MAX_NESTED_VALUES).
+std::size_t KeyDepth(std::string_view text) {
+  std::size_t deepest = 0;
+  std::size_t header = 0;      // parts of the last table header
+  std::size_t line_key = 0;    // parts of the key of this line's key = value
+  std::size_t parts = 1;       // parts of the key being read
+  bool key = true;             // reading a key (else a value or a header)
+  bool in_header = false;
+  bool line_start = true;
+  std::vector<char> open;      // the inline tables and arrays around the position
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      line_start = open.empty();
+      if (line_start) key = true, parts = 1, line_key = 0, in_header = false;
+      continue;
+    }
+    if (c == ' ' || c == '\t' || c == '\r') continue;
+    if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+      continue;
+    }
+    if (c == '"' || c == '\'') {  // a string or quoted key: skipped to its end
+      const bool triple = text.substr(i, 3) == std::string(3, c);
+      const std::string_view close = triple ? text.substr(i, 3) : text.substr(i, 1);
+      std::size_t j = i + close.size();
+      while (j < text.size() && text.substr(j, close.size()) != close) j += (c == '"' && text[j] == '\\') ? 2 : 1;
+      i = std::min(text.size(), j + close.size()) - 1;
+      line_start = false;
+      continue;
+    }
+    if (line_start && c == '[') {
+      in_header = true, key = false, header = 1;
+    } else if (in_header) {
+      if (c == '.') deepest = std::max(deepest, ++header);
+      if (c == ']') in_header = false;
+    } else if (key && c == '.') {
+      deepest = std::max(deepest, header + line_key + open.size() + ++parts);
+    } else if (key && c == '=') {
+      key = false;
+      if (open.empty()) line_key = parts;
+    } else if (!key && (c == '{' || c == '[')) {
+      open.push_back(c);
+      if (c == '{') key = true, parts = 1;
+    } else if (!key && (c == '}' || c == ']') && !open.empty()) {
+      open.pop_back();
+    } else if (!key && c == ',' && !open.empty() && open.back() == '{') {
+      key = true, parts = 1;
+    }
+    line_start = false;
+  }
+  return deepest;
+}
+
 }  // namespace
 
 Scenario Scenario::Load(const std::string& path, const std::vector<std::string>& overrides) {
@@ -121,20 +184,23 @@ Scenario Scenario::Load(const std::string& path, const std::vector<std::string>&
   if (std::filesystem::is_directory(path, ec)) {
     throw InputError(fmt::format("{}: is a directory, not a scenario file", path));
   }
+  const std::string text = ReadInputFile(path);  // a regular file only: not a FIFO, not /dev/zero
   // toml++ can end the process when an allocation fails inside it (a bad_alloc through a noexcept
   // function), so a file whose parsed tree clearly cannot fit is refused before parsing.
-  if (const auto bytes = std::filesystem::file_size(path, ec); !ec) {
-    constexpr double kParsedBytesPerFileByte = 32.0;  // measured: ≈ 30 for arrays of positions
-    const MemoryLimit limit = AvailableMemory();
-    const double need = kParsedBytesPerFileByte * static_cast<double>(bytes);
-    if (limit.bytes > 0 && need > static_cast<double>(limit.bytes)) {
-      throw OutOfMemoryError(fmt::format(
-          "{}: out of memory while reading the file (about {} as parsed TOML, {} available: {})",
-          path, FormatBytes(need), FormatBytes(static_cast<double>(limit.bytes)), limit.source));
-    }
+  constexpr double kParsedBytesPerFileByte = 32.0;  // measured: ≈ 30 for arrays of positions
+  const MemoryLimit limit = AvailableMemory();
+  const double need = kParsedBytesPerFileByte * static_cast<double>(text.size());
+  if (limit.bytes > 0 && need > static_cast<double>(limit.bytes)) {
+    throw OutOfMemoryError(fmt::format(
+        "{}: out of memory while reading the file (about {} as parsed TOML, {} available: {})",
+        path, FormatBytes(need), FormatBytes(static_cast<double>(limit.bytes)), limit.source));
+  }
+  if (const std::size_t depth = KeyDepth(text); depth > kMaxKeyDepth) {
+    throw InputError(fmt::format("{}: tables nest {} levels deep, more than the {} accepted", path,
+                                 depth, kMaxKeyDepth));
   }
   try {
-    s.table_ = toml::parse_file(path);
+    s.table_ = toml::parse(text, path);
   } catch (const std::bad_alloc&) {
     throw OutOfMemoryError(fmt::format("{}: out of memory while reading the file", path));
   } catch (const toml::parse_error& e) {
@@ -321,8 +387,15 @@ std::int64_t Scenario::RequirePositive(std::string_view key, std::int64_t value)
 void Scenario::CheckAllKeysUsed() const {
   std::vector<std::string> keys;
   CollectLeafKeys(table_, "", &keys);
-  for (const std::string& key : keys) {
-    // A key is used when it, or a table above it, was asked for.
+  for (std::string key : keys) {
+    // A key is used when it, or a table above it, was asked for; an empty table when a key in
+    // it was (a table the command knows, written without keys).
+    const bool table = !key.empty() && key.back() == '.';
+    if (table) {
+      key.pop_back();
+      const auto below = used_.lower_bound(key + ".");
+      if (below != used_.end() && below->rfind(key + ".", 0) == 0) continue;
+    }
     bool used = false;
     std::string prefix = key;
     while (true) {
@@ -334,7 +407,7 @@ void Scenario::CheckAllKeysUsed() const {
       if (dot == std::string::npos) break;
       prefix.resize(dot);
     }
-    if (!used) Fail(key, "unknown key" + Suggestion(key, used_));
+    if (!used) Fail(key, (table ? "unknown table" : "unknown key") + Suggestion(key, used_));
   }
 }
 

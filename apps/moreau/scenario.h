@@ -29,8 +29,13 @@ class ScenarioError : public InputError {
 
 class Scenario {
  public:
+  // The deepest table or key path a scenario file may hold (`[a.b.c]`, `a.b.c = 1`, inline
+  // tables included); the scenarios of moreau nest 4 levels at most.
+  static constexpr std::size_t kMaxKeyDepth = 64;
+
   // Reads PATH and applies OVERRIDES ("key=value", the value parsed as a TOML value, or taken as
-  // a string when it is not one). Throws InputError when the file cannot be read or parsed.
+  // a string when it is not one). Throws InputError when the file cannot be read (not a regular
+  // file: a FIFO, a device), nests deeper than kMaxKeyDepth or cannot be parsed.
   static Scenario Load(const std::string& path, const std::vector<std::string>& overrides);
   // The overrides alone, for commands whose scenario file is optional; messages name
   // "command line" where they would name the file.

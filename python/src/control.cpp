@@ -142,6 +142,11 @@ py::dict Solve(const py::object& problem, int steps, const ContinuationOptions& 
   {
     const py::gil_scoped_release release;
     const TrackingProblem target = family(1.0);
+    try {
+      CheckSolveMemory(target.network(), steps);  // before anything of N steps is allocated
+    } catch (const InputError& e) {
+      throw InputError("steps", e.what());
+    }
     const PontryaginDiscretization disc(target, steps);
     summary = SolveWithContinuation(family, steps, options, y);
     PontryaginWorkspace ws;

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 
 namespace moreau::control {
 
@@ -225,6 +226,16 @@ Eigen::MatrixXd EffectiveControls(const PontryaginDiscretization& disc, const Ei
     controls.col(n) = rest;
   }
   return controls;
+}
+
+void CheckSolveMemory(const SpringNetwork& network, std::int64_t steps) {
+  if (steps < 1 || steps > kMaxSteps) {
+    throw InputError(fmt::format("N must be between 1 and {} (got {})", kMaxSteps, steps));
+  }
+  const double nz = network.state_size();
+  const double per_step = 8.0 * (8.0 * nz * nz + 24.0 * nz + network.num_springs()) +
+                          25.0 * (3.0 * nz + network.num_springs()) + 512.0;
+  CheckMemory(fmt::format("{} steps", steps), per_step * (static_cast<double>(steps) + 1.0));
 }
 
 }  // namespace moreau::control

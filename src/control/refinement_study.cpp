@@ -161,6 +161,11 @@ RefinementStudySummary RunRefinementStudy(const ProblemFamily& family,
   summary.options.on_level = nullptr;
   std::vector<RefinementLevel>& levels = summary.levels;
   const TrackingProblem target = family(1.0);
+  try {
+    CheckSolveMemory(target.network(), options.steps.back());  // the finest level, before any
+  } catch (const InputError& e) {
+    throw InputError("study.steps", e.what());
+  }
   Eigen::VectorXd y_prev;
   std::unique_ptr<PontryaginDiscretization> disc_prev;
   for (int steps : options.steps) {

@@ -39,6 +39,7 @@ FieldSet::FieldSet(Grid grid, std::vector<Substrate> substrates, int threads)
   ValidateSubstrates(substrates_);
   if (threads_ < 0) throw InputError("threads", fmt::format("must be ≥ 0 (got {})", threads_));
   if (threads_ == 0) threads_ = std::max(1, omp_get_max_threads());
+  threads_ = std::min(threads_, std::max(1, omp_get_num_procs()));  // more only wait
   const auto n = static_cast<std::size_t>(grid_.voxel_count());
   const std::size_t count = substrates_.size();
   values_.resize(count);

@@ -236,7 +236,7 @@ std::int64_t FramesPresent(const std::filesystem::path& path, std::size_t file_b
   const std::string what =
       fmt::format("the file declares {} frames but holds {} (truncated)", layout.frames, present);
   if (!options.allow_truncated) {
-    Fail(path, "POINT data", what + "; ReadOptions::allow_truncated reads the frames present");
+    Fail(path, "POINT data", what + "; allow_truncated reads the frames present");
   }
   warnings.push_back(
       fmt::format("{}: POINT data: {}; read {} frames", path.string(), what, present));

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "mocap/file_util.h"
+#include "moreau/common/input_file.h"
 #include "moreau/mocap/recording_io.h"
 
 namespace moreau::mocap {
@@ -15,6 +16,8 @@ namespace {
 using internal::Fail;
 
 constexpr std::string_view kCsvHeader = "frame,time,marker,x,y,z";
+// The largest coordinate a CSV row may give (in the file's unit; 10^12 mm is a million km).
+constexpr double kMaxCsvCoordinate = 1e12;
 
 struct CsvSample {
   std::int64_t frame = 0;
@@ -62,6 +65,11 @@ CsvSample ReadCsvRow(const std::filesystem::path& path, std::size_t line_number,
       s.present = false;
     } else if (!internal::ParseNumber(text, s.p[c])) {
       Fail(path, fmt::format("{}, {}", where, "xyz"[c]), fmt::format("'{}' is not a number", text));
+    } else if (std::isfinite(s.p[c]) && std::abs(s.p[c]) > kMaxCsvCoordinate) {
+      Fail(path, fmt::format("{}, {}", where, "xyz"[c]),
+           fmt::format("{} is beyond ±{:g}: not a position (the fills' sums of squares would "
+                       "overflow)",
+                       text, kMaxCsvCoordinate));
     }
   }
   return s;
@@ -94,7 +102,7 @@ Recording ReadCsv(const std::filesystem::path& path, const ReadOptions& options,
                   std::vector<std::string>* /*warnings*/) {
   options.Validate();
   const std::string text = internal::ReadWholeFile(path);
-  const CsvTable table = ReadCsvTable(path, internal::SplitLines(text));
+  const CsvTable table = ReadCsvTable(path, internal::SplitLines(WithoutByteOrderMark(text)));
   double rate = options.rate_if_unstated;
   if (table.last > table.first) {
     rate = static_cast<double>(table.last - table.first) / (table.last_time - table.first_time);

@@ -10,6 +10,7 @@
 
 #include "mocap/evaluate_internal.h"
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 #include "moreau/common/random.h"
 #include "moreau/common/stop.h"
 #include "moreau/common/stopwatch.h"
@@ -243,10 +244,27 @@ void EvaluateTrial(const Recording& truth, Recording& work, const Trial& trial,
   }
 }
 
+// Before the trials are drawn: their gaps, result rows (and the CSV text a caller writes of
+// them, about 400 bytes a row), timings and flags must fit in memory.
+void CheckEvaluationMemory(const EvaluationOptions& options) {
+  const double trials =
+      static_cast<double>(options.gap_seconds.size()) * static_cast<double>(options.trials);
+  const double rows = static_cast<double>(options.methods.size() * options.markers_per_gap);
+  const double per_trial = sizeof(Trial) + options.markers_per_gap * sizeof(Gap) +
+                           rows * (sizeof(EvaluationRow) + 400.0) +
+                           static_cast<double>(options.methods.size()) * sizeof(double) + 1.0;
+  try {
+    CheckMemory(fmt::format("{:.0f} trials", trials), trials * per_trial);
+  } catch (const InputError& e) {
+    throw InputError("trials", e.what());
+  }
+}
+
 // The protocol on a complete recording.
 EvaluationSummary EvaluateComplete(const Recording& truth, const EvaluationOptions& options) {
   const Stopwatch total;
   CheckAgainstRecording(truth, options);
+  CheckEvaluationMemory(options);
   std::vector<std::int64_t> lengths;
   const std::vector<Trial> trials = DrawTrials(truth, options, &lengths);
   const std::size_t per_trial =

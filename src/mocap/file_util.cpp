@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "moreau/common/error.h"
+#include "moreau/common/input_file.h"
 
 namespace moreau::mocap::internal {
 
@@ -21,17 +22,8 @@ void Fail(const std::filesystem::path& file, std::string_view field, std::string
 }
 
 std::string ReadWholeFile(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) Fail(file, "file", "does not exist");
-  if (std::filesystem::is_directory(file, ec)) Fail(file, "file", "is a directory");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) Fail(file, "file", fmt::format("cannot be opened ({})", std::strerror(errno)));
-  const auto size = std::filesystem::file_size(file, ec);
-  if (ec) Fail(file, "file", fmt::format("size unknown ({})", ec.message()));
-  std::string content(size, '\0');
-  in.read(content.data(), static_cast<std::streamsize>(size));
-  if (in.gcount() != static_cast<std::streamsize>(size)) Fail(file, "file", "read failed");
-  return content;
+  if (const std::string why = NotAnInputFile(file.string()); !why.empty()) Fail(file, "file", why);
+  return ReadInputFile(file.string());
 }
 
 void WriteFileAtomically(const std::filesystem::path& file, std::string_view content) {
@@ -49,8 +41,9 @@ void WriteFileAtomically(const std::filesystem::path& file, std::string_view con
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
     out.close();
     if (!out) {
+      const int error = errno != 0 ? errno : EIO;
       std::filesystem::remove(temporary, ec);
-      Fail(file, "file", "write failed");
+      Fail(file, "file", fmt::format("write failed ({})", std::strerror(error)));
     }
   }
   std::filesystem::rename(temporary, file, ec);

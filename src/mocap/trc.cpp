@@ -7,6 +7,7 @@
 #include <map>
 
 #include "mocap/file_util.h"
+#include "moreau/common/input_file.h"
 #include "moreau/mocap/recording_io.h"
 
 namespace moreau::mocap {
@@ -109,7 +110,7 @@ Recording ReadTrc(const std::filesystem::path& path, const ReadOptions& options,
                   std::vector<std::string>* warnings) {
   options.Validate();
   const std::string text = internal::ReadWholeFile(path);
-  const std::vector<std::string_view> lines = internal::SplitLines(text);
+  const std::vector<std::string_view> lines = internal::SplitLines(WithoutByteOrderMark(text));
   const TrcHeader header = ReadTrcHeader(path, lines);
   std::vector<std::string> labels = ReadTrcLabels(path, lines[3], header.markers);
   std::vector<std::string> local_warnings;
@@ -126,7 +127,7 @@ Recording ReadTrc(const std::filesystem::path& path, const ReadOptions& options,
     const std::string what =
         fmt::format("{} but the file holds {} data rows (truncated)", frames, rows.size());
     if (!options.allow_truncated) {
-      Fail(path, "NumFrames", what + "; ReadOptions::allow_truncated reads the rows present");
+      Fail(path, "NumFrames", what + "; allow_truncated reads the rows present");
     }
     local_warnings.push_back(fmt::format("{}: NumFrames: {}", path.string(), what));
     frames = static_cast<std::int64_t>(rows.size());

@@ -13,6 +13,7 @@
 
 #include "moreau/common/error.h"
 #include "moreau/common/hash.h"
+#include "moreau/common/input_file.h"
 
 namespace moreau::particles {
 
@@ -295,9 +296,10 @@ void WriteCheckpoint(const std::filesystem::path& path, const EngineState& state
 
 EngineState ReadCheckpoint(const std::filesystem::path& path, nlohmann::json* run) {
   const std::string where = path.string() + ": checkpoint: ";
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(where + "cannot be opened");
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (const std::string why = NotAnInputFile(path.string()); !why.empty()) {
+    throw InputError(where + "cannot be opened: the path " + why);  // a folder, FIFO, device
+  }
+  const std::string data = ReadInputFile(path.string());
   if (data.size() < kHeader || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0) {
     throw InputError(where + "not a moreau checkpoint");
   }

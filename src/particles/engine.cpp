@@ -73,10 +73,11 @@ void Engine::Impl::ConfigureFor(std::span<const double> positions, std::span<con
   const ParticleModel& model = c.model;
   c.n = model.count();
   // Automatic: one thread per ~20000 particles (barriers dominate below), at most the OpenMP
-  // default. The results do not depend on it.
+  // default. A number asked for is capped to the processors (more only wait for each other, and
+  // tens of thousands of OpenMP threads cannot be created). The results do not depend on it.
   c.threads = c.lexicographic ? 1
               : c.options.threads > 0
-                  ? c.options.threads
+                  ? std::min(c.options.threads, std::max(1, omp_get_num_procs()))
                   : std::clamp(c.n / 20000, 1, std::max(1, omp_get_max_threads()));
   c.rmax = model.max_radius();
   c.attraction_range = PairListWidening(forces, MinRadius(model));

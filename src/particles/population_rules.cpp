@@ -49,9 +49,14 @@ const FieldList<AgentType>& AgentType::Fields() {
                 "J: alignment with touching agents' polarity")
         .Number("velocity_alignment", &A::velocity_alignment, rate, "1/time",
                 "β: alignment with the own velocity")
-        .Number("max_contacts", &A::max_contacts, rate, "",
+        .Number("max_contacts", &A::max_contacts, Range::Closed(0.0, 1000.0), "",
                 "c_max: grows and divides only while touching fewer (0: no inhibition)")
         .Rule("name", [](const A& a) { return a.name.empty() ? "must not be empty" : ""; })
+        .Rule("max_contacts", [](const A& a) {
+          return a.max_contacts == std::floor(a.max_contacts)
+                     ? std::string()
+                     : fmt::format("must be a whole number of contacts (got {})", a.max_contacts);
+        })
         .Rule("division_radius", [](const A& a) {
           return a.division_radius > 0.0 && !(a.division_radius > a.radius)
                      ? fmt::format("must be > the radius {} (got {})", a.radius, a.division_radius)

@@ -89,7 +89,11 @@ Vector SlidingCase::ExactVelocity(double t) const {
 }
 
 void DisksCase::Validate() const {
-  if (count < 1) throw InputError(fmt::format("count must be ≥ 1 (got {})", count));
+  if (count < 1 || count > kMaxCount) {
+    throw InputError(fmt::format("count must be between 1 and {} (the start tests all N²/2 "
+                                 "pairs; got {})",
+                                 kMaxCount, count));
+  }
   if (!(radius > 0.0) || !std::isfinite(radius)) {
     throw InputError(fmt::format("radius must be > 0 (got {})", radius));
   }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <limits>
 
 #include "moreau/common/error.h"
 #include "moreau/common/stop.h"
@@ -68,6 +69,14 @@ std::string SimulationSummary::BriefReport() const {
   return s;
 }
 
+namespace {
+
+// x.allFinite() in one vectorised pass without early exit (Simulate checks every step):
+// v − v is +0 for every finite v and NaN for ±∞ and NaN, and a sum of zeros is 0.
+bool AllFinite(const Vector& x) { return (x.array() - x.array()).sum() == 0.0; }
+
+}  // namespace
+
 TimeStepper::TimeStepper(const Drift& drift, Constraints& constraints,
                          const StepperOptions& options)
     : drift_(drift),
@@ -88,6 +97,12 @@ void TimeStepper::Step(VectorRef x) {
   const double h = options_.h;
   drift_.Evaluate(x, f_);
   ++counters_.steps;
+  if (!AllFinite(f_)) {
+    // A projection may map NaN back to a finite point (max and min drop it), so a non-finite
+    // drift makes the whole state NaN: Simulate then stops with kNonFinite.
+    x.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
   switch (options_.method) {
     case Method::kPBD:
       x += h * f_;
@@ -129,14 +144,6 @@ void TimeStepper::Step(VectorRef x) {
       break;
   }
 }
-
-namespace {
-
-// x.allFinite() in one vectorised pass without early exit (Simulate checks every step):
-// v − v is +0 for every finite v and NaN for ±∞ and NaN, and a sum of zeros is 0.
-bool AllFinite(const Vector& x) { return (x.array() - x.array()).sum() == 0.0; }
-
-}  // namespace
 
 SimulationSummary Simulate(const Drift& drift, Constraints& constraints,
                            const StepperOptions& options, ConstVectorRef x0, double T,

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "moreau/common/summary_json.h"
 #include "moreau/sweep/dispatch.h"
 #include "sweep/run_queue.h"
 
@@ -73,7 +74,7 @@ std::vector<std::int64_t> BroadcastTodo(std::vector<std::int64_t> todo) {
 std::vector<nlohmann::json> GatherEntries(const std::vector<nlohmann::json>& mine,
                                           const MpiSession& session) {
   std::string text;
-  for (const nlohmann::json& entry : mine) text += entry.dump() + "\n";
+  for (const nlohmann::json& entry : mine) text += JsonText(entry, -1) + "\n";
   int length = static_cast<int>(text.size());
   const bool root = session.rank() == 0;
   std::vector<int> lengths(root ? static_cast<std::size_t>(session.size()) : 0);

@@ -10,6 +10,7 @@
 #include "moreau/common/enum_names.h"
 #include "moreau/common/error.h"
 #include "moreau/common/hash.h"
+#include "moreau/common/memory.h"
 
 namespace moreau::sweep {
 namespace {
@@ -19,13 +20,17 @@ constexpr std::array<std::pair<Combination, std::string_view>, 2> kCombinationNa
     {Combination::kZip, "zip"},
 }};
 
+// The points, at most Grid::kMaxRuns + 1 (a larger product stops there: never an overflow).
 std::int64_t PointCount(const Grid& grid) {
   if (grid.axes.empty()) return 1;
   if (grid.combination == Combination::kZip) {
     return static_cast<std::int64_t>(grid.axes.front().values.size());
   }
   std::int64_t count = 1;
-  for (const Axis& axis : grid.axes) count *= static_cast<std::int64_t>(axis.values.size());
+  for (const Axis& axis : grid.axes) {
+    const auto n = static_cast<std::int64_t>(axis.values.size());
+    count = n != 0 && count > Grid::kMaxRuns / n ? Grid::kMaxRuns + 1 : count * n;
+  }
   return count;
 }
 
@@ -58,6 +63,16 @@ void Grid::Validate() const {
                       axis.key, axis.values.size(), axes.front().values.size(), axes.front().key));
     }
   }
+  const std::int64_t points = PointCount(*this);
+  const auto seed_count = std::max<std::int64_t>(1, static_cast<std::int64_t>(seeds.size()));
+  if (points > kMaxRuns / seed_count) {
+    throw InputError(fmt::format("axes: {} points × {} seeds is more than the {} runs a sweep may have",
+                                 points > kMaxRuns ? fmt::format("more than {}", kMaxRuns)
+                                                   : std::to_string(points),
+                                 seed_count, kMaxRuns));
+  }
+  CheckMemory(fmt::format("{} runs", points * seed_count),
+              kBytesPerRun * static_cast<double>(points * seed_count));
   std::set<std::int64_t> seen;
   for (const std::int64_t seed : seeds) {
     if (!seen.insert(seed).second) throw InputError(fmt::format("seeds: {} is listed twice", seed));

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/summary_json.h"
 
 namespace moreau::sweep {
 
@@ -29,7 +30,7 @@ Journal::~Journal() {
 }
 
 void Journal::Append(const nlohmann::json& entry) {
-  const std::string line = entry.dump() + "\n";
+  const std::string line = JsonText(entry, -1) + "\n";
   if (std::fwrite(line.data(), 1, line.size(), file_) != line.size() || std::fflush(file_) != 0) {
     throw InputError(fmt::format("{}: cannot write the sweep journal", path_.string()));
   }

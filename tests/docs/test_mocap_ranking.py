@@ -111,3 +111,14 @@ def test_docs_mocap_quotes_the_committed_solved_windows():
             assert recording in sentence.split(" 100 %")[0], recording
         else:
             assert f"{recording} {share:.1f} %" in sentence, recording
+
+
+def test_docs_mocap_names_the_tools_default_method():
+    keys = (ROOT / "docs/keys.md").read_text()
+    default = re.search(r"^\| `fill\.method` \|[^|]*\| \"(\w+)\" \|", keys, re.M).group(1)
+    page = re.sub(r"\s+", " ", (ROOT / "docs/mocap.md").read_text())
+    assert f"The default is `{default}`" in page and f"({default}, the default)" in page
+    for other in ("linear", "spline", "pchip", "rigid", "pca", "average", "ocp"):
+        if other != default:
+            assert f"The default is `{other}`" not in page, other
+            assert f"({other}, the default)" not in page, other

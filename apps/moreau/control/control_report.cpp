@@ -132,7 +132,7 @@ int ReportControlRun(const ControlScenario& scenario, const ControlRunResult& r,
 
   const PontryaginDiscretization disc(MakeProblemFamily(scenario)(1.0), scenario.steps);
   OutputDir out(out_dir);
-  out.WriteText("summary.json", j.dump(2) + "\n");
+  out.WriteText("summary.json", JsonText(j) + "\n");
   out.WriteText("trajectory.csv", TrajectoryCsv(disc, r.z));
   out.WriteText("controls.csv", ControlsCsv(disc, r.controls));
   RunPlotScript("plot_control.py", {"run", out.Stage("trajectory.png").string(),
@@ -170,7 +170,7 @@ int ReportControlStudy(const ControlScenario& scenario,
   const control::TrackingProblem target = MakeProblemFamily(scenario)(1.0);
   const PontryaginDiscretization disc(target, finest.steps);
   OutputDir out(out_dir);
-  out.WriteText("summary.json", j.dump(2) + "\n");
+  out.WriteText("summary.json", JsonText(j) + "\n");
   out.WriteText("convergence.csv", ConvergenceCsv(study, target.horizon(), scenario.theorem));
   out.WriteText("trajectory.csv", TrajectoryCsv(disc, finest.z));  // the finest, as for a run
   out.WriteText("controls.csv", ControlsCsv(disc, finest.controls));

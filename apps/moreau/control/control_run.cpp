@@ -42,6 +42,8 @@ control::RefinementStudySummary RunControlStudy(const ControlScenario& scenario,
   options.compare_samples = scenario.compare_samples;
   try {
     options.Validate();
+    // The finest level's memory, checked before the coarser levels run.
+    control::CheckSolveMemory(MakeProblemFamily(scenario)(1.0).network(), steps.back());
   } catch (const InputError& e) {
     throw InputError(fmt::format("--study-steps: {}", e.what()));
   }

@@ -39,13 +39,13 @@ FieldTable<control::ArmExample> ArmFields() {
   using E = control::ArmExample;
   FieldTable<E> t;
   t.Number("mass", &E::mass, Range::Positive(), "mass of the four free nodes")
-      .Number("stiffness", &E::stiffness, Range::Any(), "κ of every spring")
-      .Number("damping", &E::damping, Range::Any(), "ξ of every spring")
+      .Number("stiffness", &E::stiffness, Range::NonNegative(), "κ of every spring")
+      .Number("damping", &E::damping, Range::NonNegative(), "ξ of every spring")
       .Number("spring_limit", &E::spring_limit, Range::Any(), "L± = (1 ± limit) × length")
-      .Number("upper_bone", &E::upper_bone, Range::Any(), "L1 = |AB|")
-      .Number("lower_bone", &E::lower_bone, Range::Any(), "L2 = |BC|")
-      .Number("elbow_half_width", &E::elbow_half_width, Range::Any(), "l1")
-      .Number("hand_half_width", &E::hand_half_width, Range::Any(), "l2")
+      .Number("upper_bone", &E::upper_bone, Range::Positive(), "L1 = |AB|")
+      .Number("lower_bone", &E::lower_bone, Range::Positive(), "L2 = |BC|")
+      .Number("elbow_half_width", &E::elbow_half_width, Range::Positive(), "l1")
+      .Number("hand_half_width", &E::hand_half_width, Range::Positive(), "l2")
       .Numbers("anchor", &E::anchor, "shoulder A [x, y]")
       .Number("angle_ab_deg", &E::angle_ab_deg, Range::Any(), "θ1 max (degrees)")
       .Number("angle_bc_deg", &E::angle_bc_deg, Range::Any(), "θ2 max (degrees)")
@@ -172,15 +172,10 @@ FieldTable<CS> MakeControlFields(const std::string& model) {
   return t;
 }
 
-// Per time step: the instant, the Jacobian blocks A, B, C and the Riccati factors (about eight
-// nz × nz matrices), the unknowns, residual, Newton direction and trial point, and the controls
-// and the CSV text of the outputs (nz: the state size 2·d·free nodes).
+// The memory of a solve on `steps` steps (control::CheckSolveMemory), named by its key.
 void CheckControlMemory(const control::SpringNetwork& network, int steps) {
-  const double nz = network.state_size();
-  const double per_step = 8.0 * (8.0 * nz * nz + 24.0 * nz + network.num_springs()) +
-                          25.0 * (3.0 * nz + network.num_springs()) + 512.0;
   try {
-    CheckMemory(fmt::format("{} steps", steps), per_step * (steps + 1.0));
+    control::CheckSolveMemory(network, steps);
   } catch (const InputError& e) {
     throw InputError(fmt::format("discretization.steps: {}", e.what()));  // WithFile adds the file
   }

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "moreau/common/summary_json.h"
 #include "output.h"
 #include "signals.h"
 
@@ -105,7 +106,7 @@ int ReportEvaluateGaps(const EvaluateGapsSettings& settings,
   OutputDir out(out_dir);
   out.WriteText("evaluation.csv", EvaluationCsv(summary, recording));
   out.WriteText("summary.json",
-                EvaluationSummaryJson(settings, summary, recording, input).dump(2) + "\n");
+                JsonText(EvaluationSummaryJson(settings, summary, recording, input)) + "\n");
   const std::string title =
       fmt::format("{}: {} markers, {} Hz, {} trials per gap length, error in {}",
                   std::filesystem::path(input).filename().string(), recording.markers(),

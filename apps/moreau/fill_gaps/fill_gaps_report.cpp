@@ -111,9 +111,12 @@ bool WriteGapsFigure(OutputDir& out) {
 int ReportFillGaps(const FillGapsSettings& settings, const FillGapsResult& result,
                    const FillGapsInputs& inputs, const std::string& out_dir) {
   OutputDir out(out_dir);
-  mocap::WriteRecording(result.filled, out.Stage("filled.c3d"));
-  mocap::WriteRecording(result.filled, out.Stage("filled.csv"));
-  out.WriteText("report.json", FillGapsReportJson(settings, result, inputs).dump(2) + "\n");
+  for (const char* name : {"filled.c3d", "filled.csv"}) {
+    out.WriteWith(name, [&](const std::filesystem::path& path) {
+      mocap::WriteRecording(result.filled, path);
+    });
+  }
+  out.WriteText("report.json", JsonText(FillGapsReportJson(settings, result, inputs)) + "\n");
   std::vector<std::string> written = {"filled.c3d", "filled.csv", "report.json"};
   for (const std::string& name : written) {
     if (!IsNonEmptyFile(out.StagedPath(name))) {

@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <charconv>
-#include <fstream>
+#include <sstream>
 #include <tuple>
 
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/input_file.h"
 
 namespace moreau::cli {
 
@@ -150,8 +151,9 @@ void CheckNoOverlap(const std::string& path, std::vector<GapRow> rows,
 }  // namespace
 
 std::vector<mocap::Gap> ReadGapList(const std::string& path, const mocap::Recording& recording) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot read the file", path));
+  // A regular file only (a FIFO or /dev/zero is refused), no larger than what may be allocated.
+  const std::string content = ReadInputFile(path);
+  std::istringstream in(std::string(WithoutByteOrderMark(content)));
   std::vector<GapRow> rows;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {

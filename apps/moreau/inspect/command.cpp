@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "inspect/inspect_report.h"
 #include "mocap_settings.h"
+#include "moreau/common/summary_json.h"
 #include "moreau/mocap/inventory.h"
 
 namespace moreau::cli {
@@ -26,10 +27,10 @@ void Inspect(const InspectArgs& args) {
   options.allow_truncated = args.allow_truncated;
   options.zero_is_missing = !args.keep_zero;
   std::vector<std::string> warnings;
-  const mocap::Recording recording = ReadRecordingReportingWarnings(args.file, options, &warnings);
+  const mocap::Recording recording = ReadRecordingReportingWarnings(args.file, options, &warnings, "--allow-truncated");
   const mocap::RecordingInventory inventory = mocap::TakeInventory(recording, warnings);
   if (args.json) {
-    fmt::print("{}\n", inventory.ToJson().dump(2));
+    fmt::print("{}\n", JsonText(inventory.ToJson()));
   } else {
     PrintInventory(args.file, inventory);
   }

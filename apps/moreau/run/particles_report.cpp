@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "moreau/common/summary_json.h"
 #include "moreau/common/hash.h"
 
 namespace moreau::cli {
@@ -94,7 +95,7 @@ std::string ReportParticleRun(const ParticleScenario& scenario, const ParticleSe
                               const ParticleRunResult& result, const nlohmann::json& summary,
                               OutputDir& out, bool figures) {
   if (result.evacuated) out.WriteText("evacuation.csv", result.evacuation_csv);
-  out.WriteText("summary.json", summary.dump(2) + "\n");
+  out.WriteText("summary.json", JsonText(summary) + "\n");
   if (figures) WriteFigures(scenario, setup.engine.model(), result, out);
   out.Commit(WhenStopped::kPublish);  // a run stopped on request is a result
 

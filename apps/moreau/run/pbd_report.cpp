@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "moreau/common/summary_json.h"
+
 namespace moreau::cli {
 
 std::string PbdTrajectoryCsv(const PbdScenario& scenario, const PbdRunResult& result) {
@@ -50,7 +52,7 @@ nlohmann::json PbdRunJson(const PbdScenario& scenario, const PbdRunResult& resul
 
 std::string ReportPbdRun(const PbdScenario& scenario, const PbdRunResult& result,
                          const nlohmann::json& summary, OutputDir& out, bool figures) {
-  out.WriteText("summary.json", summary.dump(2) + "\n");
+  out.WriteText("summary.json", JsonText(summary) + "\n");
   out.WriteText("trajectory.csv", PbdTrajectoryCsv(scenario, result));
   if (figures) {
     RunPlotScript(

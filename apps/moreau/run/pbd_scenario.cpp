@@ -118,6 +118,18 @@ FieldTable<PbdScenario> MakePbdFields(const std::string& kind) {
       .Check("solver.h", [](const PD& s) { (void)StepCount(s.T(), s.solver.h); })
       .Mount("reference", &PD::reference, pbd::StepperOptions::Fields())
       .Flag("reference.compute", &PD::reference_for_run, "disks: error against a reference in run")
+      .Check("reference.h",
+             [](const PD& s) {
+               if (!s.reference_for_run) return;
+               (void)StepCount(s.T(), s.reference.h);  // "T / h must be …" with this T
+               try {
+                 (void)StepCount(s.solver.h, s.reference.h);
+               } catch (const InputError&) {
+                 throw InputError(fmt::format(
+                     "must divide solver.h = {} into a whole number of steps (got {})",
+                     s.solver.h, s.reference.h));
+               }
+             })
       .Integer("output.stride", &PD::output_stride, Range::NonNegative(),
                "write every stride-th step (0: about 1000 frames)")
       .Check("output.stride", CheckTrajectorySize);

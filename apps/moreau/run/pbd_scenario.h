@@ -20,7 +20,7 @@ namespace moreau::cli {
 pbd::StepperOptions ReferenceSolverDefaults();
 
 // The most disks of the disks case: its start and its feasibility check test all N²/2 pairs.
-inline constexpr double kMaxAllPairsDisks = 20000;
+inline constexpr double kMaxAllPairsDisks = pbd::DisksCase::kMaxCount;
 
 struct PbdScenario {
   std::string kind;                      // "sliding" or "disks"

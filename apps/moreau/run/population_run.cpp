@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "field_table.h"
+#include "moreau/common/summary_json.h"
 #include "moreau/common/error.h"
 #include "moreau/common/hash.h"
 #include "moreau/common/steps.h"
@@ -189,7 +190,7 @@ std::string ReportPopulationRun(const particles::Population& population,
   out.WriteText("population.csv", result.series_csv);
   out.WriteText("agents.csv", AgentsCsv(population));
   out.WriteText("lineage.csv", result.lineage_csv);
-  out.WriteText("summary.json", summary.dump(2) + "\n");
+  out.WriteText("summary.json", JsonText(summary) + "\n");
   out.Commit(WhenStopped::kPublish);
   const particles::PopulationSummary& s = result.summary;
   return fmt::format(

@@ -125,7 +125,7 @@ int ReportPbdStudy(const PbdScenario& scenario, const PbdStudyPlan& plan,
   const nlohmann::json j = StudyJson(scenario, plan, result, scenario_file);
   OutputDir out(out_dir);
   out.WriteText("study.csv", StudyCsv(result));
-  out.WriteText("summary.json", j.dump(2) + "\n");
+  out.WriteText("summary.json", JsonText(j) + "\n");
   RunPlotScript("plot_study.py",
                 {out.StagedPath("study.csv").string(), out.Stage("convergence.png").string(),
                  fmt::format("{} case", scenario.kind)});

@@ -79,7 +79,7 @@ int ReportSweep(const SweepScenario& s, const sweep::ResultsTable& table, const 
 
   out.WriteText("results.csv", sweep::ResultsCsv(table));
   sweep::WriteResultsHdf5(out.Stage("results.h5"), table);
-  out.WriteText("summary.json", j.dump(2) + "\n");
+  out.WriteText("summary.json", JsonText(j) + "\n");
   out.Commit(WhenStopped::kPublish);  // beside the journal and the run folders
   std::printf(
       "sweep: %lld runs (%lld from the journal), %d rank%s × %d thread%s, %.2f s; "

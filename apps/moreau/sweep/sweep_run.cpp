@@ -13,6 +13,7 @@
 #include "fill_gaps/fill_gaps_run.h"
 #include "fill_gaps/fill_gaps_scenario.h"
 #include "mocap_settings.h"
+#include "moreau/common/summary_json.h"
 #include "moreau/common/error.h"
 #include "moreau/common/stop.h"
 #include "moreau/common/stopwatch.h"
@@ -31,7 +32,7 @@ namespace fs = std::filesystem;
 void WriteRunFolder(const fs::path& run_dir, const nlohmann::json& summary) {
   if (run_dir.empty()) return;
   OutputDir out(run_dir);
-  out.WriteText("summary.json", summary.dump(2) + "\n");
+  out.WriteText("summary.json", JsonText(summary) + "\n");
   out.Commit();
 }
 

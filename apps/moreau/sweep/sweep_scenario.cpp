@@ -11,6 +11,8 @@
 
 #include "field_table.h"
 #include "moreau/common/error.h"
+#include "moreau/common/input_file.h"
+#include "moreau/common/memory.h"
 
 namespace moreau::cli {
 namespace {
@@ -73,7 +75,12 @@ void ReadSeeds(Scenario& file, SweepScenario& s, const std::string& key) {
   const toml::node* node = file.GetNode(key);
   if (node == nullptr) return;
   if (const auto n = node->value_exact<std::int64_t>()) {
-    if (*n < 1) file.Fail(key, fmt::format("must be ≥ 1 (got {})", *n));
+    if (*n < 1 || *n > sweep::Grid::kMaxRuns) {
+      file.Fail(key, fmt::format("must be ≥ 1 and ≤ {} (got {})", sweep::Grid::kMaxRuns, *n));
+    }
+    WithKey(file, key, [&] {
+      CheckMemory(fmt::format("{} runs", *n), sweep::Grid::kBytesPerRun * static_cast<double>(*n));
+    });
     for (std::int64_t seed = 1; seed <= *n; ++seed) s.grid.seeds.push_back(seed);
     return;
   }
@@ -156,9 +163,10 @@ const FieldTable<SweepScenario>& SweepFields() {
 }
 
 std::string ReadBytes(Scenario& file, const std::string& key, const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) file.Fail(key, fmt::format("cannot read {}", path));
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  if (const std::string why = NotAnInputFile(path); !why.empty()) {
+    file.Fail(key, fmt::format("cannot read {}: it {}", path, why));
+  }
+  return ReadInputFile(path);
 }
 
 }  // namespace

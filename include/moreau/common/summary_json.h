@@ -9,6 +9,7 @@
 //   settings       the options used, as written by the options' ToJson()
 #pragma once
 
+#include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
@@ -20,6 +21,11 @@ namespace moreau {
 // {"termination": …, "ok": …, "message": …, "total_seconds": …}
 nlohmann::json SummaryJson(Termination termination, std::string_view message,
                            double total_seconds);
+
+// j as text (indent < 0: one line), every byte sequence that is not valid UTF-8 (a C3D label or a
+// file name in another encoding) written as U+FFFD, the replacement character, so that writing
+// never fails on the text's encoding.
+std::string JsonText(const nlohmann::json& j, int indent = 2);
 
 // v when finite, else null (JSON has no NaN or infinity).
 nlohmann::json FiniteOrNull(double v);

@@ -107,4 +107,14 @@ double DiscreteValue(const PontryaginDiscretization& disc, const Eigen::VectorXd
 // Effective rest lengths L^γ(z^n, ρ^{n+1}) for n = 0 … N−1 (num_springs × N).
 Eigen::MatrixXd EffectiveControls(const PontryaginDiscretization& disc, const Eigen::VectorXd& y);
 
+// The largest number of steps N a solve accepts (the key discretization.steps of the tool).
+inline constexpr std::int64_t kMaxSteps = 100000000;
+
+// Checked before a solve on `steps` steps allocates: throws InputError "N steps need about …,
+// more than the … available (…)" (moreau::CheckMemory) when its memory — per step the Jacobian
+// blocks and Riccati factors (about eight nz × nz matrices, nz = network.state_size()), the
+// unknowns, residual, Newton direction, trial point and the controls — cannot be allocated, and
+// "N must be between 1 and kMaxSteps" outside that range.
+void CheckSolveMemory(const SpringNetwork& network, std::int64_t steps);
+
 }  // namespace moreau::control

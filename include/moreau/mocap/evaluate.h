@@ -144,7 +144,8 @@ struct EvaluationSummary {
 // other types are never hidden, partners or donors and may have holes) or, with complete_part,
 // on its complete part, which must hold at least markers_per_gap markers and be long enough for
 // the longest gap plus the margins, with at least markers_per_gap markers and a rate above
-// 2 filter_hz. Throws InputError otherwise or for invalid options. When a stop is requested
+// 2 filter_hz. Throws InputError otherwise, for invalid options, or ("trials: …") when the
+// trials' gaps and rows cannot fit in memory (checked before they are drawn). When a stop is requested
 // (common/stop.h) the trials not yet finished are skipped: the summary ends kInterrupted with
 // the rows and statistics of the trials that were done.
 EvaluationSummary EvaluateFillMethods(const Recording& truth, const EvaluationOptions& options);

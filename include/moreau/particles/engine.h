@@ -85,7 +85,8 @@ struct EngineOptions {
   NeighbourSearch search = NeighbourSearch::kCellGrid;
   double skin_factor = 1.0;     // Verlet skin = skin_factor · max r, > 0
   int threads = 0;              // OpenMP threads; 0: max(1, min(omp_get_max_threads(),
-                                // N / 20000)). Results do not depend on it. kLexicographic
+                                // N / 20000)); more than omp_get_num_procs() are capped to it.
+                                // Results do not depend on it. kLexicographic
                                 // always runs on one thread.
   int block_cells = 0;          // colouring block edge in cells, ≥ 1; 0: automatic from the
                                 // cell count (⌊√(cells/72)⌋ in 2D clamped to [2, 64],

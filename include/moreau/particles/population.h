@@ -75,8 +75,9 @@ struct AgentType {
   double persistence_time = 0.0;    // τ_p ≥ 0: polarity rotational diffusion 1/τ_p; 0: none
   double alignment = 0.0;           // J ≥ 0 (1/time): alignment with touching agents' polarity
   double velocity_alignment = 0.0;  // β ≥ 0 (1/time): alignment with the own velocity
-  double max_contacts = 0.0;        // c_max ≥ 0: contact inhibition, grows and divides only while
-                                    // touching fewer than c_max agents; 0: no inhibition
+  double max_contacts = 0.0;        // c_max, a whole number in [0, 1000]: contact inhibition,
+                                    // grows and divides only while touching fewer than c_max
+                                    // agents; 0: no inhibition
 
   // Every field (name, radius, …); the rule division_radius = 0 or > radius.
   static const FieldList<AgentType>& Fields();

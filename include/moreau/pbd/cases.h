@@ -43,7 +43,11 @@ struct SlidingCase {
 // Disks case (section 4.3): N disks of radius R in the plane, x' ∈ −γ x − N(S, x), S the
 // non-overlap set, optionally above a horizontal wall y ≥ wall + R.
 struct DisksCase {
-  int count = 40;
+  // The most disks: the random start and its feasibility check test all N²/2 pairs (the
+  // particle core's Engine has cell lists for more).
+  static constexpr int kMaxCount = 20000;
+
+  int count = 40;  // N, 1 … kMaxCount
   double radius = 0.1;
   double gamma = 1.0;
   double T = 4.0;

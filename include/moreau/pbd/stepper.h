@@ -94,7 +94,7 @@ class TimeStepper {
   // Validates the options and the dimensions (throws InputError).
   TimeStepper(const Drift& drift, Constraints& constraints, const StepperOptions& options);
 
-  // x ← Φ_h(x).
+  // x ← Φ_h(x). A drift value that is not finite (NaN, ±∞) makes every entry of x NaN.
   void Step(VectorRef x);
 
   const StepCounters& counters() const { return counters_; }

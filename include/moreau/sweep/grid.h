@@ -38,13 +38,20 @@ std::string_view CombinationName(Combination combination);
 Combination ParseCombination(std::string_view name);
 
 struct Grid {
+  // The most runs a grid may have (points × seeds), and the memory a run's bookkeeping takes
+  // (its settings, hash, journal entry and results row; checked by Validate against
+  // moreau::AvailableMemory).
+  static constexpr std::int64_t kMaxRuns = 10000000;
+  static constexpr double kBytesPerRun = 2048.0;
+
   std::vector<Axis> axes;                         // in order; may be empty (one point)
   Combination combination = Combination::kCross;  // how the axes combine
   std::string seed_key = "problem.seed";          // the scenario key the seeds set
   std::vector<std::int64_t> seeds;                // empty: the scenario's own seed, one run
 
   // Throws InputError naming the field: an axis without values, a key twice (or an axis on the
-  // seed key), zipped axes of different lengths, a seed twice.
+  // seed key), zipped axes of different lengths, a seed twice, more than kMaxRuns runs or more
+  // than the memory their bookkeeping needs.
   void Validate() const;
   // The number of points (product or common length of the axes) times the number of seeds.
   std::int64_t RunCount() const;
