@@ -1,11 +1,13 @@
 // Diffusing fields (docs/benchmarks.md, "Diffusing fields"): one Step of a substrate on 100³
 // voxels against a memory pass over the same values (c ← a c + b: one read and one write of every
 // voxel), on the same threads, timed in turns within one run; and 1, 2 and 4 substrates in turns,
-// to show the cost is linear in their number.
+// to show the cost is linear in their number. And the field's part of a population's step against
+// the agents' part at 10^5 agents in 3D (BM_FieldAgainstAgents, below).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <ctime>
+#include <stdexcept>
 #include <vector>
 
 #include <fmt/format.h>
@@ -13,6 +15,7 @@
 #include "bench_main.h"
 #include "moreau/common/openmp_wait.h"
 #include "moreau/fields/field_set.h"
+#include "moreau/particles/population.h"
 
 namespace {
 
@@ -137,6 +140,163 @@ void BM_Substrates(benchmark::State& state) {
 }
 BENCHMARK(BM_Substrates)
     ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// The field's part of a population step against the agents' part (the goal: with 10^5 agents the
+// field step costs no more than the agents' step). 10^5 cells of radius 0.5 in 3D on the first
+// 10^5 sites of a 47³ cubic lattice of spacing 48/47 filling the box [0, 48]³ (packing fraction
+// 0.49, none touching at the start), a little noise (D = 10⁻⁴, h = 0.02), no growth or division,
+// rules every kColonyInterval steps. One substrate (oxygen: D = 100, λ = 0.1, fixed value 1 on
+// every face) on voxels of edge `spacing` (1 or 2: one or two cell diameters, the range of
+// BioFVM/PhysiCell models), taken up by every cell at rate 10. Each round, on the same threads:
+//   agents   kColonyInterval steps of a Population without fields (one rule step among them);
+//   field    what a coupled population does once per rule step: clear the sources, deposit the
+//            uptake at the agents, one FieldSet::Step, sample c and ∇c at the agents;
+//   coupled  kColonyInterval steps of the same Population coupled to the field (a check: its CPU
+//            time above the uncoupled one's is the field part as the population pays it, which
+//            samples twice per rule step: after the field step and at the new roster).
+// Counters: ms per agents' step (the mean Population::Step, its rule step included; the engine's
+// and the rules' wall-clock seconds from the population's summary), ms of the field part per
+// rule step and of its three pieces, ratio = field part ÷ one agents' step (wall; cpu_ratio CPU).
+constexpr int kColonyInterval = 10;
+constexpr int kColonyCells = 100000;
+constexpr int kLatticeSide = 47;
+constexpr double kBoxSide = 48.0;
+constexpr double kUptake = 10.0;
+
+moreau::particles::Population MakeColony(int threads) {
+  using namespace moreau::particles;
+  ParticleModel geometry;
+  geometry.dimension = 3;
+  Forces forces;
+  forces.diffusion = 1e-4;
+  EngineOptions options;
+  options.h = 0.02;
+  options.seed = 5;
+  options.threads = threads;
+  AgentType cell;
+  cell.radius = 0.5;
+  PopulationRules rules;
+  rules.types = {cell};
+  rules.interval = kColonyInterval;
+  std::vector<double> x;
+  const double a = kBoxSide / kLatticeSide;
+  for (int i = 0; i < kColonyCells; ++i) {
+    const int lattice[3] = {i % kLatticeSide, (i / kLatticeSide) % kLatticeSide,
+                            i / (kLatticeSide * kLatticeSide)};
+    for (int c : lattice) x.push_back(a * (c + 0.5));
+  }
+  const std::vector<int> types(kColonyCells, 0);
+  return Population(geometry, forces, options, rules, types, x);
+}
+
+FieldSet MakeOxygen(double spacing, int threads) {
+  Grid grid;
+  grid.dimension = 3;
+  grid.spacing = spacing;
+  grid.upper = {kBoxSide, kBoxSide, kBoxSide};
+  Substrate oxygen;
+  oxygen.diffusion = 100.0;
+  oxygen.decay = 0.1;
+  oxygen.initial = 1.0;
+  for (auto& face : oxygen.boundary) face = {moreau::fields::BoundaryKind::kFixed, 1.0};
+  return FieldSet(grid, {oxygen}, threads);
+}
+
+// Wall and CPU seconds of the parts, summed over the rounds.
+struct PartTimes {
+  double wall[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  double cpu[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+};
+enum Part { kAgents, kDeposit, kFieldStep, kSample, kCoupled, kField };
+
+// The field part on `fields` at the colony's agents (positions gathered before the timing: the
+// rules gather them anyway).
+void FieldPart(moreau::particles::Population& colony, FieldSet& fields,
+               std::span<const double> volume, std::span<const double> uptake,
+               std::vector<double>& value, std::vector<double>& gradient, PartTimes* t) {
+  const std::span<const double> x = colony.CurrentPositions();
+  const auto voxel = moreau::fields::Interpolation::kVoxel;
+  const double dt = kColonyInterval * colony.engine().options().h;
+  const double w = WallSeconds();
+  const double c = CpuSeconds();
+  Timed(
+      [&] {
+        fields.ClearSources();
+        fields.Deposit(0, x, volume, {}, {}, uptake, {}, voxel);
+      },
+      &t->wall[kDeposit], &t->cpu[kDeposit]);
+  Timed([&] { fields.Step(dt); }, &t->wall[kFieldStep], &t->cpu[kFieldStep]);
+  Timed([&] { fields.Sample(0, x, voxel, value, gradient); }, &t->wall[kSample],
+        &t->cpu[kSample]);
+  t->cpu[kField] += CpuSeconds() - c;
+  t->wall[kField] += WallSeconds() - w;
+}
+
+void StepColony(moreau::particles::Population& colony) {
+  for (int i = 0; i < kColonyInterval; ++i) {
+    if (!colony.Step()) throw std::runtime_error(colony.summary().message);
+  }
+}
+
+void BM_FieldAgainstAgents(benchmark::State& state) {
+  using namespace moreau::particles;
+  const double spacing = static_cast<double>(state.range(0));
+  const int threads = 2;
+  Population agents = MakeColony(threads);
+  Population coupled = MakeColony(threads);
+  FieldCouplingOptions coupling;
+  SubstrateResponse response;
+  response.type = "cell";
+  response.substrate = "oxygen";
+  response.uptake_rate = kUptake;
+  coupling.responses = {response};
+  coupled.CoupleFields(MakeOxygen(spacing, threads), coupling);
+  FieldSet fields = MakeOxygen(spacing, threads);
+  const std::vector<double> volume(kColonyCells, AgentVolume(3, 0.5));
+  const std::vector<double> uptake(kColonyCells, kUptake);
+  std::vector<double> value(kColonyCells), gradient(3 * kColonyCells);
+  PartTimes t;
+  StepColony(agents);  // first touch and the first rule step outside the timing
+  StepColony(coupled);
+  FieldPart(agents, fields, volume, uptake, value, gradient, &t);
+  t = PartTimes{};
+  const PopulationSummary a0 = agents.summary();
+  std::int64_t rounds = 0;
+  for (auto _ : state) {
+    Timed([&] { StepColony(agents); }, &t.wall[kAgents], &t.cpu[kAgents]);
+    FieldPart(agents, fields, volume, uptake, value, gradient, &t);
+    Timed([&] { StepColony(coupled); }, &t.wall[kCoupled], &t.cpu[kCoupled]);
+    benchmark::DoNotOptimize(value.data());
+    ++rounds;
+  }
+  const PopulationSummary a1 = agents.summary();
+  const double r = static_cast<double>(rounds);
+  const double steps = r * kColonyInterval;
+  const double agents_step = t.wall[kAgents] / steps, agents_cpu = t.cpu[kAgents] / steps;
+  const double engine_step = (a1.engine.stats.total_seconds - a0.engine.stats.total_seconds) / steps;
+  state.counters["agents_step_ms"] = 1e3 * agents_step;
+  state.counters["agents_cpu_ms"] = 1e3 * agents_cpu;
+  state.counters["engine_step_ms"] = 1e3 * engine_step;
+  state.counters["rule_step_ms"] = 1e3 * (a1.rules_seconds - a0.rules_seconds) / r;
+  state.counters["field_ms"] = 1e3 * t.wall[kField] / r;
+  state.counters["field_cpu_ms"] = 1e3 * t.cpu[kField] / r;
+  state.counters["deposit_cpu_ms"] = 1e3 * t.cpu[kDeposit] / r;
+  state.counters["step_cpu_ms"] = 1e3 * t.cpu[kFieldStep] / r;
+  state.counters["sample_cpu_ms"] = 1e3 * t.cpu[kSample] / r;
+  state.counters["ratio"] = t.wall[kField] / r / agents_step;
+  state.counters["cpu_ratio"] = t.cpu[kField] / r / agents_cpu;
+  // The coupled population's CPU time above the uncoupled one's, per rule step.
+  state.counters["coupled_extra_cpu_ms"] = 1e3 * (t.cpu[kCoupled] - t.cpu[kAgents]) / r;
+  const double voxels = static_cast<double>(fields.grid().voxel_count());
+  state.counters["voxels"] = voxels;
+  state.counters["step_cpu_ns_per_voxel"] = 1e9 * t.cpu[kFieldStep] / r / voxels;
+}
+BENCHMARK(BM_FieldAgainstAgents)
+    ->ArgName("spacing")
     ->Arg(1)
     ->Arg(2)
     ->UseRealTime()
