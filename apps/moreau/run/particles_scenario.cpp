@@ -298,6 +298,25 @@ void AddChecks(FieldTable<PS>& t) {
                if (s.dimension != 2) throw InputError("a room needs dimension 2");
                s.room->Validate();
              })
+      .Check("forces.pedestrian_model",
+             [](const PS& s) {
+               const ParticleForceSettings& f = s.forces;
+               if (f.pedestrian_model != "collision_free") return;
+               if (!f.propulsion_speed && !s.room) {
+                 throw InputError("collision_free needs forces.propulsion_speed or a [room]");
+               }
+               if (f.density_radius) {
+                 throw InputError("collision_free does not go with forces.density_radius");
+               }
+               if (s.dimension != 2) throw InputError("collision_free needs dimension 2");
+             })
+      .Check("forces.direction",
+             [](const PS& s) {
+               if (s.forces.direction &&
+                   (!s.forces.propulsion_speed || s.room || s.forces.target)) {
+                 throw InputError("needs forces.propulsion_speed (and no [room], no forces.target)");
+               }
+             })
       .Check("forces.target",
              [](const PS& s) {
                if ((s.forces.target || s.forces.target_end) &&
