@@ -137,7 +137,8 @@ TEST(CollisionFreeSpeed, BadParametersAreInputErrors) {
   ExpectInputError([&] { f.Validate(); }, "does not go with forces.walking.density");
   f.walking.density.reset();
   f.propulsion->direction = Vec3{0.0, 0.0, 0.0};
-  ExpectInputError([&] { f.Validate(); }, "forces.propulsion.direction must be finite and non-zero");
+  ExpectInputError([&] { f.Validate(); },
+                   "forces.propulsion.direction must be finite and non-zero");
   f.propulsion->direction = Vec3{1.0, 0.0, 0.0};
   ParticleModel m3;
   m3.dimension = 3;
