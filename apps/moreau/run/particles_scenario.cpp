@@ -297,6 +297,7 @@ void AddChecks(FieldTable<PS>& t) {
     if (s.count > std::numeric_limits<int>::max()) throw InputError("too many particles");
   });
   CheckRadii(t);
+  AddPedestrianModelChecks(t);
   t.Check("domain.hi",
           [](const PS& s) {
             for (std::size_t a = 0; a < static_cast<std::size_t>(s.dimension); ++a) {
@@ -371,7 +372,6 @@ FieldTable<PS> MakeParticleFields() {
   AddFieldCouplingFields(t);
   AddOutputFields(t);
   AddChecks(t);
-  AddPedestrianModelChecks(t);
   AddParticleLimitChecks(t);
   return t;
 }
