@@ -233,6 +233,7 @@ bool Engine::Impl::Step() {
     const auto timer = profile.Time(Stage::kPrediction);
     if (prediction->attracts()) prediction->Attraction(c);
     if (prediction->measures_density()) prediction->LocalDensity(c);
+    if (prediction->walks_collision_free()) prediction->CollisionFreeWalk(c);
     if (c.list.ExactBoundLikely(last_step_move)) fused = c.list.ExactBoundRequest();
     predicted = prediction->Predict(c, step, fused ? &*fused : nullptr);
   }

@@ -15,13 +15,23 @@ namespace {
 constexpr std::uint64_t kDesiredSpeedStream = 0x510e527fade682d1ULL;
 
 void ValidateWalkingSpeeds(const WalkingSpeeds& w, const std::optional<SelfPropulsion>& p) {
-  if (w.speed_sd == 0.0 && !w.density) return;
+  if (w.speed_sd == 0.0 && !w.density && !w.collision_free) return;
   if (!p) throw InputError("forces.walking needs forces.propulsion");
   if (!(w.speed_sd >= 0.0) || !(3.0 * w.speed_sd <= p->speed)) {
     throw InputError(fmt::format(
         "forces.walking.speed_sd must be in [0, speed/3] = [0, {}] (got {}): the truncated "
         "normal must give no negative speed",
         p->speed / 3.0, w.speed_sd));
+  }
+  if (w.collision_free) {
+    if (w.density) {
+      throw InputError("forces.walking.collision_free does not go with forces.walking.density");
+    }
+    try {
+      w.collision_free->Validate();
+    } catch (const InputError& e) {
+      throw e.Under("forces.walking.collision_free");
+    }
   }
   if (!w.density) return;
   const DensitySpeed& d = *w.density;
@@ -73,6 +83,35 @@ void ValidateAttraction(const PairAttraction& attraction) {
 
 }  // namespace
 
+const FieldList<CollisionFreeSpeed>& CollisionFreeSpeed::Fields() {
+  static const FieldList<CollisionFreeSpeed> list = [] {
+    using C = CollisionFreeSpeed;
+    FieldList<C> t;
+    t.Number("time_gap", &C::time_gap, Range::Positive(), "time", "T of V(s) = (s − ℓ)/T")
+        .Number("length", &C::length, Range::Positive(), "length", "ℓ, the body diameter")
+        .Number("repulsion", &C::repulsion, Range::NonNegative(), "1", "a, neighbours' repulsion")
+        .Number("repulsion_range", &C::repulsion_range, Range::Positive(), "length",
+                "D, its range")
+        .Number("wall_repulsion", &C::wall_repulsion, Range::NonNegative(), "1",
+                "a_w, walls' repulsion")
+        .Number("wall_repulsion_range", &C::wall_repulsion_range, Range::Positive(), "length",
+                "D_w, its range");
+    return t;
+  }();
+  return list;
+}
+
+void CollisionFreeSpeed::Validate() const { Fields().Validate(*this); }
+
+double CollisionFreeSpeedAt(const CollisionFreeSpeed& model, double v0, double headway) {
+  return std::min(v0, std::max(0.0, (headway - model.length) / model.time_gap));
+}
+
+double CollisionFreeRange(const CollisionFreeSpeed& model, double max_speed) {
+  return model.length +
+         std::max(model.time_gap * max_speed, 10.0 * model.repulsion_range);
+}
+
 int PairAttraction::classes() const {
   return static_cast<int>(std::lround(std::sqrt(static_cast<double>(class_stiffness.size()))));
 }
@@ -119,6 +158,12 @@ void Forces::Validate() const {
         throw InputError("forces.propulsion.exit_direction must be finite and non-zero");
       }
     }
+    if (propulsion->direction) {
+      const Vec3& e = *propulsion->direction;
+      if (!finite3(e) || e[0] * e[0] + e[1] * e[1] + e[2] * e[2] == 0.0) {
+        throw InputError("forces.propulsion.direction must be finite and non-zero");
+      }
+    }
     if (propulsion->target_end && !finite3(*propulsion->target_end)) {
       throw InputError("forces.propulsion.target_end must be finite");
     }
@@ -152,6 +197,11 @@ double PairListWidening(const Forces& forces, double min_radius) {
   if (forces.attraction && forces.attraction->attracts()) widening = forces.attraction->range;
   if (forces.propulsion && forces.walking.density) {
     widening = std::max(widening, forces.walking.density->radius - 2.0 * min_radius);
+  }
+  if (forces.propulsion && forces.walking.collision_free) {
+    const double v_max = forces.propulsion->speed + 3.0 * forces.walking.speed_sd;
+    widening = std::max(
+        widening, CollisionFreeRange(*forces.walking.collision_free, v_max) - 2.0 * min_radius);
   }
   return widening;
 }

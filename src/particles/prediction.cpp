@@ -38,10 +38,21 @@ DriftParameters::DriftParameters(const Forces& forces, int k, double h) {
   if (exit) {
     for (int a = 0; a < k; ++a) exit_direction[a] /= std::sqrt(n2);
   }
+  fixed = propulsion && forces.propulsion->direction.has_value();
+  if (fixed) {
+    double d2 = 0.0;
+    for (int a = 0; a < k; ++a) {
+      direction[a] = (*forces.propulsion->direction)[static_cast<std::size_t>(a)];
+      d2 += direction[a] * direction[a];
+    }
+    for (int a = 0; a < k; ++a) direction[a] /= std::sqrt(d2);
+  }
   if (propulsion) {
     speed_sd = forces.walking.speed_sd;
     density = forces.walking.density.has_value();
     if (density) density_law = *forces.walking.density;
+    collision_free = forces.walking.collision_free.has_value();
+    if (collision_free) walk = *forces.walking.collision_free;
   }
   if (forces.attraction && forces.attraction->attracts()) {
     attraction_stiffness = forces.attraction->stiffness;
@@ -70,6 +81,15 @@ Prediction::Prediction(const Forces& forces, const PeriodicBox& box, int n, doub
     }
     neighbours_.assign(static_cast<std::size_t>(n), 0);
     speed_factor_.assign(static_cast<std::size_t>(n), 1.0);
+  }
+  if (walks_collision_free()) {
+    if (box.k != 2) {
+      throw InputError(fmt::format(
+          "forces.walking.collision_free: the collision-free speed model needs dimension 2 (got {})",
+          box.k));
+    }
+    walk_.assign(2 * static_cast<std::size_t>(n), 0.0);
+    headway_.assign(static_cast<std::size_t>(n), 0.0);
   }
 }
 
@@ -209,37 +229,15 @@ void Prediction::LocalDensity(const StepContext& context) {
 
 namespace {
 
-// The self-propulsion velocity v0 e of a particle at xw (wrapped), added to v. Inlined: a call in
-// the prediction loop would keep its running maximum in memory.
+// The self-propulsion velocity v0 e0 of a particle at xw (wrapped), added to v; nothing when
+// the particle is at its target.
 template <int K>
 [[gnu::always_inline]] inline void AddPropulsion(const DriftParameters& d, const double* xw,
                                                  double speed, double* v) {
-  double beyond = 0.0;
-  if (d.exit) {
-    for (int a = 0; a < K; ++a) beyond += (xw[a] - d.target[a]) * d.exit_direction[a];
-  }
-  if (beyond > 0.0) {
-    for (int a = 0; a < K; ++a) v[a] += speed * d.exit_direction[a];
-    return;
-  }
-  double target[K];
-  if (d.segment) {
-    double e2 = 0.0, dot = 0.0;
-    for (int a = 0; a < K; ++a) {
-      e2 += (d.target_end[a] - d.target[a]) * (d.target_end[a] - d.target[a]);
-      dot += (xw[a] - d.target[a]) * (d.target_end[a] - d.target[a]);
-    }
-    const double t = e2 > 0.0 ? std::clamp(dot / e2, 0.0, 1.0) : 0.0;
-    for (int a = 0; a < K; ++a) target[a] = d.target[a] + t * (d.target_end[a] - d.target[a]);
-  } else {
-    for (int a = 0; a < K; ++a) target[a] = d.target[a];
-  }
-  double dx[K];
-  for (int a = 0; a < K; ++a) dx[a] = target[a] - xw[a];
-  const double dist = std::sqrt(SquaredNorm<K>(dx));
-  if (dist > 1e-12) {
-    for (int a = 0; a < K; ++a) v[a] += speed * (dx[a] / dist);
-  }
+  double e[K];
+  DesiredDirection<K>(d, xw, e);
+  if (SquaredNorm<K>(e) == 0.0) return;
+  for (int a = 0; a < K; ++a) v[a] += speed * e[a];
 }
 
 }  // namespace
@@ -270,6 +268,7 @@ struct PredictRows {
   const std::int64_t* const& key;
   const int* const& id;
   const double* const& factor;
+  const double* const& walk;
   const double* const& active;
   const double& h;
   const double& sigma;
@@ -300,7 +299,9 @@ struct PredictRows {
       const double mu = uniform_mobility ? 1.0 : mobility[s];
       double v[K];
       for (int a = 0; a < K; ++a) v[a] = mu * F[a];
-      if (propulsion) {
+      if (walk != nullptr) {
+        for (int a = 0; a < K; ++a) v[a] += walk[K * s + a];
+      } else if (propulsion) {
         double speed = d.v0;
         if (crowd_speeds) {
           speed = DesiredSpeed(seed, key != nullptr ? key[s] : id[s], d.v0, d.speed_sd);
@@ -374,6 +375,7 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
   const bool attract = !force_.empty();
   const double* factor = speed_factor_.empty() ? nullptr : speed_factor_.data();
   const bool crowd_speeds = d.speed_sd > 0.0 || factor != nullptr;
+  const double* walk = walk_.empty() ? nullptr : walk_.data();
   const double* ref = bound != nullptr ? bound->reference : nullptr;
   const double quarter2 = bound != nullptr ? bound->quarter2 : 0.0;
   const PredictRows<K, P, Noise> rows{x,        wrap_axis,  lo,     len,
@@ -381,8 +383,8 @@ void Prediction::PredictImpl(const double* x, double* y, const int* id, const st
                                       f0,       attract,    fa,     uniform_mobility,
                                       mobility, propulsion, d,      crowd_speeds,
                                       seed,     key,        id,     factor,
-                                      active,   h,          sigma,  y,
-                                      ref,      quarter2};
+                                      walk,     active,     h,      sigma,
+                                      y,        ref,        quarter2};
   ReportPrediction(OverNoiseBatches<K, Noise>(n, threads, seed, key, id, step, rows), max_move,
                    bad_id, max_coordinate, bound);
 }

@@ -4,6 +4,8 @@
 // ξ_i(seed, id, step). Per slot; the noise and the desired speeds depend only on the ids.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -28,9 +30,13 @@ struct DriftParameters {
   double target_end[3] = {0, 0, 0};
   bool exit = false;  // past the target the direction is exit_direction (normalised)
   double exit_direction[3] = {0, 0, 0};
+  bool fixed = false;  // one desired direction everywhere (normalised)
+  double direction[3] = {0, 0, 0};
   double speed_sd = 0.0;  // σ_v of the desired speeds; 0: v0 for all
   bool density = false;   // Weidmann's factor on the walking speed
   DensitySpeed density_law;
+  bool collision_free = false;  // the collision-free speed model (forces.h)
+  CollisionFreeSpeed walk;
   double attraction_stiffness = 0.0;
   double attraction_range = 0.0;        // > 0 when the attraction is on
   std::vector<double> class_stiffness;  // C × C (PairAttraction); empty: the one stiffness
@@ -41,6 +47,47 @@ struct DriftParameters {
 };
 
 struct StepContext;  // step_context.h
+
+// The desired direction e0 (unit, or zero when already at the target) of a particle at xw
+// (wrapped) into e: the fixed direction; past the target along the exit direction; else toward
+// the target point or the nearest point of the target segment. Inlined: a call in the prediction
+// loop would keep its running maximum in memory.
+template <int K>
+[[gnu::always_inline]] inline void DesiredDirection(const DriftParameters& d, const double* xw,
+                                                    double* e) {
+  if (d.fixed) {
+    for (int a = 0; a < K; ++a) e[a] = d.direction[a];
+    return;
+  }
+  double beyond = 0.0;
+  if (d.exit) {
+    for (int a = 0; a < K; ++a) beyond += (xw[a] - d.target[a]) * d.exit_direction[a];
+  }
+  if (beyond > 0.0) {
+    for (int a = 0; a < K; ++a) e[a] = d.exit_direction[a];
+    return;
+  }
+  double target[K];
+  if (d.segment) {
+    double e2 = 0.0, dot = 0.0;
+    for (int a = 0; a < K; ++a) {
+      e2 += (d.target_end[a] - d.target[a]) * (d.target_end[a] - d.target[a]);
+      dot += (xw[a] - d.target[a]) * (d.target_end[a] - d.target[a]);
+    }
+    const double t = e2 > 0.0 ? std::clamp(dot / e2, 0.0, 1.0) : 0.0;
+    for (int a = 0; a < K; ++a) target[a] = d.target[a] + t * (d.target_end[a] - d.target[a]);
+  } else {
+    for (int a = 0; a < K; ++a) target[a] = d.target[a];
+  }
+  double dx[K];
+  double dist2 = 0.0;
+  for (int a = 0; a < K; ++a) {
+    dx[a] = target[a] - xw[a];
+    dist2 += dx[a] * dx[a];
+  }
+  const double dist = std::sqrt(dist2);
+  for (int a = 0; a < K; ++a) e[a] = dist > 1e-12 ? dx[a] / dist : 0.0;
+}
 
 // What a prediction reports besides the positions.
 struct PredictionOutcome {
@@ -58,6 +105,12 @@ class Prediction {
 
   bool attracts() const { return parameters_.attraction_range > 0.0; }
   bool measures_density() const { return parameters_.density; }
+  bool walks_collision_free() const { return parameters_.collision_free; }
+  // Each slot's velocity V_i(s_i) e_i of the collision-free speed model (forces.h) at the store's
+  // current positions: the repulsions over the list's pairs closer than R (by colour in
+  // parallel, or lexicographic on one thread), the walls', the directions, then the headways
+  // (a minimum, so no order matters) (collision_free.cpp).
+  void CollisionFreeWalk(const StepContext& context);
   // Each slot's Weidmann factor φ(ρ_i) at the store's current positions, ρ_i counted over the
   // list's pairs closer than R (forces.h DensitySpeed): by colour in parallel, or
   // (lexicographic) on one thread. Integer counts, so the factors do not depend on the thread
@@ -86,6 +139,8 @@ class Prediction {
   template <int K, bool P>
   void LocalDensityImpl(const double* x, const NeighbourList& list, const Colouring& colouring,
                         const CellList& cells, bool lexicographic, int threads);
+  template <int K, bool P>
+  void CollisionFreeWalkImpl(const StepContext& context);
   template <int K, bool P, bool Noise>
   void PredictImpl(const double* x, double* y, const int* id, const std::int64_t* key,
                    const double* active, const double* mobility, std::int64_t step, int threads,
@@ -112,6 +167,8 @@ class Prediction {
   std::vector<double> force_;         // k per slot, attraction only
   std::vector<int> neighbours_;       // per slot, #{j : ‖X_i − X_j‖ < R}; density only
   std::vector<double> speed_factor_;  // per slot, φ(ρ_i); density only
+  std::vector<double> walk_;          // k per slot: V_i e_i, then the velocity; collision-free only
+  std::vector<double> headway_;       // per slot, s_i; collision-free only
   std::vector<double> scratch_;
 };
 

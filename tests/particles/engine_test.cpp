@@ -185,9 +185,9 @@ TEST(ParticleEngine, BitIdenticalForAnyThreadCount2d) {
 }
 
 // TakeActiveVelocities (one pass: the sum, the storage order, the check, the zeroing) against
-// SetActiveVelocities of the sum, in 2 and 3 dimensions on two threads, on a storage order that is not the id
-// order; then the lowest id of the non-finite ones, and a sum of huge finite values that is no
-// failure.
+// SetActiveVelocities of the sum, in 2 and 3 dimensions on two threads, on a storage order that is
+// not the id order; then the lowest id of the non-finite ones, and a sum of huge finite values that
+// is no failure.
 TEST(ParticleEngine, TakenActiveVelocitiesEqualTheCopiedSumAndNameTheLowestBadId) {
   for (int k : {2, 3}) {
     ParticleModel model;
@@ -373,7 +373,7 @@ TEST(ParticleEngine, CrowdLeavesARoomThroughTheDoor) {
                 {{10, 5.6}, {10, 10}}};
   const std::vector<double> x0 = RandomSequentialAddition(m, {0.3, 0.3, 0}, {9.7, 9.7, 0}, 1);
   Forces f;
-  f.propulsion = SelfPropulsion{1.0, {13.0, 5.0, 0.0}, std::nullopt, std::nullopt};
+  f.propulsion = SelfPropulsion{1.0, {13.0, 5.0, 0.0}, std::nullopt, std::nullopt, std::nullopt};
   for (const double h : {0.01, 0.005}) {
     EngineOptions o;
     o.h = h;
@@ -406,7 +406,7 @@ TEST(ParticleEngine, MoreSweepsShrinkTheOverlapsAndStayDeterministic) {
   m.AddBoxWalls({0, 0, 0}, {8, 8, 0});
   const std::vector<double> x0 = RandomSequentialAddition(m, {0, 0, 0}, {8, 8, 0}, 5);
   Forces f;
-  f.propulsion = SelfPropulsion{1.0, {0.0, 0.0, 0.0}, std::nullopt, std::nullopt};
+  f.propulsion = SelfPropulsion{1.0, {0.0, 0.0, 0.0}, std::nullopt, std::nullopt, std::nullopt};
   double previous = std::numeric_limits<double>::infinity();
   for (const int sweeps : {1, 4, 16}) {
     EngineOptions o;
@@ -437,7 +437,8 @@ TEST(ParticleEngine, MoreSweepsShrinkTheOverlapsAndStayDeterministic) {
   ParticleModel one;
   one.radius = {0.1};
   Forces g;
-  g.propulsion = SelfPropulsion{2.0, {1.0, 0.0, 0.0}, Vec3{1.0, 1.0, 0.0}, Vec3{1.0, 0.0, 0.0}};
+  g.propulsion =
+      SelfPropulsion{2.0, {1.0, 0.0, 0.0}, Vec3{1.0, 1.0, 0.0}, Vec3{1.0, 0.0, 0.0}, std::nullopt};
   EngineOptions o;
   o.h = 0.01;
   Engine e(one, g, o, std::vector<double>{1.5, 0.5});

@@ -49,6 +49,19 @@ void AddForceFields(FieldTable<ParticleScenario>& t) {
                       "pair attraction k")
       .OptionalNumber("attraction_range", &F::attraction_range, Range::Positive(), "its range ℓ")
       .Number("diffusion", &F::diffusion, Range::NonNegative(), "diffusion D (noise)")
+      .Choice(
+          "pedestrian_model", &F::pedestrian_model,
+          [](const std::string& name) {
+            if (name != "propulsion" && name != "collision_free") {
+              throw InputError(fmt::format(
+                  "unknown pedestrian model '{}' (propulsion, collision_free)", name));
+            }
+            return name;
+          },
+          [](const std::string& name) { return name; }, "propulsion, collision_free",
+          "walking speed and direction: v0,i toward the target, or the collision-free speed "
+          "model (forces.collision_free.*)")
+      .Mount("collision_free", &F::collision_free, particles::CollisionFreeSpeed::Fields())
       .Check("propulsion_speed_sd", [](const F& s) {
         if (s.propulsion_speed && 3.0 * s.propulsion_speed_sd > *s.propulsion_speed) {
           throw InputError(
@@ -68,6 +81,9 @@ void AddForceFields(FieldTable<ParticleScenario>& t) {
   AddVec(
       t, "forces.target_end", [](auto& s) -> auto& { return s.forces.target_end; },
       "the target is the segment [target, target_end]");
+  AddVec(
+      t, "forces.direction", [](auto& s) -> auto& { return s.forces.direction; },
+      "one desired walking direction everywhere (a corridor, a ring)");
 }
 
 particles::Forces ParticleScenario::MakeForces() const {
@@ -84,6 +100,7 @@ particles::Forces ParticleScenario::MakeForces() const {
       p.speed = speed;
       p.target = in.target.value_or(Vec3{0.0, 0.0, 0.0});
       p.target_end = in.target_end;
+      p.direction = in.direction;
       f.propulsion = p;
     }
   }
@@ -94,6 +111,7 @@ particles::Forces ParticleScenario::MakeForces() const {
     law.gamma = in.density_gamma.value_or(law.gamma);
     law.max_density = in.density_max.value_or(law.max_density);
   }
+  if (in.pedestrian_model == "collision_free") f.walking.collision_free = in.collision_free;
   // population.adhesion alone: the pairs it does not name do not attract.
   if (in.attraction_stiffness || (in.attraction_range && !population.rules.adhesion.empty())) {
     f.attraction = particles::PairAttraction{

@@ -8,8 +8,8 @@
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
 #include "moreau/common/steps.h"
-#include "run/force_fields.h"
 #include "run/fields_scenario.h"
+#include "run/force_fields.h"
 #include "run/population_scenario.h"
 
 namespace moreau::cli {
@@ -271,6 +271,25 @@ void CheckRadii(FieldTable<PS>& t) {
       });
 }
 
+// The collision-free speed model's and the fixed direction's conditions on other keys.
+void AddPedestrianModelChecks(FieldTable<PS>& t) {
+  t.Check("forces.pedestrian_model", [](const PS& s) {
+     const ParticleForceSettings& f = s.forces;
+     if (f.pedestrian_model != "collision_free") return;
+     if (!f.propulsion_speed && !s.room) {
+       throw InputError("collision_free needs forces.propulsion_speed or a [room]");
+     }
+     if (f.density_radius) {
+       throw InputError("collision_free does not go with forces.density_radius");
+     }
+     if (s.dimension != 2) throw InputError("collision_free needs dimension 2");
+   }).Check("forces.direction", [](const PS& s) {
+    if (s.forces.direction && (!s.forces.propulsion_speed || s.room || s.forces.target)) {
+      throw InputError("needs forces.propulsion_speed (and no [room], no forces.target)");
+    }
+  });
+}
+
 // Checks over several fields; the memory check comes first, before anything of size N.
 void AddChecks(FieldTable<PS>& t) {
   t.Check("problem.count", [](const PS& s) {
@@ -278,6 +297,7 @@ void AddChecks(FieldTable<PS>& t) {
     if (s.count > std::numeric_limits<int>::max()) throw InputError("too many particles");
   });
   CheckRadii(t);
+  AddPedestrianModelChecks(t);
   t.Check("domain.hi",
           [](const PS& s) {
             for (std::size_t a = 0; a < static_cast<std::size_t>(s.dimension); ++a) {

@@ -32,6 +32,10 @@ struct ParticleForceSettings {
   std::optional<double> density_max;           // ρ_max, default 5.4 /m²
   std::optional<particles::Vec3> target;       // default: the origin
   std::optional<particles::Vec3> target_end;   // the target is a segment when set
+  std::optional<particles::Vec3> direction;    // one desired direction everywhere when set
+  // "propulsion" (v0,i, optionally × Weidmann's φ) or "collision_free" (Tordeux et al. 2016).
+  std::string pedestrian_model = "propulsion";
+  particles::CollisionFreeSpeed collision_free;  // forces.collision_free.*
   std::optional<double> attraction_stiffness;  // pair attraction when set
   std::optional<double> attraction_range;      // default 0
   double diffusion = 0.0;

@@ -40,6 +40,7 @@
 #include <optional>
 #include <vector>
 
+#include "moreau/common/field_list.h"
 #include "moreau/particles/model.h"
 
 namespace moreau::particles {
@@ -73,6 +74,39 @@ struct SelfPropulsion {
   // When set (non-zero), a particle past the target, ⟨X_i − target, e⟩ > 0, walks at v0 along
   // e instead (a pedestrian who went through the door keeps walking away from the room).
   std::optional<Vec3> exit_direction;
+  // When set (non-zero), every particle's desired direction is direction / ‖direction‖ wherever
+  // it is, and target, target_end and exit_direction are not used (a corridor, a ring).
+  std::optional<Vec3> direction;
+};
+
+// The collision-free speed model of Tordeux, Chraibi & Seyfried (2016, "Collision-free speed
+// model for pedestrian dynamics", Traffic and Granular Flow '15, 225–232; arXiv:1512.05597),
+// dimension 2. Person i walks at
+//   ẋ_i = V_i(s_i) e_i,   V_i(s) = min(v0,i, max(0, (s − ℓ) / T)),
+// with v0,i the desired speed (WalkingSpeeds::speed_sd) and
+//   e_i = ê(e0,i + Σ_j a exp((ℓ − d_ij) / D) n_ij + Σ_w a_w exp((ℓ/2 − d_iw) / D_w) n_iw),
+// ê(u) = u / ‖u‖ (e_i = 0 when u = 0), e0,i the desired direction of SelfPropulsion, d_ij =
+// ‖x_i − x_j‖ (minimum image), n_ij = (x_i − x_j) / d_ij, d_iw the distance from x_i to wall or
+// segment w and n_iw the unit vector from its nearest point to x_i. The headway s_i is the
+// distance to the nearest neighbour in the walking direction and within the body's path:
+//   s_i = min { d_ij : ⟨e_i, x_j − x_i⟩ > 0, |⟨e_i^⊥, x_j − x_i⟩| < ℓ },   +∞ if there is none.
+// Only neighbours with d_ij < R count, R = ℓ + max(T max_i v0,i, 10 D) (CollisionFreeRange):
+// V_i(s) = v0,i for s ≥ R, and a repulsion weight at R is at most a e^{−10}. In single file at
+// density ρ (equal spacing 1/ρ) every person walks at V(1/ρ) (docs/crowds.md). The model
+// itself keeps people at least ℓ apart along their path; the engine's projection still enforces
+// ‖x_i − x_j‖ ≥ r_i + r_j (the radii are the model's, not ℓ).
+struct CollisionFreeSpeed {
+  double time_gap = 1.0;              // T > 0 (time)
+  double length = 0.3;                // ℓ > 0 (length): the body diameter
+  double repulsion = 5.0;             // a ≥ 0: the neighbours' repulsion strength
+  double repulsion_range = 0.1;       // D > 0 (length)
+  double wall_repulsion = 5.0;        // a_w ≥ 0: the walls' and segments' repulsion strength
+  double wall_repulsion_range = 0.1;  // D_w > 0 (length)
+
+  // time_gap, length, repulsion, repulsion_range, wall_repulsion, wall_repulsion_range.
+  static const FieldList<CollisionFreeSpeed>& Fields();
+  // Throws InputError(key, reason): ("time_gap", "must be > 0 (got 0)").
+  void Validate() const;
 };
 
 // A pedestrian crowd's walking speeds: they scale SelfPropulsion's v0 per person.
@@ -84,6 +118,9 @@ struct WalkingSpeeds {
   double speed_sd = 0.0;
   // When set, the speed falls with the local density (Weidmann's fundamental diagram).
   std::optional<DensitySpeed> density;
+  // When set, the speed and the direction are those of the collision-free speed model (needs
+  // dimension 2; does not go with density).
+  std::optional<CollisionFreeSpeed> collision_free;
 };
 
 struct PairAttraction {
@@ -135,9 +172,17 @@ double DesiredSpeed(std::uint64_t seed, std::int64_t id, double mean, double sd)
 // (DensitySpeed); 1 for ρ ≤ 0.
 double WeidmannSpeedFactor(const DensitySpeed& law, double density);
 
+// V(s) = min(v0, max(0, (s − ℓ) / T)) of the collision-free speed model at headway s.
+double CollisionFreeSpeedAt(const CollisionFreeSpeed& model, double v0, double headway);
+
+// R = ℓ + max(T v_max, 10 D): the distance within which neighbours count in the collision-free
+// speed model, v_max the largest desired speed.
+double CollisionFreeRange(const CollisionFreeSpeed& model, double max_speed);
+
 // How far the engine's neighbour lists reach beyond contact (r_i + r_j) for these forces: the
-// attraction range ℓ, and R − 2 r_min for the density circle (every pair closer than R is then
-// a candidate pair); the larger of the two, ≥ 0. min_radius: the smallest particle radius.
+// attraction range ℓ, R − 2 r_min for the density circle and for the collision-free speed
+// model's range (every pair closer than R is then a candidate pair); the largest, ≥ 0.
+// min_radius: the smallest particle radius.
 double PairListWidening(const Forces& forces, double min_radius);
 
 }  // namespace moreau::particles
