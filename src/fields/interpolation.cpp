@@ -7,6 +7,7 @@
 
 #include "moreau/common/error.h"
 #include "moreau/fields/field_set.h"
+#include "fields/team.h"
 
 namespace moreau::fields {
 namespace {
@@ -181,6 +182,10 @@ void FieldSet::Sample(int s, std::span<const double> positions, Interpolation in
                                              gradient.size(), count, k));
   }
   const std::span<const double> c = values(s);
+  // Each agent's value and gradient are its own: any split over threads gives the same bits
+  // (a large population is split like a large grid).
+  const int threads = internal::TeamSize(threads_, static_cast<std::int64_t>(count));
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
   for (std::size_t i = 0; i < count; ++i) {
     const Stencil st = StencilAt(grid_, sub, positions.data() + k * i, interpolation);
     double sum = 0.0;

@@ -117,6 +117,22 @@ TEST(FieldInterpolation, LinearFieldSampledExactly) {
   }
 }
 
+// A population large enough to be sampled on several threads gets the bits of one thread.
+TEST(FieldInterpolation, SampleHasTheSameBitsOnOneAndTwoThreads) {
+  const Grid grid = GridOf(3, {12, 10, 8}, 0.5);
+  const std::vector<double> x = AgentsIn(grid, 50000, 67);
+  std::vector<std::vector<double>> values, gradients;
+  for (int threads : {1, 2}) {
+    FieldSet fields(grid, {HalfPeriodic()}, threads);
+    Fill(fields, 0, [](const double* p) { return std::sin(p[0]) * std::cos(2.0 * p[1]) + p[2]; });
+    values.emplace_back(x.size() / 3);
+    gradients.emplace_back(x.size());
+    fields.Sample(0, x, Interpolation::kLinear, values.back(), gradients.back());
+  }
+  EXPECT_EQ(values[0], values[1]);
+  EXPECT_EQ(gradients[0], gradients[1]);
+}
+
 // At a zero-flux face the weight beyond the first centre stays on the face voxel; on a periodic
 // axis it wraps to the opposite voxel.
 TEST(FieldInterpolation, FaceWeights) {
