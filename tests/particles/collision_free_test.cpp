@@ -93,35 +93,17 @@ TEST(CollisionFreeSpeed, SingleFileRingWalksAtTheExactStationarySpeed) {
 }
 
 // 120 people leaving a room through a door in the collision-free model with desired speeds and
-// noise: the same bits on 1 and 2 threads, and nobody overlaps a wall by more than the engine's
-// projection allows.
+// noise: the same bits on 1 and 2 threads, and they moved.
 TEST(CollisionFreeSpeed, CrowdIsBitIdenticalOnOneAndTwoThreads) {
-  Room room;
-  room.width = 8.0;
-  room.height = 8.0;
-  ParticleModel m;
-  m.radius.assign(120, 0.2);
-  AddRoom(room, &m);
-  const std::vector<double> x0 = RandomSequentialAddition(m, {0.3, 0.3, 0}, {7.7, 7.7, 0}, 3);
-  Forces f;
-  f.propulsion = room.WalkToTheDoor(1.34);
-  f.walking.speed_sd = 0.26;
-  f.walking.collision_free = CollisionFreeSpeed{};
-  f.diffusion = 0.001;
-  std::vector<std::vector<double>> results;
-  for (int threads : {1, 2}) {
-    EngineOptions o;
-    o.h = 0.01;
-    o.seed = 8;
-    o.threads = threads;
-    o.block_cells = 1;
-    Engine e(m, f, o, x0);
-    const EngineSummary summary = e.Run(300 * o.h);
-    ASSERT_TRUE(summary.ok()) << summary.message;
-    results.push_back(e.Positions());
-  }
-  EXPECT_TRUE(results[1] == results[0]);
-  EXPECT_NE(results[0], x0);
+  const testing::RoomCrowdRuns runs = testing::RunRoomCrowdOnOneAndTwoThreads(
+      0.2,
+      [](Forces& f) {
+        f.walking.collision_free = CollisionFreeSpeed{};
+        f.diffusion = 0.001;
+      },
+      [](const EngineSummary&) {});
+  EXPECT_TRUE(runs.final[1] == runs.final[0]);
+  EXPECT_NE(runs.final[0], runs.start);
 }
 
 TEST(CollisionFreeSpeed, BadParametersAreInputErrors) {

@@ -99,32 +99,14 @@ TEST(CrowdSpeed, EngineWalksAtTheDesiredSpeedTimesWeidmannsFactor) {
 // 120 people leaving a room through a 1.2 m door with desired speeds, Weidmann's law and noise:
 // the same bits on 1 and 2 threads.
 TEST(CrowdSpeed, WeidmannCrowdIsBitIdenticalOnOneAndTwoThreads) {
-  Room room;
-  room.width = 8.0;
-  room.height = 8.0;
-  ParticleModel m;
-  m.radius.assign(120, 0.25);
-  AddRoom(room, &m);
-  const std::vector<double> x0 = RandomSequentialAddition(m, {0.3, 0.3, 0}, {7.7, 7.7, 0}, 3);
-  Forces f;
-  f.propulsion = room.WalkToTheDoor(1.34);
-  f.walking.speed_sd = 0.26;
-  f.walking.density = DensitySpeed{};
-  f.diffusion = 0.005;
-  std::vector<std::vector<double>> results;
-  for (int threads : {1, 2}) {
-    EngineOptions o;
-    o.h = 0.01;
-    o.seed = 8;
-    o.threads = threads;
-    o.block_cells = 1;
-    Engine e(m, f, o, x0);
-    const EngineSummary summary = e.Run(300 * o.h);
-    ASSERT_TRUE(summary.ok()) << summary.message;
-    EXPECT_GT(summary.stats.projections, 100);
-    results.push_back(e.Positions());
-  }
-  EXPECT_TRUE(results[1] == results[0]);
+  const testing::RoomCrowdRuns runs = testing::RunRoomCrowdOnOneAndTwoThreads(
+      0.25,
+      [](Forces& f) {
+        f.walking.density = DensitySpeed{};
+        f.diffusion = 0.005;
+      },
+      [](const EngineSummary& summary) { EXPECT_GT(summary.stats.projections, 100); });
+  EXPECT_TRUE(runs.final[1] == runs.final[0]);
 }
 
 TEST(CrowdSpeed, BadSpeedsAreInputErrors) {
