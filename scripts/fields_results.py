@@ -227,7 +227,7 @@ def plot_spheroid(png, rows, fits, profile, p):
     n = np.array([r["count"] for r in rows])
     ax[0].semilogy(t, n, "o", ms=3, label="cells")
     ax[0].semilogy(t, [r["necrotic"] or np.nan for r in rows], "s", ms=3, label="necrotic")
-    ax[0].semilogy(t, np.exp(fits["lambda"] * t), "k--", lw=1, label="e^{λt}")
+    ax[0].semilogy(t, np.exp(fits["lambda"] * t), "k--", lw=1, label=r"$e^{\lambda t}$")
     ax[0].set(xlabel="t", ylabel="count", ylim=(0.8, 2 * n.max()))
     ax[0].legend(fontsize=8)
     R = np.array([r["R"] for r in rows])
@@ -240,7 +240,7 @@ def plot_spheroid(png, rows, fits, profile, p):
     tf = fits["fed_until"]
     early = t <= t0
     ax[1].plot(t[early], float(np.interp(tf, t, R)) * np.exp(fits["lambda"] / 3 * (t[early] - tf)),
-               "k:", lw=1, label="∝ e^{λt/3}")
+               "k:", lw=1, label=r"$\propto e^{\lambda t/3}$")
     ax[1].set(xlabel="t", ylabel="radius", ylim=(0, 1.1 * R.max()),
               title=f"measured speed {fits['speed']:.2f}")
     ax[1].legend(fontsize=8)
