@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <string>
 #include <cstdlib>
 #include <exception>
 #include <new>
@@ -12,6 +13,7 @@
 #include "moreau/common/error.h"
 #include "moreau/common/memory.h"
 #include "moreau/common/openmp_wait.h"
+#include "output.h"
 #include "signals.h"
 
 int main(int argc, char** argv) {
@@ -37,7 +39,8 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   } catch (const moreau::InputError& e) {
-    std::fprintf(stderr, "moreau: error: %s\n", e.what());
+    const std::string message = moreau::cli::WithoutStagingNames(e.what());
+    std::fprintf(stderr, "moreau: error: %s\n", message.c_str());
     return 2;
   } catch (const moreau::NumericalError& e) {
     std::fprintf(stderr, "moreau: numerical failure: %s\n", e.what());
@@ -53,7 +56,8 @@ int main(int argc, char** argv) {
         app.get_subcommands().empty() ? "" : app.get_subcommands().front()->get_name().c_str());
     return 3;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "moreau: error: %s\n", e.what());
+    const std::string message = moreau::cli::WithoutStagingNames(e.what());
+    std::fprintf(stderr, "moreau: error: %s\n", message.c_str());
     return 1;
   }
   return 0;

@@ -14,7 +14,11 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <mutex>
 #include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -156,6 +160,15 @@ fs::path LockPath(const fs::path& target) {
   return target.parent_path() / fmt::format(".moreau-lock.{:016x}", hash);
 }
 
+
+// Every staging folder this process made, with the folder it stands for: messages printed at
+// the top (an error thrown from deep inside a writer) name the user's folder instead.
+std::mutex staged_folders_mutex;
+std::vector<std::pair<std::string, std::string>>& StagedFolders() {
+  static std::vector<std::pair<std::string, std::string>> folders;
+  return folders;
+}
+
 }  // namespace
 
 OutputDir::OutputDir(fs::path dir, Publish publish) : dir_(std::move(dir)), publish_(publish) {
@@ -193,6 +206,8 @@ OutputDir::OutputDir(fs::path dir, Publish publish) : dir_(std::move(dir)), publ
     if (!fs::create_directory(staging_, ec) || ec) {
       Fail(dir_, fmt::format("cannot write beside it ({})", ec ? ec.message() : "name taken"));
     }
+    const std::lock_guard<std::mutex> lock(staged_folders_mutex);
+    StagedFolders().emplace_back(staging_.string(), dir_.string());
   } catch (...) {
     ReleaseLock();  // no destructor for a constructor that throws
     throw;
@@ -421,6 +436,16 @@ bool RunPlotScript(const std::string& script, const std::vector<std::string>& ar
   std::fprintf(stderr, "moreau: warning: %s; figures skipped (numbers are written)\n",
                failure.c_str());
   return false;
+}
+
+std::string WithoutStagingNames(std::string message) {
+  const std::lock_guard<std::mutex> lock(staged_folders_mutex);
+  for (const auto& [staged, dir] : StagedFolders()) {
+    for (std::size_t at; (at = message.find(staged)) != std::string::npos;) {
+      message.replace(at, staged.size(), dir);
+    }
+  }
+  return message;
 }
 
 }  // namespace moreau::cli

@@ -98,4 +98,8 @@ std::string RunFigureScript(const std::string& script, const std::vector<std::st
 // nothing and returns false.
 bool RunPlotScript(const std::string& script, const std::vector<std::string>& args);
 
+// MESSAGE with every staging folder of this process replaced by the folder it stands for (an
+// error from deep inside a writer names the staged file; the user knows only their folder).
+std::string WithoutStagingNames(std::string message);
+
 }  // namespace moreau::cli

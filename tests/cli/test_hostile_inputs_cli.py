@@ -252,3 +252,16 @@ def test_a_full_disk_is_one_line_naming_the_folder_the_file_and_the_reason(full_
     line = rejected(r, str(full_disk / "filled" / "filled.c3d"), "No space left on device")
     assert ".moreau-staging" not in line
     assert not any(full_disk.iterdir()), list(full_disk.iterdir())
+
+
+def test_a_full_disk_under_a_particle_run_is_one_line_and_no_crash(full_disk):
+    # The HDF5 trajectory fills the disk while the run steps: no crash at exit (HDF5's exit
+    # handler is off), one line naming the user's folder and the reason, nothing left behind.
+    r = run_cli("run", ROOT / "examples/disks_1e4.toml", "--set", "problem.T=2",
+                "--out", full_disk / "run")
+    assert r.returncode == 1, (r.returncode, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    assert str(full_disk / "run" / "trajectory.h5") in lines[0], lines[0]
+    assert "No space left on device" in lines[0] and ".moreau-staging" not in lines[0]
+    assert not any(full_disk.iterdir()), list(full_disk.iterdir())
