@@ -161,6 +161,13 @@ fs::path LockPath(const fs::path& target) {
 }
 
 
+// Every occurrence of `from` in `text` replaced by `to`.
+void ReplaceAll(std::string& text, const std::string& from, const std::string& to) {
+  for (std::size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) {
+    text.replace(at, from.size(), to);
+  }
+}
+
 // Every staging folder this process made, with the folder it stands for: messages printed at
 // the top (an error thrown from deep inside a writer) name the user's folder instead.
 std::mutex staged_folders_mutex;
@@ -267,10 +274,7 @@ void OutputDir::WriteWith(const std::string& name,
     write(path);
   } catch (const InputError& e) {
     std::string message = e.what();
-    const std::string staged = path.string();
-    for (std::size_t at; (at = message.find(staged)) != std::string::npos;) {
-      message.replace(at, staged.size(), (dir_ / name).string());
-    }
+    ReplaceAll(message, path.string(), (dir_ / name).string());
     throw InputError(message);
   }
 }
@@ -440,11 +444,7 @@ bool RunPlotScript(const std::string& script, const std::vector<std::string>& ar
 
 std::string WithoutStagingNames(std::string message) {
   const std::lock_guard<std::mutex> lock(staged_folders_mutex);
-  for (const auto& [staged, dir] : StagedFolders()) {
-    for (std::size_t at; (at = message.find(staged)) != std::string::npos;) {
-      message.replace(at, staged.size(), dir);
-    }
-  }
+  for (const auto& [staged, dir] : StagedFolders()) ReplaceAll(message, staged, dir);
   return message;
 }
 
