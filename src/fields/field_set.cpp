@@ -1,5 +1,6 @@
 // FieldSet: construction and checks, the arrays, totals and checkpoints.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 
@@ -7,6 +8,7 @@
 #include <omp.h>
 
 #include "moreau/common/error.h"
+#include "moreau/common/memory.h"
 #include "moreau/fields/field_set.h"
 
 namespace moreau::fields {
@@ -40,8 +42,18 @@ FieldSet::FieldSet(Grid grid, std::vector<Substrate> substrates, int threads)
   if (threads_ < 0) throw InputError("threads", fmt::format("must be ≥ 0 (got {})", threads_));
   if (threads_ == 0) threads_ = std::max(1, omp_get_max_threads());
   threads_ = std::min(threads_, std::max(1, omp_get_num_procs()));  // more only wait
-  const auto n = static_cast<std::size_t>(grid_.voxel_count());
   const std::size_t count = substrates_.size();
+  // Before any allocation: five arrays of doubles per voxel and substrate (the values and the
+  // four source terms). The product in double: up to 10⁹ voxels per axis pass the grid's check.
+  const std::array<int, 3> cells = grid_.cells();
+  const double voxels = static_cast<double>(cells[0]) * cells[1] * cells[2];
+  try {
+    CheckMemory(fmt::format("{:.3g} voxels × {} substrates", voxels, count),
+                5.0 * sizeof(double) * voxels * static_cast<double>(count));
+  } catch (const InputError& e) {
+    throw InputError("grid.spacing", e.what());
+  }
+  const auto n = static_cast<std::size_t>(grid_.voxel_count());
   values_.resize(count);
   for (std::size_t s = 0; s < count; ++s) values_[s].assign(n, substrates_[s].initial);
   for (auto* sources : {&secretion_, &secretion_target_, &uptake_, &source_}) {

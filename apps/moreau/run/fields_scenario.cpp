@@ -1,13 +1,11 @@
 #include "run/fields_scenario.h"
 
 #include <algorithm>
-#include <cmath>
 #include <utility>
 
 #include <fmt/format.h>
 
 #include "moreau/common/error.h"
-#include "moreau/common/memory.h"
 
 namespace moreau::cli {
 namespace {
@@ -93,20 +91,7 @@ void CheckFields(const PS& s) {
   }
   if (!s.is_population()) throw InputError("fields", "needs [[types]] (agents to couple)");
   if (!f.spacing) throw InputError("fields.spacing", "required key is missing");
-  // Before any allocation: five arrays of doubles per voxel and substrate (the values and the
-  // four source terms).
-  const fields::Grid grid = s.FieldGrid();
-  double voxels = 1.0;
-  for (std::size_t a = 0; a < static_cast<std::size_t>(grid.dimension); ++a) {
-    voxels *= std::max(1.0, std::round((grid.upper[a] - grid.lower[a]) / grid.spacing));
-  }
-  const auto count = static_cast<double>(f.substrates.size());
-  try {
-    CheckMemory(fmt::format("{:.3g} voxels × {} substrates", voxels, f.substrates.size()),
-                5.0 * sizeof(double) * voxels * count);
-  } catch (const InputError& e) {
-    throw InputError("fields.spacing", e.what());
-  }
+  // The field set checks its memory before it allocates (fields.spacing).
   const fields::FieldSet set = s.MakeFields(1);
   try {
     f.coupling.Validate(s.MakeRules(), set);
