@@ -137,7 +137,8 @@ struct LineSolve {
 class FieldSet {
  public:
   // Throws InputError: the grid's or a substrate's key ("substrates.oxygen.diffusion", …), a name
-  // used twice, a periodic face whose opposite is not periodic. Values start at `initial`.
+  // used twice, a periodic face whose opposite is not periodic, or more voxels than the memory
+  // holds ("grid.spacing", before anything is allocated). Values start at `initial`.
   FieldSet(Grid grid, std::vector<Substrate> substrates, int threads = 1);
 
   const Grid& grid() const { return grid_; }
