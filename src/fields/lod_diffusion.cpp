@@ -3,11 +3,13 @@
 //
 // Every line is solved by the same operations in the same order whatever its neighbours and the
 // thread that runs it, so the bits do not depend on the thread count. The x lines are contiguous
-// and solved kLinesTogether at a time (independent recurrences the processor overlaps); the lines
-// of y and z are solved many at once, a row of contiguous x at a time (the inner loop vectorises),
-// in blocks small enough to stay in cache between the elimination and the back substitution. The
-// sources are applied to a group of x lines just before its solve; a substrate whose sources were
-// never handed out for writing skips them.
+// and solved kLinesTogether at a time (independent recurrences the processor overlaps, each
+// line's running value in a register); the lines of y and z are solved many at once, a row of
+// contiguous values at a time (the inner loop vectorises), in blocks small enough to stay in cache
+// between the elimination and the back substitution. In 3D a z plane that fits in a core's cache
+// is swept along x and then along y before the next plane, so x and y cost one pass over memory
+// together; z is a second pass. The sources are applied to a group of x lines just before its
+// solve; a substrate whose sources were never handed out for writing skips them.
 #include <algorithm>
 #include <cmath>
 
@@ -23,6 +25,8 @@ namespace {
 constexpr int kLinesTogether = 8;
 // Doubles in one block of columns of a y or z sweep (256 KiB).
 constexpr std::int64_t kBlockDoubles = 32768;
+// A z plane up to this size is swept along x and then y while it stays in a core's cache.
+constexpr std::int64_t kPlaneBytes = std::int64_t{1} << 20;
 
 // Factors the tridiagonal matrix `diagonal` (n entries), −off above and below it, in place into
 // the line solve's pivots and upper coefficients.
@@ -124,34 +128,62 @@ void ApplySources(double dt, std::int64_t n, double* c, const double* secretion,
   }
 }
 
-// `count` ≤ kLinesTogether contiguous x lines of n values from c (the sources applied first when
-// `sources` is not null), solved together: the same operations per line as SolveStridedLines, the
-// lines' recurrences interleaved so that the processor overlaps them.
+// `Count` contiguous x lines of n values from c, solved together with their recurrences
+// interleaved (the processor overlaps them; each line's running value stays in a register): the
+// same operations per line as SolveStridedLines.
+template <int Count>
+void SolveXLineGroup(const internal::LineSolve& f, double* c, std::int64_t n) {
+  double* line[Count];
+  double carry[Count];
+  for (int k = 0; k < Count; ++k) {
+    line[k] = c + k * n;
+    line[k][0] += f.lower_face;
+    line[k][n - 1] += f.upper_face;
+    carry[k] = line[k][0] * f.inverse_pivot[0];
+    line[k][0] = carry[k];
+  }
+  for (std::int64_t i = 1; i < n; ++i) {
+    const double inverse = f.inverse_pivot[i];
+    for (int k = 0; k < Count; ++k) {
+      carry[k] = (line[k][i] + f.off * carry[k]) * inverse;
+      line[k][i] = carry[k];
+    }
+  }
+  for (std::int64_t i = n - 2; i >= 0; --i) {
+    const double upper = f.upper[i];
+    for (int k = 0; k < Count; ++k) {
+      carry[k] = line[k][i] - upper * carry[k];
+      line[k][i] = carry[k];
+    }
+  }
+  if (f.periodic_z.empty()) return;
+  for (int k = 0; k < Count; ++k) {
+    const double y = (line[k][0] + f.periodic_corner * line[k][n - 1]) * f.periodic_scale;
+    for (std::int64_t i = 0; i < n; ++i) line[k][i] -= y * f.periodic_z[i];
+  }
+}
+
+// `count` ≤ kLinesTogether contiguous x lines of n values from c, the sources applied first when
+// `sources` is not null.
 void SolveXLines(const internal::LineSolve& f, double* c, std::int64_t n, int count,
                  const double* const* sources, double dt) {
   if (sources != nullptr) {
     ApplySources(dt, count * n, c, sources[0], sources[1], sources[2], sources[3]);
   }
-  double* line[kLinesTogether];
-  for (int k = 0; k < count; ++k) {
-    line[k] = c + k * n;
-    line[k][0] += f.lower_face;
-    line[k][n - 1] += f.upper_face;
-    line[k][0] *= f.inverse_pivot[0];
+  static_assert(kLinesTogether == 8);
+  if (count == 8) {
+    SolveXLineGroup<8>(f, c, n);
+    return;
   }
-  for (std::int64_t i = 1; i < n; ++i) {
-    const double inverse = f.inverse_pivot[i];
-    for (int k = 0; k < count; ++k) line[k][i] = (line[k][i] + f.off * line[k][i - 1]) * inverse;
-  }
-  for (std::int64_t i = n - 2; i >= 0; --i) {
-    const double upper = f.upper[i];
-    for (int k = 0; k < count; ++k) line[k][i] -= upper * line[k][i + 1];
-  }
-  if (f.periodic_z.empty()) return;
-  for (int k = 0; k < count; ++k) {
-    const double y = (line[k][0] + f.periodic_corner * line[k][n - 1]) * f.periodic_scale;
-    for (std::int64_t i = 0; i < n; ++i) line[k][i] -= y * f.periodic_z[i];
-  }
+  // A last, smaller group: by 4, 2 and 1.
+  if (count & 4) SolveXLineGroup<4>(f, c + (count & 3) * n, n);
+  if (count & 2) SolveXLineGroup<2>(f, c + (count & 1) * n, n);
+  if (count & 1) SolveXLineGroup<1>(f, c, n);
+}
+
+// Columns of x solved side by side in a y sweep: a block of ny rows within kBlockDoubles.
+std::int64_t YBlockWidth(std::int64_t nx, std::int64_t ny) {
+  return std::min(nx, std::max<std::int64_t>(kBlockDoubles / ny / 8 * 8, 8));
 }
 
 }  // namespace
@@ -174,44 +206,81 @@ void FieldSet::FactorLines(double dt) {
   line_solves_dt_ = dt;
 }
 
-void FieldSet::SolveAxis(int s, int axis) {
+void FieldSet::SolveXLinesOf(int s, std::int64_t first_line, std::int64_t lines) {
+  const std::int64_t nx = grid_.cells()[0];
+  const auto u = static_cast<std::size_t>(s);
+  const internal::LineSolve& f = line_solves_[3 * u];
+  double* c = values_[u].data();
+  const bool with_sources = sources_written_[u] != 0;
+  for (std::int64_t l = first_line; l < first_line + lines; l += kLinesTogether) {
+    const std::int64_t begin = l * nx;
+    const double* sources[4] = {secretion_[u].data() + begin, secretion_target_[u].data() + begin,
+                                uptake_[u].data() + begin, source_[u].data() + begin};
+    SolveXLines(f, c + begin, nx,
+                static_cast<int>(std::min<std::int64_t>(kLinesTogether, first_line + lines - l)),
+                with_sources ? sources : nullptr, line_solves_dt_);
+  }
+}
+
+void FieldSet::SolveYLinesOf(int s, std::int64_t z, std::int64_t block) {
   const std::array<int, 3> n = grid_.cells();
-  const internal::LineSolve& f = line_solves_[static_cast<std::size_t>(3 * s + axis)];
-  double* c = values_[static_cast<std::size_t>(s)].data();
   const std::int64_t nx = n[0];
-  const std::int64_t plane = nx * n[1];
+  const std::int64_t ny = n[1];
+  const internal::LineSolve& f = line_solves_[static_cast<std::size_t>(3 * s + 1)];
+  double* c = values_[static_cast<std::size_t>(s)].data() + z * nx * ny;
+  const std::int64_t width = YBlockWidth(nx, ny);
+  const std::int64_t first = block < 0 ? 0 : block;
+  const std::int64_t last = block < 0 ? (nx + width - 1) / width : block + 1;
+  for (std::int64_t b = first; b < last; ++b) {
+    SolveStridedLines(f, c + b * width, ny, nx, std::min(width, nx - b * width));
+  }
+}
+
+void FieldSet::SolvePlanes(int s) {
+  const std::array<int, 3> n = grid_.cells();
+  const std::int64_t plane = std::int64_t{n[0]} * n[1];
   const int threads = internal::TeamSize(threads_, plane * n[2]);
-  if (axis == 0) {
-    const std::int64_t lines = plane / nx * n[2];
-    const std::int64_t groups = (lines + kLinesTogether - 1) / kLinesTogether;
-    const auto u = static_cast<std::size_t>(s);
-    const double dt = line_solves_dt_;
-    const bool with_sources = sources_written_[u] != 0;
+  if (grid_.dimension == 3 && plane * static_cast<std::int64_t>(sizeof(double)) <= kPlaneBytes) {
+    // One z plane at a time: its x lines, then its y lines while the plane is in cache.
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
-    for (std::int64_t g = 0; g < groups; ++g) {
-      const std::int64_t begin = g * kLinesTogether * nx;
-      const double* sources[4] = {secretion_[u].data() + begin, secretion_target_[u].data() + begin,
-                                  uptake_[u].data() + begin, source_[u].data() + begin};
-      SolveXLines(
-          f, c + begin, nx,
-          static_cast<int>(std::min<std::int64_t>(kLinesTogether, lines - g * kLinesTogether)),
-          with_sources ? sources : nullptr, dt);
+    for (std::int64_t z = 0; z < n[2]; ++z) {
+      SolveXLinesOf(s, z * n[1], n[1]);
+      SolveYLinesOf(s, z, -1);
     }
     return;
   }
-  // y: per z plane, rows of x at stride nx; z: per y row, rows of x at stride nx n_y.
-  const std::int64_t length = n[axis];
-  const std::int64_t stride = axis == 1 ? nx : plane;
-  const std::int64_t outer = axis == 1 ? n[2] : n[1];
-  const std::int64_t outer_stride = axis == 1 ? plane : nx;
-  const std::int64_t width =
-      std::min(nx, std::max<std::int64_t>(kBlockDoubles / length / 8 * 8, 8));
-  const std::int64_t blocks = (nx + width - 1) / width;
+  // The x lines of the whole grid, then the y lines in blocks of columns.
+  const std::int64_t lines = plane / n[0] * n[2];
+  const std::int64_t groups = (lines + kLinesTogether - 1) / kLinesTogether;
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
-  for (std::int64_t item = 0; item < outer * blocks; ++item) {
-    const std::int64_t begin = item % blocks * width;
-    SolveStridedLines(f, c + item / blocks * outer_stride + begin, length, stride,
-                      std::min(width, nx - begin));
+  for (std::int64_t g = 0; g < groups; ++g) {
+    SolveXLinesOf(s, g * kLinesTogether,
+                  std::min<std::int64_t>(kLinesTogether, lines - g * kLinesTogether));
+  }
+  if (grid_.dimension < 2) return;
+  const std::int64_t blocks = (n[0] + YBlockWidth(n[0], n[1]) - 1) / YBlockWidth(n[0], n[1]);
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+  for (std::int64_t item = 0; item < n[2] * blocks; ++item) {
+    SolveYLinesOf(s, item / blocks, item % blocks);
+  }
+}
+
+void FieldSet::SolveZLines(int s) {
+  const std::array<int, 3> n = grid_.cells();
+  const internal::LineSolve& f = line_solves_[static_cast<std::size_t>(3 * s + 2)];
+  double* c = values_[static_cast<std::size_t>(s)].data();
+  const std::int64_t plane = std::int64_t{n[0]} * n[1];
+  const std::int64_t nz = n[2];
+  const int threads = internal::TeamSize(threads_, plane * nz);
+  // The z lines of a block of consecutive (x, y) columns side by side: `width` contiguous values
+  // of each plane.
+  const std::int64_t width =
+      std::min(plane, std::max<std::int64_t>(kBlockDoubles / nz / 8 * 8, 8));
+  const std::int64_t blocks = (plane + width - 1) / width;
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    const std::int64_t begin = b * width;
+    SolveStridedLines(f, c + begin, nz, plane, std::min(width, plane - begin));
   }
 }
 
@@ -221,7 +290,8 @@ void FieldSet::Step(double dt) {
   }
   if (dt != line_solves_dt_) FactorLines(dt);
   for (int s = 0; s < substrate_count(); ++s) {
-    for (int a = 0; a < grid_.dimension; ++a) SolveAxis(s, a);
+    SolvePlanes(s);
+    if (grid_.dimension == 3) SolveZLines(s);
   }
   time_ += dt;
   ++steps_;

@@ -1,6 +1,7 @@
 // Deposit and Sample: conservation, adjointness, exactness on linear fields, faces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -131,6 +132,36 @@ TEST(FieldInterpolation, SampleHasTheSameBitsOnOneAndTwoThreads) {
   }
   EXPECT_EQ(values[0], values[1]);
   EXPECT_EQ(gradients[0], gradients[1]);
+}
+
+// A population large enough to be deposited on several threads (each thread adds to its own
+// voxels, the agents in order) gets the bits of one thread in every source term, for both
+// interpolations and a thread count that does not divide the voxels evenly.
+TEST(FieldInterpolation, DepositHasTheSameBitsOnOneTwoAndThreeThreads) {
+  const Grid grid = GridOf(3, {12, 10, 8}, 0.5);
+  const int n = 50000;
+  const std::vector<double> x = AgentsIn(grid, n, 71);
+  const std::vector<double> volume = Uniform(n, 0.1, 0.3, 72);
+  const std::vector<double> secretion = Uniform(n, 0.0, 2.0, 73);
+  const std::vector<double> saturation = Uniform(n, 0.5, 1.5, 74);
+  const std::vector<double> uptake = Uniform(n, 0.0, 1.0, 75);
+  const std::vector<double> amount = Uniform(n, -1.0, 1.0, 76);
+  for (Interpolation interpolation : {Interpolation::kVoxel, Interpolation::kLinear}) {
+    std::vector<std::vector<double>> terms;
+    for (int threads : {1, 2, 3}) {
+      FieldSet fields(grid, {HalfPeriodic()}, threads);
+      fields.Deposit(0, x, volume, secretion, saturation, uptake, amount, interpolation);
+      for (std::span<double> t : {fields.secretion(0), fields.secretion_target(0),
+                                  fields.uptake(0), fields.source(0)}) {
+        terms.emplace_back(t.begin(), t.end());
+      }
+    }
+    for (std::size_t t = 0; t < 4; ++t) {
+      EXPECT_GT(*std::max_element(terms[t].begin(), terms[t].end()), 0.0);
+      EXPECT_EQ(terms[t], terms[4 + t]) << "term " << t << ", 2 threads";
+      EXPECT_EQ(terms[t], terms[8 + t]) << "term " << t << ", 3 threads";
+    }
+  }
 }
 
 // At a zero-flux face the weight beyond the first centre stays on the face voxel; on a periodic

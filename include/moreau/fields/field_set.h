@@ -190,7 +190,12 @@ class FieldSet {
 
  private:
   void FactorLines(double dt);
-  void SolveAxis(int s, int axis);
+  // `lines` x lines from `first_line` (counted x fastest); the y lines of plane z, of its block
+  // of columns `block` or of all (−1); the x and y sweeps; the z sweep (lod_diffusion.cpp).
+  void SolveXLinesOf(int s, std::int64_t first_line, std::int64_t lines);
+  void SolveYLinesOf(int s, std::int64_t z, std::int64_t block);
+  void SolvePlanes(int s);
+  void SolveZLines(int s);
   std::span<double> SourcesFor(std::vector<std::vector<double>>& term, int s);
 
   Grid grid_;
@@ -205,6 +210,9 @@ class FieldSet {
   // Per substrate: whether its sources were ever handed out for writing (a span or Deposit); Step
   // reads no source array of a substrate whose sources were not.
   std::vector<char> sources_written_;
+  // Deposit's stencils, kept between calls: each agent's voxels and weights ÷ voxel volume.
+  std::vector<std::int64_t> deposit_voxel_;
+  std::vector<double> deposit_share_;
 };
 
 }  // namespace moreau::fields
