@@ -37,15 +37,16 @@ def people(rho, length=LENGTH, width=WIDTH):
     return max(1, round(rho * length * width))
 
 
-def scenario(rho, duration=DURATION, seed=1, length=LENGTH, width=WIDTH, extra=()):
-    """The TOML text of the corridor at global density rho (persons/m^2)."""
+def scenario(rho, duration=DURATION, seed=1, length=LENGTH, width=WIDTH, extra=(), radius=0.15):
+    """The TOML text of the corridor at global density rho (persons/m^2); extra: lines added
+    to [forces], radius: the bodies' radius (l/2)."""
     count = people(rho, length, width)
     lines = "\n".join(extra)
     return f"""[problem]
 kind = "particles"
 dimension = 2
 count = {count}
-radius = 0.15
+radius = {radius!r}
 T = {duration}
 seed = {seed}
 
