@@ -17,11 +17,12 @@ usage: scripts/crowd_bottleneck.py MOREAU OUT_DIR [--widths B ...] [--seeds N] [
 import argparse
 import csv
 import pathlib
-import shutil
-import subprocess
 import sys
 
 import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import crowd_corridor  # noqa: E402
 
 WIDTHS = [0.8, 1.0, 1.2, 1.6, 2.0, 2.4]
 PEOPLE, SKIP = 150, 10
@@ -82,15 +83,8 @@ def steady_flow(evacuation_csv, people=PEOPLE, skip=SKIP):
 
 
 def run(moreau, out, name, text):
-    toml = out / f"{name}.toml"
-    toml.write_text(text)
-    run_dir = out / name
-    shutil.rmtree(run_dir, ignore_errors=True)
-    r = subprocess.run([moreau, "run", str(toml), "--out", str(run_dir)],
-                       capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"{name}: {r.stderr.strip()}")
-    return steady_flow(run_dir / "evacuation.csv")
+    """Runs the scenario text as OUT/name and returns its steady flow."""
+    return steady_flow(crowd_corridor.run(moreau, out, name, text) / "evacuation.csv")
 
 
 def experiments():
