@@ -14,6 +14,7 @@ ROOT = pathlib.Path(os.environ.get("MOREAU_ROOT", pathlib.Path(__file__).parents
 RESULTS = ROOT / "docs/results/crowds"
 DOC = (ROOT / "docs/crowds.md").read_text()
 SECTION = DOC[DOC.index("## Corridor and bottleneck against experiment"):]
+PROSE = " ".join(SECTION.split())  # line breaks as spaces
 
 
 def rows(name):
@@ -118,12 +119,12 @@ def test_the_experiments_flows_are_their_flows_over_the_width():
 def test_the_quoted_ranges_are_the_committed_ones():
     exp = [float(r["specific_flow_per_m_s"]) for r in rows("bottleneck_experiments.csv")
            if float(r["door_width_m"]) >= 0.8]
-    assert f"({min(exp):.2f}–{max(exp):.2f} at b ≥ 0.8 m)" in SECTION
+    assert f"({min(exp):.2f}–{max(exp):.2f} at b ≥ 0.8 m)" in PROSE
     means = {}
     for r in rows("bottleneck_simulated.csv"):
         means.setdefault(float(r["door_width_m"]), []).append(float(r["specific_flow_per_m_s"]))
     wide = [mean(v) for b, v in means.items() if b >= 1.0]
-    assert f"({min(wide):.2f}–{max(wide):.2f} against" in SECTION
+    assert f"({min(wide):.2f}–{max(wide):.2f} against" in PROSE
 
 
 def test_the_sensitivity_table_is_the_committed_study():
@@ -135,3 +136,52 @@ def test_the_sensitivity_table_is_the_committed_study():
         for cell, key in zip(cells[2:], ("speed_rho1_m_s", "speed_rho2_m_s",
                                          "specific_flow_b1.2_per_m_s")):
             assert close(cell, r[key]), (cells, key)
+
+
+def corridor_means():
+    means = {}
+    for r in rows("corridor_simulated.csv"):
+        rho = float(r["density_per_m2"])
+        means.setdefault(rho, [float(r["weidmann_speed_m_s"])]).append(
+            float(r["simulated_speed_m_s"]))
+    return {rho: (mean(v[1:]), v[0], max(v[1:]) - min(v[1:])) for rho, v in means.items()}
+
+
+def test_the_corridor_prose_is_the_committed_sweep():
+    m = corridor_means()
+    pct = {rho: round(100 * (v / w - 1)) for rho, (v, w, _) in m.items()}
+    assert f"(−{-pct[2.0]} % at 2 /m²)" in PROSE and f"(+{pct[4.0]} % at 4 /m²)" in PROSE
+    gaps = [v - w for rho, (v, w, _) in m.items() if 1.0 <= rho <= 3.0]
+    assert f"−{-min(gaps):.2f}…+{max(gaps):.2f} m/s" in PROSE
+    spread = max(s for _, _, s in m.values())
+    assert f"seeds differ by at most {spread:.2f} m/s" in PROSE
+    assert all(abs(m[rho][0] - 1.34) < 0.005 for rho in m if rho <= 0.5)
+
+
+def test_the_sensitivity_prose_is_the_committed_study():
+    study = rows("sensitivity.csv")
+    base = study[0]
+    assert base["parameter"] == "default"
+
+    def change(keys, column):
+        ratios = [float(r[column]) / float(base[column]) - 1 for r in study
+                  if r["parameter"] in keys and r["factor"] in ("0.7", "1.3")]
+        return round(100 * min(ratios)), round(100 * max(ratios)), max(abs(x) for x in ratios)
+    lo, hi, _ = change({"time_gap", "length"}, "speed_rho2_m_s")
+    assert f"corridor speed at 2 /m² by −{-lo}…+{hi} %" in PROSE
+    lo, hi, _ = change({"time_gap", "length"}, "specific_flow_b1.2_per_m_s")
+    assert f"bottleneck flow by −{-lo}…+{hi} %" in PROSE
+    worst = max(change({"repulsion", "repulsion_range"}, c)[2]
+                for c in ("speed_rho1_m_s", "speed_rho2_m_s", "specific_flow_b1.2_per_m_s"))
+    assert worst < 0.11 and "less than 11 %" in PROSE
+
+
+def test_the_wall_range_prose_is_the_committed_study():
+    study = rows("sensitivity.csv")
+    base = study[0]
+    jupedsim = next(r for r in study
+                    if r["parameter"] == "wall_repulsion_range" and float(r["value"]) == 0.02)
+    assert (f"walks at {float(jupedsim['speed_rho2_m_s']):.2f} m/s instead of "
+            f"{float(base['speed_rho2_m_s']):.2f}") in PROSE
+    flow = f"{float(jupedsim['specific_flow_b1.2_per_m_s']):.2f}"
+    assert f"at 1.2 m rises to {flow}" in PROSE and f"flow at 1.2 m is {flow}" in PROSE
