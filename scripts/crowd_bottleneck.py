@@ -8,7 +8,9 @@ v0 = 1.34 m/s, the model's default parameters (T = 1 s, l = 0.3 m, a = 5, D = 0.
 same), the same for every width. evacuation.csv counts the passages (a person passes when their
 centre crosses the door line). The flow is taken from the steady part, between the 10th and the
 (N - 10)th passage: J = (N - 20) / (t_(N-10) - t_10), and the specific flow is J_s = J / b.
-A run in which N - 10 people are not out within 300 s counts as clogged (NaN). The experiments'
+A run in which N - 10 people are not out within 300 s counts as clogged (NaN). The CSV also
+records how often the engine's non-overlap projection acted (summary.json `projections`) and
+the largest overlap left after a step. The experiments'
 specific flows are docs/results/crowds/bottleneck_experiments.csv.
 
 usage: scripts/crowd_bottleneck.py MOREAU OUT_DIR [--widths B ...] [--seeds N] [--figure PNG]
@@ -16,6 +18,7 @@ usage: scripts/crowd_bottleneck.py MOREAU OUT_DIR [--widths B ...] [--seeds N] [
 """
 import argparse
 import csv
+import json
 import pathlib
 import sys
 
@@ -107,15 +110,21 @@ def main():
     rows = []
     for b in args.widths:
         for seed in range(1, args.seeds + 1):
-            j = run(args.moreau, args.out, f"door_{b:g}_s{seed}", scenario(b, seed))
-            rows.append((b, seed, j))
-            print(f"b = {b:g} m, seed {seed}: J = {j:.3f} /s, J/b = {j / b:.3f} /(m s)")
+            name = f"door_{b:g}_s{seed}"
+            j = run(args.moreau, args.out, name, scenario(b, seed))
+            with open(args.out / name / "summary.json") as f:
+                summary = json.load(f)
+            rows.append((b, seed, j, summary["projections"], summary["max_overlap"]))
+            print(f"b = {b:g} m, seed {seed}: J = {j:.3f} /s, J/b = {j / b:.3f} /(m s), "
+                  f"{summary['projections']} projections")
     args.csv.parent.mkdir(parents=True, exist_ok=True)
     with open(args.csv, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["door_width_m", "seed", "people", "flow_per_s", "specific_flow_per_m_s"])
-        for b, seed, j in rows:
-            w.writerow([b, seed, PEOPLE, f"{j:.4f}", f"{j / b:.4f}"])
+        w.writerow(["door_width_m", "seed", "people", "flow_per_s", "specific_flow_per_m_s",
+                    "projections", "max_overlap_m"])
+        for b, seed, j, projections, overlap in rows:
+            w.writerow([b, seed, PEOPLE, f"{j:.4f}", f"{j / b:.4f}", projections,
+                        f"{overlap:.4f}"])
     plot(rows, args.figure)
 
 

@@ -7,14 +7,16 @@ half-spaces y >= 0 and y <= W), desired direction +x, desired speed v0 = 1.34 m/
 default parameters (T = 1 s, l = 0.3 m, a = 5, D = 0.1 m; walls the same). They start at random
 (the engine's random sequential addition, centres at least 0.2 m from the walls, seeded); the
 mean speed along the corridor over the second half of a 60 s run is the stationary speed, three
-seeds per density. It is compared with Weidmann's (1993) speed-density relation (Kladek's
-formula) and with the unidirectional corridor experiments of Zhang et al. (2011),
+seeds per density (the CSV also records how often the engine's non-overlap projection acted,
+summary.json `projections`). It is compared with Weidmann's (1993) speed-density relation
+(Kladek's formula) and with the unidirectional corridor experiments of Zhang et al. (2011),
 docs/results/crowds/corridor_experiments.csv.
 
 usage: scripts/crowd_corridor.py MOREAU OUT_DIR [--figure PNG] [--csv CSV] [--densities RHO ...]
 """
 import argparse
 import csv
+import json
 import math
 import pathlib
 import shutil
@@ -116,17 +118,20 @@ def main():
     for rho in args.densities:
         for seed in range(1, args.seeds + 1):
             text = scenario(rho, seed=seed)
-            v = mean_speed(run(args.moreau, args.out, f"corridor_{rho}_s{seed}", text))
-            rows.append((rho, people(rho), seed, v, weidmann(rho)))
+            out = run(args.moreau, args.out, f"corridor_{rho}_s{seed}", text)
+            v = mean_speed(out)
+            with open(out / "summary.json") as f:
+                projections = json.load(f)["projections"]
+            rows.append((rho, people(rho), seed, v, weidmann(rho), projections))
             print(f"rho = {rho:g} /m^2 (N = {people(rho)}), seed {seed}: v = {v:.3f} m/s, "
                   f"Weidmann {weidmann(rho):.3f}")
     args.csv.parent.mkdir(parents=True, exist_ok=True)
     with open(args.csv, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["density_per_m2", "people", "seed", "simulated_speed_m_s",
-                    "weidmann_speed_m_s"])
-        for rho, count, seed, v, wd in rows:
-            w.writerow([rho, count, seed, f"{v:.4f}", f"{wd:.4f}"])
+                    "weidmann_speed_m_s", "projections"])
+        for rho, count, seed, v, wd, projections in rows:
+            w.writerow([rho, count, seed, f"{v:.4f}", f"{wd:.4f}", projections])
     plot(rows, args.figure)
 
 

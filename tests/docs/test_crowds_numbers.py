@@ -185,3 +185,17 @@ def test_the_wall_range_prose_is_the_committed_study():
             f"{float(base['speed_rho2_m_s']):.2f}") in PROSE
     flow = f"{float(jupedsim['specific_flow_b1.2_per_m_s']):.2f}"
     assert f"at 1.2 m rises to {flow}" in PROSE and f"flow at 1.2 m is {flow}" in PROSE
+
+
+def test_the_projection_counts_are_the_committed_ones():
+    door = [r for r in rows("bottleneck_simulated.csv")]
+    counts = [int(r["projections"]) for r in door]
+    assert f"{min(counts):,}–{max(counts):,} times per run".replace(",", " ") in PROSE
+    narrowest = min(float(r["door_width_m"]) for r in door)
+    assert max(counts) == max(int(r["projections"]) for r in door
+                              if float(r["door_width_m"]) == narrowest)
+    overlap = max(float(r["max_overlap_m"]) for r in door)
+    assert f"overlaps of at most {overlap:.3f} m" in PROSE
+    corridor = rows("corridor_simulated.csv")
+    assert all(int(r["projections"]) == 0 for r in corridor)
+    assert f"In the {len(corridor)} corridor runs nothing is ever projected" in PROSE
