@@ -1,0 +1,201 @@
+"""The numbers docs/crowds.md quotes for the corridor, the bottleneck and the sensitivity study are
+those of the committed CSVs.
+
+docs/results/crowds/ holds what scripts/crowd_corridor.py, crowd_bottleneck.py and
+crowd_sensitivity.py measured, and the experiments' values. Nothing is rerun here: the tables of
+docs/crowds.md's section "Corridor and bottleneck against experiment" are compared with the CSVs.
+"""
+import csv
+import os
+import pathlib
+import re
+
+ROOT = pathlib.Path(os.environ.get("MOREAU_ROOT", pathlib.Path(__file__).parents[2]))
+RESULTS = ROOT / "docs/results/crowds"
+DOC = (ROOT / "docs/crowds.md").read_text()
+SECTION = DOC[DOC.index("## Corridor and bottleneck against experiment"):]
+PROSE = " ".join(SECTION.split())  # line breaks as spaces
+
+
+def rows(name):
+    with open(RESULTS / name) as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+def tables():
+    """The section's tables: lists of rows of cells (bold marks stripped), separators left out."""
+    found, current = [], []
+    for line in SECTION.splitlines() + [""]:
+        if line.startswith("|"):
+            cells = [c.strip().strip("*") for c in line.strip().strip("|").split("|")]
+            if not all(set(c) <= {"-"} for c in cells):
+                current.append(cells)
+        elif current:
+            found.append(current)
+            current = []
+    return found
+
+
+def table(first_cell):
+    """The section's table whose first row starts with first_cell."""
+    for t in tables():
+        if t[0][0] == first_cell:
+            return t
+    raise AssertionError(f"no table starting with {first_cell!r} in docs/crowds.md")
+
+
+def close(quoted, value):
+    """A quoted number equals the value rounded to as many decimals as it is quoted with."""
+    decimals = len(quoted.split(".")[1]) if "." in quoted else 0
+    return round(float(value), decimals) == float(quoted)
+
+
+def mean(values):
+    values = list(values)
+    return sum(values) / len(values)
+
+
+def test_the_corridor_table_is_the_committed_sweep():
+    t = table("ρ (persons/m²)")
+    densities = [float(c) for c in t[0][1:]]
+    model = next(r for r in t if r[0] == "model, simulated (m/s)")[1:]
+    weidmann = next(r for r in t if r[0] == "Weidmann 1993, fit (m/s)")[1:]
+    sim = rows("corridor_simulated.csv")
+    for rho, m, w in zip(densities, model, weidmann, strict=True):
+        mine = [r for r in sim if float(r["density_per_m2"]) == rho]
+        assert len(mine) == 3, rho
+        assert close(m, mean(float(r["simulated_speed_m_s"]) for r in mine)), (rho, m)
+        assert close(w, mine[0]["weidmann_speed_m_s"]), (rho, w)
+
+
+def test_the_zhang_table_is_the_committed_run_means():
+    t = table("Zhang et al. 2011, run means")
+    density = next(r for r in t if r[0] == "ρ (persons/m²)")[1:]
+    speed = next(r for r in t if r[0] == "speed (m/s)")[1:]
+    zhang = [r for r in rows("corridor_experiments.csv") if r["source"].startswith("Zhang")]
+    assert len(zhang) == len(density) == len(speed)
+    for r, rho, v in zip(zhang, density, speed):
+        assert close(rho, r["density_per_m2"]) and close(v, r["speed_m_s"]), (rho, v)
+
+
+def test_the_weidmann_rows_are_kladeks_formula():
+    import math
+    for r in rows("corridor_experiments.csv"):
+        if r["source"].startswith("Weidmann"):
+            rho = float(r["density_per_m2"])
+            v = 1.34 * (1 - math.exp(-1.913 * (1 / rho - 1 / 5.4)))
+            assert close(r["speed_m_s"], v), r
+
+
+def test_the_bottleneck_table_is_the_committed_runs_and_experiments():
+    t = table("b (m)")
+    sim = rows("bottleneck_simulated.csv")
+    exp = rows("bottleneck_experiments.csv")
+    assert len(t) - 1 == len({r["door_width_m"] for r in sim})
+    for cells in t[1:]:
+        b = float(cells[0])
+        mine = sorted((r for r in sim if float(r["door_width_m"]) == b), key=lambda r: r["seed"])
+        quoted = [c.strip() for c in cells[1].split(",")]
+        assert len(quoted) == len(mine) == 3, b
+        for q, r in zip(quoted, mine):
+            assert close(q, r["specific_flow_per_m_s"]), (b, q)
+        assert close(cells[2], mean(float(r["specific_flow_per_m_s"]) for r in mine)), b
+        for value, study, width in re.findall(r"(\d\.\d\d) \(([SKL])(?:, b = ([\d.]+) m)?\)",
+                                              cells[3]):
+            at = float(width) if width else b
+            match = [r for r in exp if float(r["door_width_m"]) == at
+                     and r["source"].startswith({"S": "Seyfried", "K": "Kretz",
+                                                 "L": "Liddle"}[study])]
+            assert len(match) == 1 and close(value, match[0]["specific_flow_per_m_s"]), cells
+
+
+def test_the_experiments_flows_are_their_flows_over_the_width():
+    # Both columns are rounded to 3 decimals: J/b of the rounded J is within 0.5e-3 / b of it.
+    for r in rows("bottleneck_experiments.csv"):
+        j, b = float(r["flow_per_s"]), float(r["door_width_m"])
+        assert abs(float(r["specific_flow_per_m_s"]) - j / b) <= 0.5e-3 * (1 + 1 / b), r
+
+
+def test_the_quoted_ranges_are_the_committed_ones():
+    exp = [float(r["specific_flow_per_m_s"]) for r in rows("bottleneck_experiments.csv")
+           if float(r["door_width_m"]) >= 0.8]
+    assert f"({min(exp):.2f}–{max(exp):.2f} at b ≥ 0.8 m)" in PROSE
+    means = {}
+    for r in rows("bottleneck_simulated.csv"):
+        means.setdefault(float(r["door_width_m"]), []).append(float(r["specific_flow_per_m_s"]))
+    wide = [mean(v) for b, v in means.items() if b >= 1.0]
+    assert f"({min(wide):.2f}–{max(wide):.2f} against" in PROSE
+
+
+def test_the_sensitivity_table_is_the_committed_study():
+    t = table("parameter")
+    study = rows("sensitivity.csv")
+    assert len(t) - 1 == len(study)
+    for cells, r in zip(t[1:], study):
+        assert float(cells[1]) == float(r["factor"]), cells
+        for cell, key in zip(cells[2:], ("speed_rho1_m_s", "speed_rho2_m_s",
+                                         "specific_flow_b1.2_per_m_s")):
+            assert close(cell, r[key]), (cells, key)
+
+
+def corridor_means():
+    means = {}
+    for r in rows("corridor_simulated.csv"):
+        rho = float(r["density_per_m2"])
+        means.setdefault(rho, [float(r["weidmann_speed_m_s"])]).append(
+            float(r["simulated_speed_m_s"]))
+    return {rho: (mean(v[1:]), v[0], max(v[1:]) - min(v[1:])) for rho, v in means.items()}
+
+
+def test_the_corridor_prose_is_the_committed_sweep():
+    m = corridor_means()
+    pct = {rho: round(100 * (v / w - 1)) for rho, (v, w, _) in m.items()}
+    assert f"(−{-pct[2.0]} % at 2 /m²)" in PROSE and f"(+{pct[4.0]} % at 4 /m²)" in PROSE
+    gaps = [v - w for rho, (v, w, _) in m.items() if 1.0 <= rho <= 3.0]
+    assert f"−{-min(gaps):.2f}…+{max(gaps):.2f} m/s" in PROSE
+    spread = max(s for _, _, s in m.values())
+    assert f"seeds differ by at most {spread:.2f} m/s" in PROSE
+    assert all(abs(m[rho][0] - 1.34) < 0.005 for rho in m if rho <= 0.5)
+
+
+def test_the_sensitivity_prose_is_the_committed_study():
+    study = rows("sensitivity.csv")
+    base = study[0]
+    assert base["parameter"] == "default"
+
+    def change(keys, column):
+        ratios = [float(r[column]) / float(base[column]) - 1 for r in study
+                  if r["parameter"] in keys and r["factor"] in ("0.7", "1.3")]
+        return round(100 * min(ratios)), round(100 * max(ratios)), max(abs(x) for x in ratios)
+    lo, hi, _ = change({"time_gap", "length"}, "speed_rho2_m_s")
+    assert f"corridor speed at 2 /m² by −{-lo}…+{hi} %" in PROSE
+    lo, hi, _ = change({"time_gap", "length"}, "specific_flow_b1.2_per_m_s")
+    assert f"bottleneck flow by −{-lo}…+{hi} %" in PROSE
+    worst = max(change({"repulsion", "repulsion_range"}, c)[2]
+                for c in ("speed_rho1_m_s", "speed_rho2_m_s", "specific_flow_b1.2_per_m_s"))
+    assert worst < 0.11 and "less than 11 %" in PROSE
+
+
+def test_the_wall_range_prose_is_the_committed_study():
+    study = rows("sensitivity.csv")
+    base = study[0]
+    jupedsim = next(r for r in study
+                    if r["parameter"] == "wall_repulsion_range" and float(r["value"]) == 0.02)
+    assert (f"walks at {float(jupedsim['speed_rho2_m_s']):.2f} m/s instead of "
+            f"{float(base['speed_rho2_m_s']):.2f}") in PROSE
+    flow = f"{float(jupedsim['specific_flow_b1.2_per_m_s']):.2f}"
+    assert f"at 1.2 m rises to {flow}" in PROSE and f"flow at 1.2 m is {flow}" in PROSE
+
+
+def test_the_projection_counts_are_the_committed_ones():
+    door = [r for r in rows("bottleneck_simulated.csv")]
+    counts = [int(r["projections"]) for r in door]
+    assert f"{min(counts):,}–{max(counts):,} times per run".replace(",", " ") in PROSE
+    narrowest = min(float(r["door_width_m"]) for r in door)
+    assert max(counts) == max(int(r["projections"]) for r in door
+                              if float(r["door_width_m"]) == narrowest)
+    overlap = max(float(r["max_overlap_m"]) for r in door)
+    assert f"overlaps of at most {overlap:.3f} m" in PROSE
+    corridor = rows("corridor_simulated.csv")
+    assert all(int(r["projections"]) == 0 for r in corridor)
+    assert f"In the {len(corridor)} corridor runs nothing is ever projected" in PROSE
