@@ -120,7 +120,7 @@ nlohmann::json MeasurePolygonJson(const Polygon& p) {
   return j;
 }
 
-std::string MeasureNumber(double v) { return fmt::format("{:.9g}", v); }
+std::string MeasureNumber(double v) { return fmt::format("{:.12g}", v); }
 
 struct MeasureAreaTotals {
   double classic = 0.0, voronoi = 0.0, speed = 0.0;
