@@ -170,3 +170,22 @@ def test_pedpy_reads_the_trajectory_and_agrees_on_densities(tmp_path):
         assert got["voronoi"] < 1e-9, got
         assert got["classic"] < 1e-10, got
         print(cutoff, got)
+
+
+def test_door_line_counts_what_the_evacuation_count_counts(tmp_path):
+    """A line across the door, measured on trajectory.txt, gives at every frame the count of
+    people out that the run itself keeps per step (evacuation.csv: centres past x = 15)."""
+    out = tmp_path / "room"
+    r = run_cli("run", CROWD, "--out", out, *SHORT_CROWD, "--set", "problem.T=12",
+                "--set", "output.stride=50")
+    assert r.returncode == 0, r.stderr
+    r = run_cli("measure", out / "trajectory.txt", "--line", "door=15,5,15,10", "--out",
+                tmp_path / "m")
+    assert r.returncode == 0, r.stderr
+    evacuation = {round(float(row["t"]), 6): int(row["out"])
+                  for row in read_csv(out / "evacuation.csv")}
+    door = [row for row in read_csv(tmp_path / "m" / "measurements.csv") if row["name"] == "door"]
+    assert len(door) == 121
+    for row in door:
+        assert int(row["crossings"]) == evacuation[round(float(row["t"]), 6)], row
+    assert int(door[-1]["crossings"]) > 20  # people did leave
