@@ -112,7 +112,8 @@ def test_measure_rejects_bad_input_in_one_line(tmp_path):
     rejected(run_cli("measure", traj, "--line", "l=1,1,1,1"), "--line", "a and b must differ")
     rejected(run_cli("measure", traj, "--area", "a=0,0,1,1", "--bound", "0,0,2,0,1,0.1,2,2,0,2"),
              "--bound", "convex")
-    rejected(run_cli("measure", traj, "--area", "a=0,0,1,1", "--cutoff", "0"), "--cutoff_radius")
+    rejected(run_cli("measure", traj, "--area", "a=0,0,1,1", "--cutoff", "0"),
+             "--cutoff: must be > 0")
     rejected(run_cli("measure", traj), "at least one --area or --line")
     rejected(run_cli("measure", tmp_path / "none.txt", "--line", "l=0,0,0,1"), "does not exist")
     assert not (tmp_path / "l_measure").exists()

@@ -270,8 +270,11 @@ std::string RunMeasure(const MeasureSettings& settings) {
   voronoi.cutoff_vertices = settings.cutoff_vertices;
   try {
     voronoi.Validate();
-  } catch (const InputError& e) {
-    throw InputError("--" + e.key(), e.reason());
+  } catch (const InputError& e) {  // the options' keys as the flags that set them
+    const std::string flag = e.key() == "cutoff_radius"     ? "--cutoff"
+                             : e.key() == "cutoff_vertices" ? "--cutoff-vertices"
+                                                            : "--bound";
+    throw InputError(flag, e.reason());
   }
   std::vector<double> speed;
   const std::vector<MeasureTrack> tracks = MeasureTracks(traj, settings.trajectory, speed);
