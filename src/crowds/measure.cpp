@@ -117,11 +117,11 @@ std::optional<double> CrossingFraction(const MeasurementLine& line, Point p, Poi
   return s;
 }
 
-std::optional<double> FirstCrossingTime(const MeasurementLine& line,
-                                        std::span<const double> times, std::span<const Point> x) {
+std::optional<double> FirstCrossingTime(const MeasurementLine& line, std::span<const double> times,
+                                        std::span<const Point> x) {
   if (x.size() != times.size()) {
-    throw InputError(fmt::format("{} times and {} positions: the sizes must agree", times.size(),
-                                 x.size()));
+    throw InputError(
+        fmt::format("{} times and {} positions: the sizes must agree", times.size(), x.size()));
   }
   for (std::size_t k = 0; k + 1 < times.size(); ++k) {
     if (const auto s = CrossingFraction(line, x[k], x[k + 1])) {

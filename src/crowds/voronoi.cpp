@@ -79,8 +79,8 @@ Polygon Rectangle(Point lo, Point hi) {
 Polygon RegularPolygon(Point center, double radius, int vertices) {
   Polygon out(static_cast<std::size_t>(std::max(vertices, 0)));
   for (std::size_t k = 0; k < out.size(); ++k) {
-    const double angle = 2.0 * std::numbers::pi * static_cast<double>(k) /
-                         static_cast<double>(vertices);
+    const double angle =
+        2.0 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(vertices);
     out[k] = {center[0] + radius * std::cos(angle), center[1] + radius * std::sin(angle)};
   }
   return out;
@@ -150,9 +150,8 @@ std::vector<Polygon> VoronoiCells(std::span<const Point> points, const VoronoiOp
     cell.reserve(bound.size());
     for (const Point& v : bound) cell.push_back({v[0] - xi[0], v[1] - xi[1]});
     if (options.cutoff_radius) {
-      cell = ClipByConvex(cell,
-                          RegularPolygon({0.0, 0.0}, *options.cutoff_radius,
-                                         options.cutoff_vertices));
+      cell = ClipByConvex(
+          cell, RegularPolygon({0.0, 0.0}, *options.cutoff_radius, options.cutoff_vertices));
     }
     for (std::size_t j = 0; j < n; ++j) {
       const Point d{points[j][0] - xi[0], points[j][1] - xi[1]};

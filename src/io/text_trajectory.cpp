@@ -47,8 +47,8 @@ class TextTrajectoryWriter final : public TrajectoryWriter {
       throw std::logic_error(fmt::format("{}: Write after Close", path_.string()));
     }
     if (frame.dimension != 2 && frame.dimension != 3) {
-      throw InputError(fmt::format("{}: dimension must be 2 or 3 (got {})", path_.string(),
-                                   frame.dimension));
+      throw InputError(
+          fmt::format("{}: dimension must be 2 or 3 (got {})", path_.string(), frame.dimension));
     }
     if (frame.step % options_.steps_per_frame != 0) return;
     const std::int64_t index = frame.step / options_.steps_per_frame;
@@ -194,12 +194,11 @@ TextTrajectory ReadTextTrajectory(const std::filesystem::path& path, double defa
   line_no = 0;
   if (!(frame_rate > 0.0) || !std::isfinite(frame_rate)) frame_rate = default_frame_rate;
   if (!(frame_rate > 0.0)) {
-    throw InputError(fmt::format("{}: no frame rate (a comment line \"# framerate: F\")",
-                                 path.string()));
+    throw InputError(
+        fmt::format("{}: no frame rate (a comment line \"# framerate: F\")", path.string()));
   }
   if (unit == 0.0) {
-    throw InputError(fmt::format("{}: no unit (a comment line naming x/m or x/cm)",
-                                 path.string()));
+    throw InputError(fmt::format("{}: no unit (a comment line naming x/m or x/cm)", path.string()));
   }
   if (out.id.empty()) throw InputError(fmt::format("{}: no rows", path.string()));
   out.frame_rate = frame_rate;

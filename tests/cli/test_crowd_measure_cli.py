@@ -12,7 +12,7 @@ import h5py
 import numpy as np
 import pytest
 
-from conftest import CROWD, run_cli, rejected
+from conftest import CROWD, ROOT, run_cli, rejected
 
 SHORT_CROWD = ["--set", "problem.T=2", "--set", "problem.count=60", "--set", "output.stride=100",
                "--set", "output.vtu=false", "--set", "output.snapshots=false",
@@ -117,6 +117,10 @@ def test_measure_rejects_bad_input_in_one_line(tmp_path):
     rejected(run_cli("measure", traj), "at least one --area or --line")
     rejected(run_cli("measure", tmp_path / "none.txt", "--line", "l=0,0,0,1"), "does not exist")
     assert not (tmp_path / "l_measure").exists()
+    # Agent-based runs do not write it (yet): one line, not a silently missing file.
+    r = run_cli("run", ROOT / "examples/abm/crowd_exit.toml", "--out", tmp_path / "abm",
+                "--set", "output.trajectory_txt=true")
+    rejected(r, "output.trajectory_txt", "not written for agent-based runs")
 
 
 PEDPY_CHECK = r"""

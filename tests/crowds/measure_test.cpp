@@ -91,8 +91,7 @@ TEST(CrowdVoronoi, HexagonalLatticeCellsAreRegularHexagons) {
     ASSERT_EQ(cells[c].size(), 6U) << c;
     EXPECT_NEAR(PolygonArea(cells[c]), std::sqrt(3.0) / 2.0 * a * a, 1e-12);
     for (const Point& v : cells[c]) {  // every vertex at the circumradius a/√3
-      EXPECT_NEAR(std::hypot(v[0] - points[c][0], v[1] - points[c][1]), a / std::sqrt(3.0),
-                  1e-12);
+      EXPECT_NEAR(std::hypot(v[0] - points[c][0], v[1] - points[c][1]), a / std::sqrt(3.0), 1e-12);
     }
   }
 }
@@ -150,8 +149,7 @@ TEST(CrowdDensity, ClassicDensityCountsThePeopleInside) {
   EXPECT_EQ(ClassicDensity(points, Rectangle({2.0, 3.0}, {5.0, 5.0})), 6.0 / 6.0);
   EXPECT_EQ(ClassicDensity(points, Rectangle({0.0, 0.0}, {2.0, 10.0})), 20.0 / 20.0);
   // A triangle holding (0.5, 0.5), (1.5, 0.5), (0.5, 1.5) of the lattice: 3 / 4.5.
-  EXPECT_DOUBLE_EQ(ClassicDensity(points, Polygon{{0.0, 0.0}, {3.0, 0.0}, {0.0, 3.0}}),
-                   3.0 / 4.5);
+  EXPECT_DOUBLE_EQ(ClassicDensity(points, Polygon{{0.0, 0.0}, {3.0, 0.0}, {0.0, 3.0}}), 3.0 / 4.5);
   ExpectMeasureInputError([&] { ClassicDensity(points, Polygon{{0, 0}, {1, 1}}); }, "area");
 }
 
@@ -185,7 +183,7 @@ TEST(CrowdLine, StraightWalkersCrossAtTheirExactTimes) {
   for (int person = 0; person < 5; ++person) {
     const double v = 0.6 + 0.2 * person;  // m/s
     const double x0 = 0.3 * person;
-    const double y = -1.5 + person;       // person 0 passes beside the line (y = −1.5)
+    const double y = -1.5 + person;  // person 0 passes beside the line (y = −1.5)
     std::vector<double> t;
     std::vector<Point> x;
     for (int k = 0; k <= 40; ++k) {

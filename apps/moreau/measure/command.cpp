@@ -39,10 +39,10 @@ int MeasureCommand(const MeasureArgs& args) {
   settings.out = args.out;
   if (settings.out.empty()) {  // out/crowd/trajectory.txt → out/crowd_measure
     const std::filesystem::path folder = std::filesystem::path(args.trajectory).parent_path();
-    settings.out = folder.empty() ? std::string("measure")
-                                  : (folder.parent_path() / (folder.filename().string() +
-                                                             "_measure"))
-                                        .string();
+    settings.out =
+        folder.empty()
+            ? std::string("measure")
+            : (folder.parent_path() / (folder.filename().string() + "_measure")).string();
   }
   fmt::print("{}", RunMeasure(settings));
   return 0;

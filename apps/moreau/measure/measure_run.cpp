@@ -55,8 +55,8 @@ Polygon MeasurePolygon(const std::string& flag, const std::string& name,
   Polygon p;
   if (v.size() == 4) {
     if (!(v[2] > v[0] && v[3] > v[1])) {
-      throw InputError(flag, fmt::format("{}: a rectangle x0,y0,x1,y1 needs x1 > x0, y1 > y0",
-                                         name));
+      throw InputError(flag,
+                       fmt::format("{}: a rectangle x0,y0,x1,y1 needs x1 > x0, y1 > y0", name));
     }
     p = crowds::Rectangle({v[0], v[1]}, {v[2], v[3]});
   } else if (v.size() >= 6 && v.size() % 2 == 0) {
@@ -93,8 +93,8 @@ std::vector<MeasureTrack> MeasureTracks(const io::TextTrajectory& traj, const st
     if (k == 0 || traj.id[r] != traj.id[order[k - 1]]) {
       tracks.emplace_back();
     } else if (traj.frame[r] == traj.frame[order[k - 1]]) {
-      throw InputError(fmt::format("{}: person {} appears twice in frame {}", path, traj.id[r],
-                                   traj.frame[r]));
+      throw InputError(
+          fmt::format("{}: person {} appears twice in frame {}", path, traj.id[r], traj.frame[r]));
     }
     tracks.back().rows.push_back(r);
     tracks.back().t.push_back(static_cast<double>(traj.frame[r]) / traj.frame_rate);
@@ -176,8 +176,8 @@ std::size_t MeasureFrames(const MeasureSettings& settings, const io::TextTraject
       const crowds::AreaMeasurement m =
           crowds::MeasureArea(points, cells, speeds, settings.areas[a].polygon);
       csv += fmt::format("{},{},{},{},{},{},{},\n", frame, MeasureNumber(t), settings.areas[a].name,
-                         m.count, MeasureNumber(m.density_classic), MeasureNumber(m.density_voronoi),
-                         MeasureNumber(m.speed_voronoi));
+                         m.count, MeasureNumber(m.density_classic),
+                         MeasureNumber(m.density_voronoi), MeasureNumber(m.speed_voronoi));
       totals[a].classic += m.density_classic;
       totals[a].voronoi += m.density_voronoi;
       totals[a].speed += m.speed_voronoi;
@@ -208,10 +208,10 @@ std::string MeasureResults(const MeasureSettings& settings, std::size_t frames,
                                 {"mean_density_classic", totals[a].classic / f},
                                 {"mean_density_voronoi", totals[a].voronoi / f},
                                 {"mean_speed_voronoi", totals[a].speed / f}});
-    report += fmt::format("area {}: mean over {} frames: density {:.4g} /m² (classic), {:.4g} "
-                          "/m² (Voronoi), speed {:.4g} m/s (Voronoi)\n",
-                          area.name, frames, totals[a].classic / f, totals[a].voronoi / f,
-                          totals[a].speed / f);
+    report += fmt::format(
+        "area {}: mean over {} frames: density {:.4g} /m² (classic), {:.4g} "
+        "/m² (Voronoi), speed {:.4g} m/s (Voronoi)\n",
+        area.name, frames, totals[a].classic / f, totals[a].voronoi / f, totals[a].speed / f);
   }
   for (std::size_t l = 0; l < settings.lines.size(); ++l) {
     const NamedLine& line = settings.lines[l];
@@ -225,10 +225,10 @@ std::string MeasureResults(const MeasureSettings& settings, std::size_t frames,
                                 {"last", flow.last},
                                 {"flow", flow.flow},
                                 {"specific_flow", flow.specific_flow}});
-    report += fmt::format("line {}: {} crossings from t = {:.4g} s to {:.4g} s: flow {:.4g} /s, "
-                          "{:.4g} /(m s)\n",
-                          line.name, flow.crossings, flow.first, flow.last, flow.flow,
-                          flow.specific_flow);
+    report += fmt::format(
+        "line {}: {} crossings from t = {:.4g} s to {:.4g} s: flow {:.4g} /s, "
+        "{:.4g} /(m s)\n",
+        line.name, flow.crossings, flow.first, flow.last, flow.flow, flow.specific_flow);
   }
   return report;
 }
@@ -244,8 +244,8 @@ NamedArea ParseArea(const std::string& spec) {
 NamedLine ParseLine(const std::string& spec) {
   auto [name, v] = SplitMeasureSpec("--line", spec);
   if (v.size() != 4) {
-    throw InputError("--line", fmt::format("{}: give ax,ay,bx,by (got {} numbers)", name,
-                                           v.size()));
+    throw InputError("--line",
+                     fmt::format("{}: give ax,ay,bx,by (got {} numbers)", name, v.size()));
   }
   const crowds::MeasurementLine line{{v[0], v[1]}, {v[2], v[3]}};
   if (!(line.length() > 0.0)) throw InputError("--line", name + ": a and b must differ");
@@ -253,7 +253,8 @@ NamedLine ParseLine(const std::string& spec) {
 }
 
 Polygon ParseBound(const std::string& spec) {
-  Polygon p = MeasurePolygon("--bound", "bound", SplitMeasureSpec("--bound", "bound=" + spec).second);
+  Polygon p =
+      MeasurePolygon("--bound", "bound", SplitMeasureSpec("--bound", "bound=" + spec).second);
   if (!crowds::IsConvex(p)) throw InputError("--bound", "must be a convex polygon");
   return p;
 }
@@ -262,8 +263,7 @@ std::string RunMeasure(const MeasureSettings& settings) {
   if (settings.areas.empty() && settings.lines.empty()) {
     throw InputError("give at least one --area or --line");
   }
-  const io::TextTrajectory traj =
-      io::ReadTextTrajectory(settings.trajectory, settings.frame_rate);
+  const io::TextTrajectory traj = io::ReadTextTrajectory(settings.trajectory, settings.frame_rate);
   crowds::VoronoiOptions voronoi;
   voronoi.bound = settings.bound.value_or(MeasureDefaultBound(traj));
   voronoi.cutoff_radius = settings.cutoff_radius;
@@ -290,8 +290,8 @@ std::string RunMeasure(const MeasureSettings& settings) {
       {"frames", frames},
       {"people", tracks.size()},
       {"bound", MeasurePolygonJson(voronoi.bound)},
-      {"cutoff_radius", settings.cutoff_radius ? nlohmann::json(*settings.cutoff_radius)
-                                               : nlohmann::json(nullptr)},
+      {"cutoff_radius",
+       settings.cutoff_radius ? nlohmann::json(*settings.cutoff_radius) : nlohmann::json(nullptr)},
       {"cutoff_vertices", settings.cutoff_vertices},
       {"velocity", "central differences over frames, one-sided at a track's ends"}};
   const std::string report = MeasureResults(settings, frames, totals, crossing_times, summary);

@@ -23,9 +23,9 @@ struct NamedLine {
 };
 
 struct MeasureSettings {
-  std::string trajectory;               // the text trajectory's path
-  std::vector<NamedArea> areas;         // --area
-  std::vector<NamedLine> lines;         // --line
+  std::string trajectory;                // the text trajectory's path
+  std::vector<NamedArea> areas;          // --area
+  std::vector<NamedLine> lines;          // --line
   std::optional<crowds::Polygon> bound;  // --bound; default: the positions' box grown by 1 m
   std::optional<double> cutoff_radius;   // --cutoff
   int cutoff_vertices = 12;              // --cutoff-vertices

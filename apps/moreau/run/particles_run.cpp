@@ -110,8 +110,8 @@ class RunRecorder {
     if (txt_) txt_->Close();
     if (output_.snapshot_times.empty()) snapshots_.emplace_back(t, x);
     ParticleRunResult result{
-        summary,          std::move(x),    std::nullopt, "", std::move(snapshots_),
-        hdf5_ != nullptr, vtu_ != nullptr, geometry_,    txt_ != nullptr};
+        summary,         std::move(x), std::nullopt,   "", std::move(snapshots_), hdf5_ != nullptr,
+        vtu_ != nullptr, geometry_,    txt_ != nullptr};
     if (evacuation_) {
       result.evacuated = evacuation_->out();
       result.evacuation_csv = std::move(evacuation_csv_);

@@ -106,8 +106,8 @@ struct MeasurementLine {
 std::optional<double> CrossingFraction(const MeasurementLine& line, Point p, Point q);
 // The time of a track's first crossing in the walking direction, t_k + s (t_{k+1} − t_k) on the
 // step k → k+1 that crosses; none if it never does. Crossings back are not counted.
-std::optional<double> FirstCrossingTime(const MeasurementLine& line,
-                                        std::span<const double> times, std::span<const Point> x);
+std::optional<double> FirstCrossingTime(const MeasurementLine& line, std::span<const double> times,
+                                        std::span<const Point> x);
 
 // The flow through a line from its crossing times.
 struct LineFlow {

@@ -22,9 +22,9 @@ namespace moreau::io {
 
 // What the header of a text trajectory says.
 struct TextTrajectoryOptions {
-  double frame_rate = 1.0;         // frames per second, > 0: 1 / (h · steps_per_frame)
+  double frame_rate = 1.0;           // frames per second, > 0: 1 / (h · steps_per_frame)
   std::int64_t steps_per_frame = 1;  // a frame is written for the steps that are multiples
-  int decimals = 6;                // digits after the point (metres: 6 is a micrometre), 1 … 17
+  int decimals = 6;                  // digits after the point (metres: 6 is a micrometre), 1 … 17
   std::vector<std::string> comments;  // extra header lines (without '#'), one line each
 
   // Throws InputError(key, reason) for a frame rate ≤ 0 or not finite, steps_per_frame < 1,
