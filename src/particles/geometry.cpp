@@ -71,8 +71,8 @@ void CheckPolygon(const Polygon2& p, const std::string& what) {
     // Adjacent edges (p[i−1], p[i]) and (p[i], p[i+1]) that fold back onto each other.
     const Point2& prev = p[(i + n - 1) % n];
     const Point2& next = p[(i + 1) % n];
-    const double back = (prev[0] - p[i][0]) * (next[0] - p[i][0]) +
-                        (prev[1] - p[i][1]) * (next[1] - p[i][1]);
+    const double back =
+        (prev[0] - p[i][0]) * (next[0] - p[i][0]) + (prev[1] - p[i][1]) * (next[1] - p[i][1]);
     if (Cross(prev, p[i], next) == 0.0 && back > 0.0) {
       throw InputError(what, fmt::format("edges {} and {} overlap", (i + n - 1) % n, i));
     }
@@ -181,7 +181,8 @@ std::vector<SegmentObstacle> CrowdGeometry::Walls() const {
     const Point2& b = walkable[(i + 1) % n];
     std::vector<std::pair<double, double>> cuts;  // the exits on this edge, as fractions
     for (const CrowdExit& e : exits) {
-      if (ExitEdge(walkable, e) == i) cuts.push_back(std::minmax(Along(a, b, e.a), Along(a, b, e.b)));
+      if (ExitEdge(walkable, e) == i)
+        cuts.push_back(std::minmax(Along(a, b, e.a), Along(a, b, e.b)));
     }
     std::sort(cuts.begin(), cuts.end());
     double from = 0.0;

@@ -131,7 +131,8 @@ void EvacuationCount::RestoreOut(std::span<const int> ids, std::span<const int> 
       throw InputError(fmt::format("checkpoint: evacuated id {} is out of range or repeated", id));
     }
     if (exit < 0 || static_cast<std::size_t>(exit) >= per_exit.size()) {
-      throw InputError(fmt::format("checkpoint: exit {} of evacuated id {} is out of range", exit, id));
+      throw InputError(
+          fmt::format("checkpoint: exit {} of evacuated id {} is out of range", exit, id));
     }
     left[static_cast<std::size_t>(id)] = static_cast<int>(1 + exit);
     ++per_exit[static_cast<std::size_t>(exit)];

@@ -54,7 +54,8 @@ DistanceField::DistanceField(const CrowdGeometry& geometry, const RoutingOptions
       hi[a] = std::max(hi[a], p[static_cast<std::size_t>(a)]);
     }
   }
-  const double cells = std::ceil((hi[0] - lo[0]) / h_ + 3.0) * std::ceil((hi[1] - lo[1]) / h_ + 3.0);
+  const double cells =
+      std::ceil((hi[0] - lo[0]) / h_ + 3.0) * std::ceil((hi[1] - lo[1]) / h_ + 3.0);
   if (!(cells <= kMaxNodes)) {
     throw InputError("spacing", fmt::format("the grid would have {:.3g} nodes (more than {:.0e})",
                                             cells, kMaxNodes));

@@ -19,9 +19,9 @@
 namespace moreau::particles {
 
 struct Room {
-  double width = 15.0;      // > 0
-  double height = 15.0;     // > 0
-  double door_width = 1.2;  // in (0, height)
+  double width = 15.0;       // > 0
+  double height = 15.0;      // > 0
+  double door_width = 1.2;   // in (0, height)
   double door_length = 0.0;  // ≥ 0: the passage's length; 0: a door in the wall
 
   static const FieldList<Room>& Fields();  // width, height, door_width, door_length
