@@ -97,7 +97,7 @@ void DistanceField::March(const std::vector<char>& free) {
       const Point2 p{x0_ + i * h_, y0_ + j * h_};
       for (std::size_t k = 0; k < geometry_.exits.size(); ++k) {
         const double dist = DistanceToSegment(p, geometry_.exits[k].a, geometry_.exits[k].b);
-        if (dist <= h_ && dist < d_[n]) {
+        if (dist <= 1.5 * h_ && dist < d_[n]) {
           d_[n] = dist;
           exit_reached[k] = 1;
         }
@@ -108,7 +108,7 @@ void DistanceField::March(const std::vector<char>& free) {
   for (std::size_t k = 0; k < exit_reached.size(); ++k) {
     if (!exit_reached[k]) {
       throw InputError("clearance",
-                       fmt::format("no free grid node within the spacing of exit {}: the exit is "
+                       fmt::format("no free grid node within 1.5 spacings of exit {}: the exit is "
                                    "narrower than twice the clearance, or the spacing too coarse",
                                    k));
     }

@@ -6,7 +6,7 @@
 // every obstacle) and at least `clearance` from every wall (walls.h: the polygon's edges without
 // the exits, and the obstacles' edges): the walls are inflated by the clearance so that routes
 // keep off corners. d is the exact Euclidean distance to the exit segment at the free nodes
-// within h of an exit, and elsewhere the first-order fast marching solution (Sethian 1996) of
+// within 1.5 h of an exit, and elsewhere the first-order fast marching solution (Sethian 1996) of
 // the eikonal equation ‖∇d‖ = 1 over the free nodes (4 neighbours, a binary heap; ties by node
 // index, so the field is a pure function of the geometry and options). Its error is O(h) (a
 // rectangle with a door: docs/crowds.md has the measured errors). Nodes that are not free or
