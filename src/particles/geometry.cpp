@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -14,6 +16,10 @@
 namespace moreau::particles {
 
 namespace {
+
+constexpr std::size_t kMaxVertices = 5000;  // per polygon; edges are checked pairwise
+constexpr std::size_t kMaxExits = 1000;
+constexpr std::uintmax_t kMaxFileBytes = 16u << 20;
 
 double Cross(const Point2& o, const Point2& a, const Point2& b) {
   return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
@@ -60,6 +66,9 @@ void CheckPolygon(const Polygon2& p, const std::string& what) {
   if (p.size() < 3) {
     throw InputError(what, fmt::format("needs at least 3 vertices (got {})", p.size()));
   }
+  if (p.size() > kMaxVertices) {
+    throw InputError(what, fmt::format("has {} vertices (at most {})", p.size(), kMaxVertices));
+  }
   for (const Point2& v : p) {
     if (!std::isfinite(v[0]) || !std::isfinite(v[1])) {
       throw InputError(what, "coordinates must be finite");
@@ -105,6 +114,9 @@ double Along(const Point2& a, const Point2& b, const Point2& p) {
 
 void CheckExits(const CrowdGeometry& g) {
   if (g.exits.empty()) throw InputError("exit", "the geometry needs at least one exit");
+  if (g.exits.size() > kMaxExits) {
+    throw InputError("exit", fmt::format("{} exits (at most {})", g.exits.size(), kMaxExits));
+  }
   std::vector<std::pair<double, double>> spans(g.exits.size());
   std::vector<std::size_t> edges(g.exits.size());
   for (std::size_t k = 0; k < g.exits.size(); ++k) {
@@ -155,6 +167,12 @@ double DistanceToSegment(const Point2& p, const Point2& a, const Point2& b) {
 
 void CrowdGeometry::Validate() const {
   CheckPolygon(walkable, "walkable");
+  std::size_t vertices = walkable.size();
+  for (const Polygon2& p : obstacles) vertices += p.size();
+  if (vertices > 4 * kMaxVertices) {
+    throw InputError("obstacle",
+                     fmt::format("{} vertices in all (at most {})", vertices, 4 * kMaxVertices));
+  }
   for (std::size_t k = 0; k < obstacles.size(); ++k) {
     const std::string what = fmt::format("obstacle {}", k);
     CheckPolygon(obstacles[k], what);
@@ -176,13 +194,15 @@ void CrowdGeometry::Validate() const {
 std::vector<SegmentObstacle> CrowdGeometry::Walls() const {
   std::vector<SegmentObstacle> walls;
   const std::size_t n = walkable.size();
+  std::vector<std::size_t> exit_edge(exits.size());
+  for (std::size_t k = 0; k < exits.size(); ++k) exit_edge[k] = ExitEdge(walkable, exits[k]);
   for (std::size_t i = 0; i < n; ++i) {
     const Point2& a = walkable[i];
     const Point2& b = walkable[(i + 1) % n];
     std::vector<std::pair<double, double>> cuts;  // the exits on this edge, as fractions
-    for (const CrowdExit& e : exits) {
-      if (ExitEdge(walkable, e) == i)
-        cuts.push_back(std::minmax(Along(a, b, e.a), Along(a, b, e.b)));
+    for (std::size_t k = 0; k < exits.size(); ++k) {
+      if (exit_edge[k] == i)
+        cuts.push_back(std::minmax(Along(a, b, exits[k].a), Along(a, b, exits[k].b)));
     }
     std::sort(cuts.begin(), cuts.end());
     double from = 0.0;
@@ -334,6 +354,14 @@ CrowdGeometry ParseCrowdGeometry(std::string_view text, std::string_view name) {
 }
 
 CrowdGeometry ReadCrowdGeometry(const std::string& path, std::string_view name) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(fmt::format("{}: not a regular file", name));
+  }
+  if (const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+      !ec && bytes > kMaxFileBytes) {
+    throw InputError(fmt::format("{}: {} bytes (at most {})", name, bytes, kMaxFileBytes));
+  }
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot be read", name));
   std::ostringstream text;

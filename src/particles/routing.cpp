@@ -16,7 +16,7 @@ namespace moreau::particles {
 namespace {
 
 constexpr double kNoDistance = std::numeric_limits<double>::infinity();
-constexpr double kMaxNodes = 5e7;
+constexpr double kMaxNodes = 1e7;  // about 26 bytes a node while the field is built
 
 // The first-order upwind update at a node from the smallest known neighbour value per axis
 // (a, b; +∞ when none): the root of (u − a)² + (u − b)² = h² when both are close enough, else
@@ -67,21 +67,56 @@ DistanceField::DistanceField(const CrowdGeometry& geometry, const RoutingOptions
   for (std::size_t k = 0; k < geometry_.exits.size(); ++k) {
     exit_normal_.push_back(geometry_.ExitNormal(k));
   }
-  const std::vector<SegmentObstacle> walls = geometry_.Walls();
-  std::vector<char> free(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_), 0);
-  for (int j = 0; j < ny_; ++j) {
-    for (int i = 0; i < nx_; ++i) {
-      const Point2 p{x0_ + i * h_, y0_ + j * h_};
-      bool ok = geometry_.Walkable(p[0], p[1]);
-      for (std::size_t w = 0; ok && w < walls.size(); ++w) {
-        ok = DistanceToSegment(p, {walls[w].a[0], walls[w].a[1]}, {walls[w].b[0], walls[w].b[1]}) >=
-             options.clearance;
-      }
-      free[Index(i, j)] = ok ? 1 : 0;
-    }
-  }
+  const std::vector<char> free = FreeNodes(options.clearance);
   March(free);
   NodeDirections();
+}
+
+std::vector<char> DistanceField::FreeNodes(double clearance) const {
+  std::vector<char> free(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_), 0);
+  // Row by row, the even-odd rule over every polygon's edges (CrowdGeometry::Walkable's test):
+  // a node is in the walkable area when an odd number of crossings lie to its right.
+  std::vector<const Polygon2*> polygons = {&geometry_.walkable};
+  for (const Polygon2& p : geometry_.obstacles) polygons.push_back(&p);
+  std::vector<double> crossings;
+  for (int j = 0; j < ny_; ++j) {
+    const double y = y0_ + j * h_;
+    crossings.clear();
+    for (const Polygon2* p : polygons) {
+      for (std::size_t v = 0, u = p->size() - 1; v < p->size(); u = v++) {
+        const Point2& a = (*p)[v];
+        const Point2& b = (*p)[u];
+        if ((a[1] > y) != (b[1] > y)) {
+          crossings.push_back((b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0]);
+        }
+      }
+    }
+    std::sort(crossings.begin(), crossings.end());
+    std::size_t right = 0;  // crossings at or left of the node
+    for (int i = 0; i < nx_; ++i) {
+      const double x = x0_ + i * h_;
+      while (right < crossings.size() && !(x < crossings[right])) ++right;
+      free[Index(i, j)] = (crossings.size() - right) % 2 == 1 ? 1 : 0;
+    }
+  }
+  // The walls inflated by the clearance: the nodes of each wall's box closer than it.
+  for (const SegmentObstacle& w : geometry_.Walls()) {
+    const Point2 a{w.a[0], w.a[1]}, b{w.b[0], w.b[1]};
+    const auto node = [&](double v, double origin, int n) {
+      return std::clamp(static_cast<int>(std::floor((v - origin) / h_)), 0, n - 1);
+    };
+    const int i0 = node(std::min(a[0], b[0]) - clearance, x0_, nx_);
+    const int i1 = node(std::max(a[0], b[0]) + clearance, x0_, nx_) + 1;
+    const int j0 = node(std::min(a[1], b[1]) - clearance, y0_, ny_);
+    const int j1 = node(std::max(a[1], b[1]) + clearance, y0_, ny_) + 1;
+    for (int j = j0; j <= std::min(j1, ny_ - 1); ++j) {
+      for (int i = i0; i <= std::min(i1, nx_ - 1); ++i) {
+        if (DistanceToSegment({x0_ + i * h_, y0_ + j * h_}, a, b) < clearance)
+          free[Index(i, j)] = 0;
+      }
+    }
+  }
+  return free;
 }
 
 void DistanceField::March(const std::vector<char>& free) {

@@ -140,6 +140,8 @@ def test_bad_geometry_is_one_line(tmp_path):
     rejected(r, "empty.txt: no walkable polygon")
     r = run_cli("run", EXAMPLE, "--out", tmp_path / "m", "--set", 'geometry.file="missing.txt"')
     rejected(r, "missing.txt: cannot be read")
+    r = run_cli("run", EXAMPLE, "--out", tmp_path / "d", "--set", 'geometry.file="."')
+    rejected(r, "geometry.file", ".: not a regular file")
     r = run_cli("run", EXAMPLE, "--out", tmp_path / "s", "--set", "geometry.spacing=0")
     rejected(r, "geometry.spacing", "must be > 0")
     r = run_cli("run", EXAMPLE, "--out", tmp_path / "c", "--set", "geometry.clearance=0.7")

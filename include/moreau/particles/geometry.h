@@ -36,11 +36,11 @@ struct CrowdGeometry {
 
   // Throws InputError(reason) naming the item ("walkable: needs at least 3 vertices (got 2)",
   // "obstacle 1: edges 0 and 2 cross", "exit 0: not on an edge of the walkable polygon",
-  // "obstacle 0: not inside the walkable polygon"). Checks: finite coordinates, ≥ 3 vertices,
-  // non-zero area, no two edges of a polygon crossing (O(n²) per polygon), obstacles inside the
-  // walkable polygon and apart from its boundary and each other, ≥ 1 exit, each exit of non-zero
-  // length and on one edge of the walkable polygon (within 1e−9 of the edge's length), exits
-  // not overlapping.
+  // "obstacle 0: not inside the walkable polygon"). Checks: finite coordinates, 3 to 5000
+  // vertices a polygon (20000 in all), non-zero area, no two edges of a polygon crossing (O(n²)
+  // per polygon), obstacles inside the walkable polygon and apart from its boundary and each
+  // other, 1 to 1000 exits, each of non-zero length and on one edge of the walkable polygon
+  // (within 1e−9 of the edge's length), exits not overlapping.
   void Validate() const;
 
   // The walls: the walkable polygon's edges without the exits, then every obstacle's edges.
@@ -65,7 +65,8 @@ struct CrowdGeometry {
 // result is validated.
 CrowdGeometry ParseCrowdGeometry(std::string_view text, std::string_view name);
 
-// The same from the file at `path` (InputError "PATH: cannot be read" when it cannot be opened).
+// The same from the file at `path` (InputError "NAME: cannot be read" when it cannot be opened,
+// "NAME: not a regular file" for a folder, a FIFO or a device, and a file over 16 MiB).
 CrowdGeometry ReadCrowdGeometry(const std::string& path, std::string_view name);
 
 // Distance from p to the segment [a, b].

@@ -39,7 +39,7 @@ struct RoutingOptions {
 class DistanceField {
  public:
   // Validates both; throws InputError("spacing", "the grid would have N nodes (more than
-  // 5e7)") for a grid too fine, and InputError("clearance", "no free grid node within the
+  // 1e7)") for a grid too fine, and InputError("clearance", "no free grid node within the
   // spacing of exit K …") when an exit cannot be reached.
   DistanceField(const CrowdGeometry& geometry, const RoutingOptions& options);
 
@@ -62,6 +62,8 @@ class DistanceField {
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(nx_) +
            static_cast<std::size_t>(i);
   }
+  // Per node, 1 when free (the walkable area, `clearance` off the walls).
+  std::vector<char> FreeNodes(double clearance) const;
   void March(const std::vector<char>& free);
   void NodeDirections();
 
