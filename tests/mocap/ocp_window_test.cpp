@@ -96,5 +96,59 @@ TEST(MocapOcpWindow, RealWindowsStartFromThePriorAndConverge) {
   }
 }
 
+// The synthetic body of FirstIterateOfAWellHeldMarkerIsThePriorsOrder: marker 2 hidden over
+// frames 40..79, held by five springs to anchors, the truth as prior.
+struct HeldMarkerWindow {
+  Recording truth = testing::RigidBodies(1, 6, 120, 100.0);
+  Recording in = truth;
+  MarkerNetwork net;
+  internal::OcpWindow w{30, 89, {2}};
+  explicit HeldMarkerWindow(const OcpFillOptions& o) {
+    testing::Hide(in, 2, 40, 79);
+    net = BuildMarkerNetwork(in, o.network);
+  }
+  internal::OcpWindowResult Solve(const OcpFillOptions& o) const {
+    return internal::SolveOcpWindow(in, truth, net, w, o);
+  }
+};
+
+TEST(MocapOcpWindow, AFailedWindowIsRetriedWithFewerAnchorSprings) {
+  OcpFillOptions o;
+  o.newton.max_iterations = 1;  // no attempt converges
+  const HeldMarkerWindow body(o);
+  const internal::OcpWindowResult retried = body.Solve(o);
+  EXPECT_FALSE(IsSuccess(retried.termination));
+  EXPECT_NE(retried.message.find("; with 4 anchor springs per marker: "), std::string::npos)
+      << retried.message;
+  EXPECT_LE(retried.springs, 4);  // one free marker, only springs to anchors
+  EXPECT_LE(retried.anchors, 4);
+  // The iterations of both attempts: the first one alone (retry off), the retry alone (the
+  // options' anchor_springs already 4: no retry).
+  OcpFillOptions first = o;
+  first.retry_anchor_springs = 0;
+  const internal::OcpWindowResult alone = body.Solve(first);
+  EXPECT_FALSE(IsSuccess(alone.termination));
+  EXPECT_EQ(alone.message.find("anchor springs"), std::string::npos) << alone.message;
+  EXPECT_GE(alone.springs, 5);
+  OcpFillOptions four = o;
+  four.anchor_springs = 4;
+  const internal::OcpWindowResult last = body.Solve(four);
+  EXPECT_EQ(last.springs, retried.springs);
+  EXPECT_EQ(last.message.find("anchor springs"), std::string::npos) << last.message;
+  EXPECT_GT(alone.newton_iterations, 0);
+  EXPECT_GT(last.newton_iterations, 0);
+  EXPECT_EQ(retried.newton_iterations, alone.newton_iterations + last.newton_iterations);
+}
+
+TEST(MocapOcpWindow, AWindowThatConvergesIsNotRetried) {
+  const OcpFillOptions o;
+  const HeldMarkerWindow body(o);
+  const internal::OcpWindowResult solved = body.Solve(o);
+  ASSERT_TRUE(IsSuccess(solved.termination)) << solved.message;
+  EXPECT_GE(solved.springs, 5);  // every spring to anchors: the first attempt's network
+  EXPECT_EQ(solved.message.find("anchor springs"), std::string::npos);
+  EXPECT_LE(solved.newton_iterations, 10);
+}
+
 }  // namespace
 }  // namespace moreau::mocap
