@@ -259,7 +259,8 @@ void MakeWindowProblem(const Recording& in, const Recording& base, const OcpWind
       const bool seen = in.observed(w.first + k, marker);
       const bool prior = base.point(w.first + k, marker).allFinite();
       const bool edge = k < first_seen || k > last_seen;
-      weights(k, j) = seen ? o.observed_weight : (prior ? (edge ? edge_weight : o.prior_weight) : 0.0);
+      weights(k, j) =
+          seen ? o.observed_weight : (prior ? (edge ? edge_weight : o.prior_weight) : 0.0);
     }
   }
   control::ReferenceFunction reference = control::SampledReference(
@@ -389,8 +390,7 @@ bool HasEdgeGap(const Recording& in, const OcpWindow& w) {
 
 // The last attempt: the edge gaps' prior weighted like the observations (MakeWindowProblem).
 OcpWindowResult EdgeAttempt(const Recording& in, const Recording& base, const MarkerNetwork& net,
-                            const OcpWindow& w, const OcpFillOptions& o,
-                            OcpWindowResult failed) {
+                            const OcpWindow& w, const OcpFillOptions& o, OcpWindowResult failed) {
   if (!(o.prior_weight > o.observed_weight) || !HasEdgeGap(in, w)) return failed;
   OcpWindowResult edge = AttemptWindow(in, base, net, w, o, true);
   edge.newton_iterations += failed.newton_iterations;
@@ -422,8 +422,8 @@ OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const
   OcpWindowResult last = AttemptWindow(in, base, net, w, retry);
   last.newton_iterations += result.newton_iterations;
   if (IsSuccess(last.termination)) return last;
-  last.message = fmt::format("{}; with {} anchor springs per marker: {}", result.message, fewer,
-                             last.message);
+  last.message =
+      fmt::format("{}; with {} anchor springs per marker: {}", result.message, fewer, last.message);
   return EdgeAttempt(in, base, net, w, o, std::move(last));
 }
 

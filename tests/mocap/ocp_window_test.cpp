@@ -186,8 +186,8 @@ TEST(MocapOcpWindow, TheHandHiddenAtTheTakesEndConvergesWithItsPriorWeightedLike
   Recording in = truth;
   std::vector<int> hand;
   for (const char* label : {"LWRA", "LWRB", "LPALA1"}) {
-    hand.push_back(static_cast<int>(
-        std::find(in.labels().begin(), in.labels().end(), label) - in.labels().begin()));
+    hand.push_back(static_cast<int>(std::find(in.labels().begin(), in.labels().end(), label) -
+                                    in.labels().begin()));
     ASSERT_LT(hand.back(), in.markers());
     testing::Hide(in, hand.back(), 657, 669);
   }
