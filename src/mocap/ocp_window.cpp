@@ -230,7 +230,8 @@ WindowRates FastestRates(const OcpWindowModel& model, Eigen::Index frames) {
 // the ratio γ / weight matters (scaling both scales the cost), and in seconds both are per-sample
 // quantities times the rate, so the same γ serves every rate (docs/mocap.md).
 void MakeWindowProblem(const Recording& in, const Recording& base, const OcpWindow& w,
-                       const OcpFillOptions& o, const OcpWindowModel& model, OcpWindowProblem& p) {
+                       const OcpFillOptions& o, const OcpWindowModel& model, bool edge_as_observed,
+                       OcpWindowProblem& p) {
   const Eigen::Index frames = w.last - w.first + 1;
   const int m = static_cast<int>(w.free.size());
   const control::SpringNetwork network(3, model.nodes, model.springs);
@@ -240,13 +241,26 @@ void MakeWindowProblem(const Recording& in, const Recording& base, const OcpWind
       1e-9));
   const double horizon = static_cast<double>(frames - 1);
   Eigen::MatrixXd ref(frames, 3 * m), weights(frames, m);
+  // edge_as_observed: the frames of a gap that no observation of its marker follows (or
+  // precedes) in the window, at an edge of the take, track the prior with the observations'
+  // weight if that is lower (the last attempt of SolveOcpWindow).
+  const double edge_weight =
+      edge_as_observed ? std::min(o.prior_weight, o.observed_weight) : o.prior_weight;
   for (int j = 0; j < m; ++j) {
     const int marker = w.free[static_cast<std::size_t>(j)];
     ref.middleCols(3 * j, 3) = model.free_tracks[static_cast<std::size_t>(j)]->x;
+    Eigen::Index first_seen = frames, last_seen = -1;
+    for (Eigen::Index k = 0; k < frames; ++k) {
+      if (!in.observed(w.first + k, marker)) continue;
+      first_seen = std::min(first_seen, k);
+      last_seen = k;
+    }
     for (Eigen::Index k = 0; k < frames; ++k) {
       const bool seen = in.observed(w.first + k, marker);
       const bool prior = base.point(w.first + k, marker).allFinite();
-      weights(k, j) = seen ? o.observed_weight : (prior ? o.prior_weight : 0.0);
+      const bool edge = k < first_seen || k > last_seen;
+      weights(k, j) =
+          seen ? o.observed_weight : (prior ? (edge ? edge_weight : o.prior_weight) : 0.0);
     }
   }
   control::ReferenceFunction reference = control::SampledReference(
@@ -281,7 +295,8 @@ Eigen::VectorXd WarmStart(const OcpWindowProblem& p, double stiffness_scale, dou
 }  // namespace
 
 void MakeOcpWindowProblem(const Recording& in, const Recording& base, const MarkerNetwork& net,
-                          const OcpWindow& w, const OcpFillOptions& o, OcpWindowProblem& p) {
+                          const OcpWindow& w, const OcpFillOptions& o, OcpWindowProblem& p,
+                          bool edge_as_observed) {
   const int m = static_cast<int>(w.free.size());
   p.scale = net.length_scale;
   p.origin = Eigen::Vector3d::Zero();
@@ -291,7 +306,7 @@ void MakeOcpWindowProblem(const Recording& in, const Recording& base, const Mark
   p.model = model;
   p.anchors = model->anchors;
   p.springs = static_cast<int>(model->springs.size());
-  MakeWindowProblem(in, base, w, o, *model, p);
+  MakeWindowProblem(in, base, w, o, *model, edge_as_observed, p);
   p.continuation = control::ContinuationOptions{};
   p.continuation.gamma_start = o.gamma_start;
   p.continuation.newton = o.newton;
@@ -321,13 +336,14 @@ namespace {
 
 // One window solved with the options' network (SolveOcpWindowProblem's two attempts).
 OcpWindowResult AttemptWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
-                              const OcpWindow& w, const OcpFillOptions& o) {
+                              const OcpWindow& w, const OcpFillOptions& o,
+                              bool edge_as_observed = false) {
   OcpWindowResult result;
   const Eigen::Index frames = w.last - w.first + 1;
   const int m = static_cast<int>(w.free.size());
   OcpWindowProblem p;
   try {
-    MakeOcpWindowProblem(in, base, net, w, o, p);
+    MakeOcpWindowProblem(in, base, net, w, o, p, edge_as_observed);
     result.anchors = p.anchors;
     result.springs = p.springs;
     result.steps = p.steps;
@@ -363,28 +379,52 @@ OcpWindowResult AttemptWindow(const Recording& in, const Recording& base, const 
   return result;
 }
 
+// Whether some free marker of the window has a hidden frame that no observation of it follows
+// or precedes in the window (a gap at an edge of the take).
+bool HasEdgeGap(const Recording& in, const OcpWindow& w) {
+  for (int marker : w.free) {
+    if (!in.observed(w.first, marker) || !in.observed(w.last, marker)) return true;
+  }
+  return false;
+}
+
+// The last attempt: the edge gaps' prior weighted like the observations (MakeWindowProblem).
+OcpWindowResult EdgeAttempt(const Recording& in, const Recording& base, const MarkerNetwork& net,
+                            const OcpWindow& w, const OcpFillOptions& o, OcpWindowResult failed) {
+  if (!(o.prior_weight > o.observed_weight) || !HasEdgeGap(in, w)) return failed;
+  OcpWindowResult edge = AttemptWindow(in, base, net, w, o, true);
+  edge.newton_iterations += failed.newton_iterations;
+  if (IsSuccess(edge.termination)) {
+    edge.message = "the prior of the take's edge weighted like the observations";
+    return edge;
+  }
+  failed.newton_iterations = edge.newton_iterations;
+  failed.message = fmt::format("{}; the edge's prior weighted like the observations: {}",
+                               failed.message, edge.message);
+  return failed;
+}
+
 }  // namespace
 
 OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base, const MarkerNetwork& net,
                                const OcpWindow& w, const OcpFillOptions& o) {
   OcpWindowResult result = AttemptWindow(in, base, net, w, o);
   const int fewer = o.retry_anchor_springs;
-  if (IsSuccess(result.termination) || fewer == 0 ||
-      (o.anchor_springs > 0 && o.anchor_springs <= fewer)) {
-    return result;
+  if (IsSuccess(result.termination)) return result;
+  if (fewer == 0 || (o.anchor_springs > 0 && o.anchor_springs <= fewer)) {
+    return EdgeAttempt(in, base, net, w, o, std::move(result));
   }
   // Springs to anchors that are nearly rigid make the window's Newton system ill-conditioned
-  // (docs/mocap.md, "How often the optimal control solves its window"): the last attempt keeps
+  // (docs/mocap.md, "How often the optimal control solves its window"): the next attempt keeps
   // only each free marker's `retry_anchor_springs` most rigid ones.
   OcpFillOptions retry = o;
   retry.anchor_springs = fewer;
   OcpWindowResult last = AttemptWindow(in, base, net, w, retry);
   last.newton_iterations += result.newton_iterations;
-  if (!IsSuccess(last.termination)) {
-    last.message = fmt::format("{}; with {} anchor springs per marker: {}", result.message, fewer,
-                               last.message);
-  }
-  return last;
+  if (IsSuccess(last.termination)) return last;
+  last.message =
+      fmt::format("{}; with {} anchor springs per marker: {}", result.message, fewer, last.message);
+  return EdgeAttempt(in, base, net, w, o, std::move(last));
 }
 
 }  // namespace moreau::mocap::internal

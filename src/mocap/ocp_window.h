@@ -48,11 +48,14 @@ struct OcpWindowProblem {
 };
 
 // Builds the window's problem into `p`, field by field (anchors and springs, then steps, then
-// the warm start), as SolveOcpWindow does. Throws InputError for a degenerate window (e.g. an
-// anchor on top of a free marker); the fields set before the throw stay set.
+// the warm start), as SolveOcpWindow does. edge_as_observed: the hidden frames that no
+// observation of their marker follows (or precedes) in the window, at an edge of the take,
+// track the prior with min(prior_weight, observed_weight) (SolveOcpWindow's last attempt).
+// Throws InputError for a degenerate window (e.g. an anchor on top of a free marker); the fields
+// set before the throw stay set.
 void MakeOcpWindowProblem(const Recording& in, const Recording& base, const MarkerNetwork& network,
                           const OcpWindow& window, const OcpFillOptions& options,
-                          OcpWindowProblem& p);
+                          OcpWindowProblem& p, bool edge_as_observed = false);
 
 // The fill's solve of `p`: continuation from p.warm_start with p.continuation; on failure, again
 // from a smooth problem (options.stiffness_start, options.retry_gamma_start). `y`: the solution
@@ -62,8 +65,14 @@ control::ContinuationSummary SolveOcpWindowProblem(const OcpWindowProblem& p,
                                                    Eigen::VectorXd& y, int& newton_iterations);
 
 // `in`: the recording (its observed mask gives the weights); `base`: `in` with every gap to fill
-// set to its prior (anchors follow `base`, free nodes track it). Never throws for a numerical
-// failure: the result's termination says what happened.
+// set to its prior (anchors follow `base`, free nodes track it). Attempts, until one converges:
+// SolveOcpWindowProblem; again with each free marker's retry_anchor_springs most rigid springs
+// to anchors (unless 0 or anchor_springs is already at most that; the message of a failure then
+// holds "with N anchor springs per marker"); if a free marker is hidden at the window's first or
+// last frame (a gap at an edge of the take) and prior_weight > observed_weight, the options'
+// network with the edge's prior weighted like the observations (edge_as_observed).
+// newton_iterations: of all attempts. Never throws for a numerical failure: the result's
+// termination says what happened.
 OcpWindowResult SolveOcpWindow(const Recording& in, const Recording& base,
                                const MarkerNetwork& network, const OcpWindow& window,
                                const OcpFillOptions& options);

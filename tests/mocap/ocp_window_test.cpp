@@ -1,10 +1,15 @@
 // One window of the optimal-control fill: the time step follows the network's fastest rates and
 // the first Newton iterate starts from the prior with a residual of the prior's order, on a
 // synthetic body and on real windows that used to start from 10¹² and 2⁶³ (an ulp of costates
-// that the backward march had blown up to 2⁹³ and 2¹¹⁵).
+// that the backward march had blown up to 2⁹³ and 2¹¹⁵); a window that fails is retried with
+// fewer springs to anchors, and one at an edge of the take with its prior weighted like the
+// observations.
 #include "mocap/ocp_window.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
 
 #include "mocap/io_test_util.h"
 #include "mocap/ocp_test_util.h"
@@ -94,6 +99,115 @@ TEST(MocapOcpWindow, RealWindowsStartFromThePriorAndConverge) {
     EXPECT_EQ(cs.path.front().stiffness_scale, 1.0) << w.first;
     EXPECT_LE(iterations, 15) << w.first;
   }
+}
+
+// The synthetic body of FirstIterateOfAWellHeldMarkerIsThePriorsOrder: marker 2 hidden over
+// frames 40..79, held by five springs to anchors, the truth as prior.
+struct HeldMarkerWindow {
+  Recording truth = testing::RigidBodies(1, 6, 120, 100.0);
+  Recording in = truth;
+  MarkerNetwork net;
+  internal::OcpWindow w{30, 89, {2}};
+  explicit HeldMarkerWindow(const OcpFillOptions& o) {
+    testing::Hide(in, 2, 40, 79);
+    net = BuildMarkerNetwork(in, o.network);
+  }
+  internal::OcpWindowResult Solve(const OcpFillOptions& o) const {
+    return internal::SolveOcpWindow(in, truth, net, w, o);
+  }
+};
+
+TEST(MocapOcpWindow, AFailedWindowIsRetriedWithFewerAnchorSprings) {
+  OcpFillOptions o;
+  o.newton.max_iterations = 1;  // no attempt converges
+  const HeldMarkerWindow body(o);
+  const internal::OcpWindowResult retried = body.Solve(o);
+  EXPECT_FALSE(IsSuccess(retried.termination));
+  EXPECT_NE(retried.message.find("; with 4 anchor springs per marker: "), std::string::npos)
+      << retried.message;
+  EXPECT_LE(retried.springs, 4);  // one free marker, only springs to anchors
+  EXPECT_LE(retried.anchors, 4);
+  // The iterations of both attempts: the first one alone (retry off), the retry alone (the
+  // options' anchor_springs already 4: no retry).
+  OcpFillOptions first = o;
+  first.retry_anchor_springs = 0;
+  const internal::OcpWindowResult alone = body.Solve(first);
+  EXPECT_FALSE(IsSuccess(alone.termination));
+  EXPECT_EQ(alone.message.find("anchor springs"), std::string::npos) << alone.message;
+  EXPECT_GE(alone.springs, 5);
+  OcpFillOptions four = o;
+  four.anchor_springs = 4;
+  const internal::OcpWindowResult last = body.Solve(four);
+  EXPECT_EQ(last.springs, retried.springs);
+  EXPECT_EQ(last.message.find("anchor springs"), std::string::npos) << last.message;
+  EXPECT_GT(alone.newton_iterations, 0);
+  EXPECT_GT(last.newton_iterations, 0);
+  EXPECT_EQ(retried.newton_iterations, alone.newton_iterations + last.newton_iterations);
+}
+
+TEST(MocapOcpWindow, AWindowThatConvergesIsNotRetried) {
+  const OcpFillOptions o;
+  const HeldMarkerWindow body(o);
+  const internal::OcpWindowResult solved = body.Solve(o);
+  ASSERT_TRUE(IsSuccess(solved.termination)) << solved.message;
+  EXPECT_GE(solved.springs, 5);  // every spring to anchors: the first attempt's network
+  EXPECT_EQ(solved.message.find("anchor springs"), std::string::npos);
+  EXPECT_LE(solved.newton_iterations, 10);
+}
+
+TEST(MocapOcpWindow, AFailedWindowAtTheTakesEndIsSolvedAgainWithItsPriorWeightedLikeObservations) {
+  OcpFillOptions o;
+  o.newton.max_iterations = 1;  // no attempt converges
+  HeldMarkerWindow body(o);
+  const internal::OcpWindowResult inside = body.Solve(o);  // frames 40..79 inside the window
+  EXPECT_EQ(inside.message.find("weighted like the observations"), std::string::npos)
+      << inside.message;
+  body.in = body.truth;
+  testing::Hide(body.in, 2, 80, 119);  // to the take's end
+  body.w = internal::OcpWindow{70, 119, {2}};
+  const internal::OcpWindowResult edge = body.Solve(o);
+  EXPECT_FALSE(IsSuccess(edge.termination));
+  EXPECT_NE(edge.message.find("; with 4 anchor springs per marker: "), std::string::npos);
+  EXPECT_NE(edge.message.find("; the edge's prior weighted like the observations: "),
+            std::string::npos)
+      << edge.message;
+  // Not when the prior weighs no more than the observations: the same problem.
+  OcpFillOptions light = o;
+  light.prior_weight = light.observed_weight;
+  const internal::OcpWindowResult same = body.Solve(light);
+  EXPECT_EQ(same.message.find("weighted like the observations"), std::string::npos);
+}
+
+TEST(MocapOcpWindow, TheHandHiddenAtTheTakesEndConvergesWithItsPriorWeightedLikeObservations) {
+  // upper_body_25hz.c3d: the left hand's three markers hidden over the last 0.5 s (frames
+  // 657..669). With the prior weighted 10× the observations Newton stalls in every attempt (line
+  // search without decrease); weighted like them, the window converges from the prior.
+  const Recording truth = ReadRecording(testing::MocapData("upper_body_25hz.c3d"));
+  Recording in = truth;
+  std::vector<int> hand;
+  for (const char* label : {"LWRA", "LWRB", "LPALA1"}) {
+    hand.push_back(static_cast<int>(std::find(in.labels().begin(), in.labels().end(), label) -
+                                    in.labels().begin()));
+    ASSERT_LT(hand.back(), in.markers());
+    testing::Hide(in, hand.back(), 657, 669);
+  }
+  std::sort(hand.begin(), hand.end());
+  GapFillOptions prior;
+  prior.method = GapFillMethod::kOcp;
+  prior.ocp.optimal_control = false;
+  Recording base;
+  FillGaps(in, FindGaps(in), prior, &base);
+  const OcpFillOptions o;
+  const MarkerNetwork net = BuildMarkerNetwork(in, o.network);
+  const internal::OcpWindow w{654, 669, hand};
+  internal::OcpWindowProblem p;
+  internal::MakeOcpWindowProblem(in, base, net, w, o, p, true);
+  Eigen::VectorXd y;
+  int iterations = 0;
+  const control::ContinuationSummary cs = internal::SolveOcpWindowProblem(p, o, y, iterations);
+  ASSERT_TRUE(cs.ok()) << cs.message;
+  EXPECT_EQ(cs.path.front().stiffness_scale, 1.0);  // the first attempt
+  EXPECT_LE(cs.last_newton.final_residual, o.newton.residual_tolerance);
 }
 
 }  // namespace

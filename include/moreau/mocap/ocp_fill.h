@@ -24,8 +24,11 @@
 // Units inside the solver: length in network.length_scale, time in frames, weights and γ per
 // frame (docs/mocap.md).
 // A window that fails to converge is retried with stiffness continuation from a smooth γ, then
-// with fewer springs to anchors (retry_anchor_springs); if that fails too, or a solved gap disagrees with the partners' distance distributions much more than
-// the prior (guard_ratio), the gap is filled by the prior (outcome kFallback).
+// with fewer springs to anchors (retry_anchor_springs), then, if a free marker is hidden at the
+// window's first or last frame (a gap at an edge of the take: the prior is an extrapolation),
+// with that gap's prior weighted like the observations (min(prior_weight, observed_weight)); if
+// that fails too, or a solved gap disagrees with the partners' distance distributions much more
+// than the prior (guard_ratio), the gap is filled by the prior (outcome kFallback).
 #pragma once
 
 #include <cstdint>
@@ -57,9 +60,9 @@ struct OcpFillOptions {
                                  // window's fastest rates k, c (docs/mocap.md) (> 0)
   double stiffness_start = 0.25;   // retry: continuation in κ, ξ from this scale (0, 1]
   double retry_gamma_start = 1.0;  // retry: continuation in γ from here (>= gamma_start)
-  // Last attempt when both fail: the window again with only each free marker's this many most
-  // rigid springs to anchors (>= 0; 0: no last attempt; none either when anchor_springs is
-  // already at most this).
+  // When both fail: the window again with only each free marker's this many most rigid springs
+  // to anchors (>= 0; 0: no such attempt; none either when anchor_springs is already at most
+  // this). Then the edge attempt (above), if the window has an edge gap.
   int retry_anchor_springs = 4;
   double guard_ratio = 1.5;        // keep the solved fill only if its distance disagreement E is
                                    // <= guard_ratio E_prior + 1 (E_prior: the prior's) (>= 1)
