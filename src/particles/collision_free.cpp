@@ -7,6 +7,7 @@
 
 #include "particles/parallel.h"
 #include "particles/prediction.h"
+#include "particles/segment_grid.h"
 #include "particles/step_context.h"
 
 namespace moreau::particles::internal {
@@ -15,10 +16,9 @@ namespace moreau::particles::internal {
 // farther than ℓ/2 + kZeroExponent D_w contribute exactly +0 and are skipped (the same bits).
 constexpr double kZeroExponent = 746.0;
 
-// The walls' and segments' repulsion Σ_w a_w exp((ℓ/2 − d_iw) / D_w) n_iw (2D), with the
-// segments binned once per evaluation on a grid of square cells: each cell lists, in index
-// order, the segments closer than the cut-off to some point of it, so a person looks only at
-// its cell's segments, and adds the same terms in the same order as a loop over all of them.
+// The walls' and segments' repulsion Σ_w a_w exp((ℓ/2 − d_iw) / D_w) n_iw (2D), the segments
+// binned on a grid (segment_grid.h) with the cut-off ℓ/2 + kZeroExponent D_w: a person looks
+// only at its cell's segments and adds the same terms in the same order as a loop over all.
 class CollisionFreeWalls {
  public:
   CollisionFreeWalls(const CollisionFreeSpeed& m, const ParticleModel& model)
@@ -29,24 +29,14 @@ class CollisionFreeWalls {
       const double norm = std::hypot(w.normal[0], w.normal[1]);
       walls_.push_back({w.normal[0] / norm, w.normal[1] / norm, w.offset / norm});
     }
-    if (model.segments.empty()) return;
-    double lo[2] = {kInf, kInf}, hi[2] = {-kInf, -kInf};
+    std::vector<double> ends[2];
     for (const SegmentObstacle& g : model.segments) {
       const double ab0 = g.b[0] - g.a[0], ab1 = g.b[1] - g.a[1];
       segments_.push_back({g.a[0], g.a[1], ab0, ab1, ab0 * ab0 + ab1 * ab1});
-      for (int a = 0; a < 2; ++a) {
-        lo[a] = std::min({lo[a], g.a[a] - cut_, g.b[a] - cut_});
-        hi[a] = std::max({hi[a], g.a[a] + cut_, g.b[a] + cut_});
-      }
+      ends[0].insert(ends[0].end(), {g.a[0], g.a[1]});
+      ends[1].insert(ends[1].end(), {g.b[0], g.b[1]});
     }
-    // About 64 cells a side over the segments' reach (at most 2^20 cells).
-    cell_ = std::max(hi[0] - lo[0], hi[1] - lo[1]) / 64.0;
-    if (!(cell_ > 0.0) || !std::isfinite(cell_)) return;  // no grid: every segment
-    for (int a = 0; a < 2; ++a) {
-      origin_[a] = lo[a];
-      cells_[a] = std::min(1024, static_cast<int>(std::ceil((hi[a] - lo[a]) / cell_)) + 1);
-    }
-    Bin(model);
+    if (segments_.size() > 4) grid_ = SegmentGrid(ends[0], ends[1], cut_, 64);
   }
 
   // Whether this was built for these parameters and walls (then it can be used again).
@@ -75,16 +65,14 @@ class CollisionFreeWalls {
       rep[1] += weight * w.n1;
     }
     if (segments_.empty()) return;
-    if (start_.empty()) {
+    if (!grid_.active() || !std::isfinite(x[0]) || !std::isfinite(x[1])) {
       for (const SegmentTerm& g : segments_) AddSegment(g, x, rep);
       return;
     }
-    const double f0 = (x[0] - origin_[0]) / cell_, f1 = (x[1] - origin_[1]) / cell_;
-    // Outside the grid (or not finite): farther than the cut-off from every segment.
-    if (!(f0 >= 0.0 && f0 < cells_[0] && f1 >= 0.0 && f1 < cells_[1])) return;
-    const std::size_t c = static_cast<std::size_t>(f1) * static_cast<std::size_t>(cells_[0]) +
-                          static_cast<std::size_t>(f0);
-    for (int q = start_[c]; q < start_[c + 1]; ++q) AddSegment(segments_[index_[q]], x, rep);
+    const int* first = nullptr;
+    const int* last = nullptr;
+    grid_.Near(x, &first, &last);
+    for (; first != last; ++first) AddSegment(segments_[static_cast<std::size_t>(*first)], x, rep);
   }
 
  private:
@@ -94,8 +82,6 @@ class CollisionFreeWalls {
   struct SegmentTerm {
     double a0, a1, ab0, ab1, ab2;  // a, b − a, ‖b − a‖²
   };
-  static constexpr double kInf = std::numeric_limits<double>::infinity();
-
   void AddSegment(const SegmentTerm& g, const double* x, double* rep) const {
     const double t =
         std::clamp(((x[0] - g.a0) * g.ab0 + (x[1] - g.a1) * g.ab1) / g.ab2, 0.0, 1.0);
@@ -108,51 +94,12 @@ class CollisionFreeWalls {
     rep[1] += weight * u1;
   }
 
-  // Each cell's segments (CSR, index order): those whose box widened by the cut-off meets the
-  // cell's box.
-  void Bin(const ParticleModel& model) {
-    const int nx = cells_[0];
-    start_.assign(static_cast<std::size_t>(nx) * cells_[1] + 1, 0);
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<int> fill(start_.begin(), start_.end() - 1);
-      for (std::size_t s = 0; s < model.segments.size(); ++s) {
-        const SegmentObstacle& g = model.segments[s];
-        int i[2][2];
-        for (int a = 0; a < 2; ++a) {
-          const double l = std::min(g.a[a], g.b[a]) - cut_, h = std::max(g.a[a], g.b[a]) + cut_;
-          i[a][0] = std::clamp(static_cast<int>(std::floor((l - origin_[a]) / cell_)) - 1, 0,
-                               cells_[a] - 1);
-          i[a][1] = std::clamp(static_cast<int>(std::floor((h - origin_[a]) / cell_)) + 1, 0,
-                               cells_[a] - 1);
-        }
-        for (int cy = i[1][0]; cy <= i[1][1]; ++cy) {
-          for (int cx = i[0][0]; cx <= i[0][1]; ++cx) {
-            const std::size_t c = static_cast<std::size_t>(cy) * nx + cx;
-            if (pass == 0) {
-              ++start_[c + 1];
-            } else {
-              index_[fill[c]++] = static_cast<int>(s);
-            }
-          }
-        }
-      }
-      if (pass == 0) {
-        for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-        index_.assign(start_.back(), 0);
-      }
-    }
-  }
-
   double a_, range_, half_, cut_ = 0.0;
   std::vector<Wall> source_walls_;
   std::vector<SegmentObstacle> source_segments_;
   std::vector<WallTerm> walls_;
   std::vector<SegmentTerm> segments_;
-  double origin_[2] = {0.0, 0.0};
-  double cell_ = 0.0;
-  int cells_[2] = {0, 0};
-  std::vector<int> start_;  // per cell + 1; empty: no grid
-  std::vector<int> index_;
+  SegmentGrid grid_;
 };
 
 namespace {
