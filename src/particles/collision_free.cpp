@@ -3,39 +3,106 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "particles/parallel.h"
 #include "particles/prediction.h"
+#include "particles/segment_grid.h"
 #include "particles/step_context.h"
 
 namespace moreau::particles::internal {
 
-namespace {
+// exp(z) is +0 for every z < −745.2 (the smallest subnormal is e^−744.4): walls and segments
+// farther than ℓ/2 + kZeroExponent D_w contribute exactly +0 and are skipped (the same bits).
+constexpr double kZeroExponent = 746.0;
 
-// The walls' and segments' repulsion Σ_w a_w exp((ℓ/2 − d_iw) / D_w) n_iw at x (2D) added to rep.
-void AddWallRepulsion(const CollisionFreeSpeed& m, const ParticleModel& model, const double* x,
-                      double* rep) {
-  const double half = 0.5 * m.length;
-  for (const Wall& w : model.walls) {
-    const double norm = std::hypot(w.normal[0], w.normal[1]);
-    const double n0 = w.normal[0] / norm, n1 = w.normal[1] / norm;
-    const double d = n0 * x[0] + n1 * x[1] - w.offset / norm;
-    const double weight = m.wall_repulsion * std::exp((half - d) / m.wall_repulsion_range);
-    rep[0] += weight * n0;
-    rep[1] += weight * n1;
+// The walls' and segments' repulsion Σ_w a_w exp((ℓ/2 − d_iw) / D_w) n_iw (2D), the segments
+// binned on a grid (segment_grid.h) with the cut-off ℓ/2 + kZeroExponent D_w: a person looks
+// only at its cell's segments and adds the same terms in the same order as a loop over all.
+class CollisionFreeWalls {
+ public:
+  CollisionFreeWalls(const CollisionFreeSpeed& m, const ParticleModel& model)
+      : a_(m.wall_repulsion), range_(m.wall_repulsion_range), half_(0.5 * m.length),
+        source_walls_(model.walls), source_segments_(model.segments) {
+    cut_ = half_ + kZeroExponent * range_;
+    for (const Wall& w : model.walls) {
+      const double norm = std::hypot(w.normal[0], w.normal[1]);
+      walls_.push_back({w.normal[0] / norm, w.normal[1] / norm, w.offset / norm});
+    }
+    std::vector<double> ends[2];
+    for (const SegmentObstacle& g : model.segments) {
+      const double ab0 = g.b[0] - g.a[0], ab1 = g.b[1] - g.a[1];
+      segments_.push_back({g.a[0], g.a[1], ab0, ab1, ab0 * ab0 + ab1 * ab1});
+      ends[0].insert(ends[0].end(), {g.a[0], g.a[1]});
+      ends[1].insert(ends[1].end(), {g.b[0], g.b[1]});
+    }
+    if (segments_.size() > 4) grid_ = SegmentGrid(ends[0], ends[1], cut_, 64);
   }
-  for (const SegmentObstacle& g : model.segments) {
-    const double ab0 = g.b[0] - g.a[0], ab1 = g.b[1] - g.a[1];
-    const double t = std::clamp(
-        ((x[0] - g.a[0]) * ab0 + (x[1] - g.a[1]) * ab1) / (ab0 * ab0 + ab1 * ab1), 0.0, 1.0);
-    const double u0 = x[0] - (g.a[0] + t * ab0), u1 = x[1] - (g.a[1] + t * ab1);
+
+  // Whether this was built for these parameters and walls (then it can be used again).
+  bool Matches(const CollisionFreeSpeed& m, const ParticleModel& model) const {
+    const auto same_wall = [](const Wall& p, const Wall& q) {
+      return p.normal == q.normal && p.offset == q.offset;
+    };
+    const auto same_segment = [](const SegmentObstacle& p, const SegmentObstacle& q) {
+      return p.a == q.a && p.b == q.b;
+    };
+    return a_ == m.wall_repulsion && range_ == m.wall_repulsion_range &&
+           half_ == 0.5 * m.length &&
+           std::equal(model.walls.begin(), model.walls.end(), source_walls_.begin(),
+                      source_walls_.end(), same_wall) &&
+           std::equal(model.segments.begin(), model.segments.end(), source_segments_.begin(),
+                      source_segments_.end(), same_segment);
+  }
+
+  // Adds the repulsion at x to rep.
+  void Add(const double* x, double* rep) const {
+    for (const WallTerm& w : walls_) {
+      const double z = (half_ - (w.n0 * x[0] + w.n1 * x[1] - w.offset)) / range_;
+      if (z < -kZeroExponent) continue;
+      const double weight = a_ * std::exp(z);
+      rep[0] += weight * w.n0;
+      rep[1] += weight * w.n1;
+    }
+    if (segments_.empty()) return;
+    if (!grid_.active() || !std::isfinite(x[0]) || !std::isfinite(x[1])) {
+      for (const SegmentTerm& g : segments_) AddSegment(g, x, rep);
+      return;
+    }
+    const int* first = nullptr;
+    const int* last = nullptr;
+    grid_.Near(x, &first, &last);
+    for (; first != last; ++first) AddSegment(segments_[static_cast<std::size_t>(*first)], x, rep);
+  }
+
+ private:
+  struct WallTerm {
+    double n0, n1, offset;  // unit normal, offset / ‖normal‖
+  };
+  struct SegmentTerm {
+    double a0, a1, ab0, ab1, ab2;  // a, b − a, ‖b − a‖²
+  };
+  void AddSegment(const SegmentTerm& g, const double* x, double* rep) const {
+    const double t =
+        std::clamp(((x[0] - g.a0) * g.ab0 + (x[1] - g.a1) * g.ab1) / g.ab2, 0.0, 1.0);
+    const double u0 = x[0] - (g.a0 + t * g.ab0), u1 = x[1] - (g.a1 + t * g.ab1);
+    if (u0 * u0 + u1 * u1 > cut_ * cut_) return;  // exp's argument below −745.2: +0
     const double d = std::hypot(u0, u1);
-    if (!(d > 0.0)) continue;
-    const double weight = m.wall_repulsion * std::exp((half - d) / m.wall_repulsion_range) / d;
+    if (!(d > 0.0)) return;
+    const double weight = a_ * std::exp((half_ - d) / range_) / d;
     rep[0] += weight * u0;
     rep[1] += weight * u1;
   }
-}
+
+  double a_, range_, half_, cut_ = 0.0;
+  std::vector<Wall> source_walls_;
+  std::vector<SegmentObstacle> source_segments_;
+  std::vector<WallTerm> walls_;
+  std::vector<SegmentTerm> segments_;
+  SegmentGrid grid_;
+};
+
+namespace {
 
 // Whether a neighbour at displacement u = x_j − x_i lies in the path of a person walking along e
 // (2D): ahead, ⟨e, u⟩ > 0, and within the body length ℓ of the line of walking.
@@ -62,6 +129,10 @@ void Prediction::CollisionFreeWalkImpl(const StepContext& context) {
   double* w = walk_.data();
   double* headway = headway_.data();
   std::fill(walk_.begin(), walk_.end(), 0.0);
+  if (walls_ == nullptr || !walls_->Matches(m, context.model)) {
+    walls_ = std::make_shared<const CollisionFreeWalls>(m, context.model);
+  }
+  const CollisionFreeWalls& walls = *walls_;
   // Over the list's pairs closer than R: the repulsion (pass 0), or the headways (pass 1).
   int pass = 0;
   auto rows = [&](int begin, int end) {
@@ -107,7 +178,7 @@ void Prediction::CollisionFreeWalkImpl(const StepContext& context) {
     double e[K];
     DesiredDirection<K>(d, xw, e);
     double* u = w + K * s;
-    AddWallRepulsion(m, context.model, xw, u);
+    walls.Add(xw, u);
     for (int a = 0; a < K; ++a) u[a] += e[a];
     const double norm = std::sqrt(SquaredNorm<K>(u));
     for (int a = 0; a < K; ++a) u[a] = norm > 0.0 ? u[a] / norm : 0.0;

@@ -50,7 +50,8 @@ struct DriftParameters {
   DriftParameters(const Forces& forces, int k, double h);
 };
 
-struct StepContext;  // step_context.h
+struct StepContext;         // step_context.h
+class CollisionFreeWalls;  // collision_free.cpp
 
 // The desired direction e0 (unit, or zero when already at the target) of a particle at xw
 // (wrapped) into e: −∇d of the distance field to the exits; the fixed direction; past the
@@ -180,6 +181,8 @@ class Prediction {
   std::vector<double> speed_factor_;  // per slot, φ(ρ_i); density only
   std::vector<double> walk_;          // k per slot: V_i e_i, then the velocity; collision-free only
   std::vector<double> headway_;       // per slot, s_i; collision-free only
+  // The walls and segments binned for the collision-free repulsion, built again when they change.
+  std::shared_ptr<const CollisionFreeWalls> walls_;
   std::vector<double> scratch_;
 };
 

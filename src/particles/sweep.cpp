@@ -63,6 +63,10 @@ ProjectionSweep::ProjectionSweep(const ParticleModel& model, bool uniform_radius
     seg_b_.insert(seg_b_.end(), {g.b[0], g.b[1]});
   }
   fixed_sets_ = static_cast<int>(model.walls.size() + model.spheres.size() + model.segments.size());
+  seg_reach_ = model.count() > 0 ? model.max_radius() : 0.0;
+  if (model.segments.size() > 4 && seg_reach_ > 0.0) {
+    seg_grid_ = SegmentGrid(seg_a_, seg_b_, 2.0 * seg_reach_, 256);
+  }
   path_.assign(static_cast<std::size_t>(n_), 0.0);
   start_.assign(static_cast<std::size_t>(k_) * static_cast<std::size_t>(n_), 0.0);
   stamp_.assign(static_cast<std::size_t>(n_), 0);
@@ -174,7 +178,28 @@ void ProjectionSweep::SweepFixed(int begin, int end, double* x, const double* ra
                                      sphere_r_[static_cast<std::size_t>(o)] + r));
     }
     if constexpr (K == 2) {
-      for (int g = 0; g < segments; ++g) {
+      int g = 0;  // the segments before g are done
+      if (seg_grid_.active() && r <= seg_reach_ && std::isfinite(xs[0]) && std::isfinite(xs[1])) {
+        // The start cell's segments; the others are farther than 2 max r from xs0, so no-ops
+        // while xs stays within max r of xs0; past that, every segment after the last one done.
+        const double xs0[2] = {xs[0], xs[1]};
+        const int* first = nullptr;
+        const int* last = nullptr;
+        seg_grid_.Near(xs0, &first, &last);
+        g = segments;
+        for (; first != last; ++first) {
+          const int q = *first;
+          const double d = ProjectSegmentExterior(xs, &seg_a_[static_cast<std::size_t>(2 * q)],
+                                                  &seg_b_[static_cast<std::size_t>(2 * q)], r);
+          count(d);
+          const double m0 = xs[0] - xs0[0], m1 = xs[1] - xs0[1];
+          if (d > 0.0 && !(m0 * m0 + m1 * m1 < 0.25 * seg_reach_ * seg_reach_)) {
+            g = q + 1;
+            break;
+          }
+        }
+      }
+      for (; g < segments; ++g) {
         count(ProjectSegmentExterior(xs, &seg_a_[static_cast<std::size_t>(2 * g)],
                                      &seg_b_[static_cast<std::size_t>(2 * g)], r));
       }

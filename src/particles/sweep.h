@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "particles/segment_grid.h"
 #include "particles/colouring.h"
 #include "particles/neighbour_list.h"
 
@@ -94,6 +95,10 @@ class ProjectionSweep {
   // sphere centres and radii, segment ends.
   std::vector<double> wall_n_, wall_b_, sphere_c_, sphere_r_, seg_a_, seg_b_;
   int fixed_sets_ = 0;
+  // The segments near each cell (cut-off 2 max r: a particle that moves by less than max r
+  // through its segment projections meets only its start cell's segments); many segments only.
+  SegmentGrid seg_grid_;
+  double seg_reach_ = 0.0;  // max r
   std::vector<double> path_;
   std::vector<double> start_;  // k per slot: the position before the slot's first move
   std::vector<std::uint32_t> stamp_;
