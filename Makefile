@@ -11,7 +11,7 @@ PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON) -DMOREAU_UNITY_BUILD=ON
 
-.PHONY: all deps build python test test-build test-release sanitize-build test-asan test-clients test-fuzz fuzz \
+.PHONY: all deps build python test test-build test-release sanitize-build test-asan test-clients crowds-venv test-fuzz fuzz \
         fuzz-build demo abm-results fields-results bench format clean
 
 all: build
@@ -105,11 +105,28 @@ $(CLIENTS_VENV)/installed: $(CLIENTS_PINS)
 	else rm -rf $(CLIENTS_VENV); \
 	  echo "test-clients: $(CLIENTS_VENV) not made (PyPI unreachable?): the C3D reader tests skip"; fi
 
+# JuPedSim and PedPy (PyPI only) for the side-by-side comparison of the collision-free speed model
+# (scripts/crowd_jupedsim.py, docs/crowds.md) and its client test: CROWDS_VENV, made like
+# CLIENTS_VENV from the pins of tests/crowds/requirements.txt (benchmark- and test-only); when it
+# cannot be made the test skips, saying so. `make crowds-venv` makes it alone.
+CROWDS_VENV ?= build/crowds-venv
+CROWDS_PINS := tests/crowds/requirements.txt
+
+$(CROWDS_VENV)/installed: $(CROWDS_PINS)
+	@rm -rf $(CROWDS_VENV)
+	@if $(PYTHON) -m venv $(CROWDS_VENV) && $(CROWDS_VENV)/bin/pip install -q \
+	  --disable-pip-version-check --retries 1 --timeout 30 -r $(CROWDS_PINS); then touch $@; \
+	else rm -rf $(CROWDS_VENV); \
+	  echo "crowds-venv: $(CROWDS_VENV) not made (PyPI unreachable?): the JuPedSim comparison skips"; fi
+
+crowds-venv: $(CROWDS_VENV)/installed
+
 define run-clients
 	@MOREAU_CLI=$(MOREAU) MOREAU_TESTS=$(BUILD)/moreau_tests MOREAU_ROOT=$(CURDIR) \
-	  MOREAU_CLIENTS_VENV=$(CLIENTS_VENV) $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
+	  MOREAU_CLIENTS_VENV=$(CLIENTS_VENV) MOREAU_CROWDS_VENV=$(CROWDS_VENV) \
+	  $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
 endef
-test-clients: test-build $(CLIENTS_VENV)/installed
+test-clients: test-build $(CLIENTS_VENV)/installed $(CROWDS_VENV)/installed
 	$(run-clients)
 
 # libFuzzer targets of the scenario, sweep, gap-list and C3D readers (fuzz/, in the sanitizer build): `make fuzz`
