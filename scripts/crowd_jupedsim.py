@@ -29,7 +29,7 @@ area of the door's width in front of the door during the steady part, and in the
 classic and Voronoi densities and the mean speed in the measurement area.
 
 --timing also times both codes on one corridor 10 m wide at 1 person/m² with 10^3 and 10^4 people
-(2 s of simulated time, h = 0.01 s, no output; moreau on 2 threads, JuPedSim on one, as it runs),
+(5 s of simulated time, h = 0.01 s, no output; moreau on 2 threads, JuPedSim on one, as it runs),
 in paired rounds, and writes docs/results/crowds/speed_vs_jupedsim.csv.
 
 usage: crowd_jupedsim.py MOREAU OUT_DIR [--widths B ...] [--densities RHO ...] [--people N]
@@ -376,7 +376,7 @@ def plot(rows, passages, figure):
     fig.savefig(figure, dpi=120)
 
 
-def timing(moreau, out, sizes, rounds, path, duration=2.0, width=10.0):
+def timing(moreau, out, sizes, rounds, path, duration=5.0, width=10.0):
     """Paired rounds: moreau (2 threads) and JuPedSim on the same corridor block."""
     from shapely import box
     rows = []
@@ -438,11 +438,12 @@ def main():
             print(f"corridor rho = {rho:g}, seed {seed}, {r['code']}: "
                   f"v = {r['mean_speed_m_s']:.3f} m/s, density {r['classic_density_per_m2']:.2f} "
                   f"(classic), {r['voronoi_density_per_m2']:.2f} (Voronoi)")
-    write_csv(rows, args.csv)
+    if rows:
+        write_csv(rows, args.csv)
     if args.widths:
         plot(rows, passages, args.figure)
     if args.timing:
-        timing(args.moreau, args.out, [1000, 10000], {1000: 3, 10000: 2}, args.timing_csv)
+        timing(args.moreau, args.out, [1000, 10000], {1000: 3, 10000: 3}, args.timing_csv)
 
 
 if __name__ == "__main__":

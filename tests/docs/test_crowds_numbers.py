@@ -1,9 +1,10 @@
-"""The numbers docs/crowds.md quotes for the corridor, the bottleneck and the sensitivity study are
-those of the committed CSVs.
+"""The numbers docs/crowds.md quotes for the corridor, the bottleneck, the sensitivity study and
+the comparison with JuPedSim are those of the committed CSVs.
 
-docs/results/crowds/ holds what scripts/crowd_corridor.py, crowd_bottleneck.py and
-crowd_sensitivity.py measured, and the experiments' values. Nothing is rerun here: the tables of
-docs/crowds.md's section "Corridor and bottleneck against experiment" are compared with the CSVs.
+docs/results/crowds/ holds what scripts/crowd_corridor.py, crowd_bottleneck.py,
+crowd_sensitivity.py and crowd_jupedsim.py measured, and the experiments' values. Nothing is rerun
+here: the tables of docs/crowds.md's sections "Corridor and bottleneck against experiment" and
+"Side by side with JuPedSim" are compared with the CSVs.
 """
 import csv
 import math
@@ -24,10 +25,10 @@ def rows(name):
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
-def tables():
+def tables(section=None):
     """The section's tables: lists of rows of cells (bold marks stripped), separators left out."""
     found, current = [], []
-    for line in SECTION.splitlines() + [""]:
+    for line in (section or SECTION).splitlines() + [""]:
         if line.startswith("|"):
             cells = [c.strip().strip("*") for c in line.strip().strip("|").split("|")]
             if not all(set(c) <= {"-"} for c in cells):
@@ -38,9 +39,9 @@ def tables():
     return found
 
 
-def table(first_cell):
-    """The section's table whose first row starts with first_cell."""
-    for t in tables():
+def table(first_cell, section=None):
+    """The section's (default: SECTION) table whose first row starts with first_cell."""
+    for t in tables(section):
         if t[0][0] == first_cell:
             return t
     raise AssertionError(f"no table starting with {first_cell!r} in docs/crowds.md")
@@ -213,3 +214,62 @@ def test_the_projection_counts_are_the_committed_ones():
     said = {0: "nothing is ever projected", 1: "the projection acts once in all"}.get(
         total, f"the projection acts {total} times in all")
     assert f"In the {len(corridor)} corridor runs {said}" in PROSE
+
+
+JUPEDSIM = DOC[DOC.index("## Side by side with JuPedSim"):]
+
+
+def jupedsim_table(first_cell):
+    """A table of the section "Side by side with JuPedSim" by its first cell."""
+    return table(first_cell, JUPEDSIM)
+
+
+def by_case(name, scenario):
+    """{(parameter, code): [rows of the seeds]} of a side-by-side CSV."""
+    cases = {}
+    for r in rows(name):
+        if r["scenario"] == scenario:
+            cases.setdefault((float(r["parameter"]), r["code"]), []).append(r)
+    return cases
+
+
+def test_the_jupedsim_bottleneck_table_is_the_committed_comparison():
+    t = jupedsim_table("door b (m)")
+    cases = by_case("jupedsim_side_by_side.csv", "bottleneck")
+    assert len(t) - 1 == len(cases)
+    columns = ("evac_first_s", "classic_density_per_m2", "voronoi_density_per_m2")
+    for cells in t[1:]:
+        mine = sorted(cases[(float(cells[0]), cells[1])], key=lambda r: int(r["seed"]))
+        quoted = [c.strip() for c in cells[2].split(",")]
+        assert len(quoted) == len(mine), cells
+        for q, r in zip(quoted, mine):
+            assert close(q, r["specific_flow_per_m_s"]), (cells, q)
+        assert close(cells[3], mean(float(r["specific_flow_per_m_s"]) for r in mine)), cells
+        for cell, column in zip(cells[4:], columns, strict=True):
+            assert close(cell, mean(float(r[column]) for r in mine)), (cells, column)
+        assert all(int(r["passages"]) == int(r["people"]) for r in mine), cells
+
+
+def test_the_jupedsim_corridor_table_is_the_committed_comparison():
+    t = jupedsim_table("corridor ρ₀ (persons/m²)")
+    cases = by_case("jupedsim_side_by_side.csv", "corridor")
+    assert len(t) - 1 == len(cases)
+    for cells in t[1:]:
+        mine = cases[(float(cells[0]), cells[1])]
+        for cell, column in zip(cells[2:], ("classic_density_per_m2", "voronoi_density_per_m2",
+                                            "mean_speed_m_s"), strict=True):
+            assert close(cell, mean(float(r[column]) for r in mine)), (cells, column)
+
+
+def test_the_speed_table_is_the_committed_timing():
+    t = jupedsim_table("people")
+    timing = rows("speed_vs_jupedsim.csv")
+    sizes = sorted({int(r["people"]) for r in timing})
+    assert [int(c[0].replace(" ", "")) for c in t[1:]] == sizes
+    for cells, n in zip(t[1:], sizes):
+        mine = [r for r in timing if int(r["people"]) == n]
+        for cell, column in zip(cells[1:3], ("moreau_s", "jupedsim_s")):
+            assert [float(c) for c in cell.split(",")] == [
+                round(float(r[column]), 1) for r in mine], (cells, column)
+        ratios = sorted(float(r["jupedsim_s"]) / float(r["moreau_s"]) for r in mine)
+        assert close(cells[3], ratios[len(ratios) // 2]), cells
