@@ -23,6 +23,7 @@ void AddFillGapsCommand(CLI::App& app);
 void AddEvaluateGapsCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
 void AddKeysCommand(CLI::App& app);
+void AddMeasureCommand(CLI::App& app);
 
 // The arguments of every scenario command: SCENARIO.toml [--set key=value ...] [--out DIR].
 struct ScenarioArgs {

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   moreau::cli::AddFillGapsCommand(app);
   moreau::cli::AddEvaluateGapsCommand(app);
   moreau::cli::AddSweepCommand(app);
+  moreau::cli::AddMeasureCommand(app);
   moreau::cli::AddKeysCommand(app);
   try {
     app.parse(argc, argv);

@@ -15,8 +15,8 @@ import re
 ROOT = pathlib.Path(os.environ.get("MOREAU_ROOT", pathlib.Path(__file__).parents[2]))
 RESULTS = ROOT / "docs/results/crowds"
 DOC = (ROOT / "docs/crowds.md").read_text()
-SECTION = DOC[DOC.index("## Corridor and bottleneck against experiment"):
-              DOC.index("## Side by side with JuPedSim")]
+START = DOC.index("## Corridor and bottleneck against experiment")
+SECTION = DOC[START:DOC.index("\n## ", START)]
 PROSE = " ".join(SECTION.split())  # line breaks as spaces
 
 
@@ -216,7 +216,7 @@ def test_the_projection_counts_are_the_committed_ones():
     assert f"In the {len(corridor)} corridor runs {said}" in PROSE
 
 
-JUPEDSIM = DOC[DOC.index("## Side by side with JuPedSim"):]
+JUPEDSIM = DOC[DOC.index("## Side by side with JuPedSim"):]  # the last section
 
 
 def jupedsim_table(first_cell):

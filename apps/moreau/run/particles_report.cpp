@@ -104,11 +104,11 @@ std::string ReportParticleRun(const ParticleScenario& scenario, const ParticleSe
     report += fmt::format("people out at t = {:g}: {} of {}\n", setup.engine.time(),
                           *result.evacuated, setup.engine.count());
   }
-  report +=
-      fmt::format("wrote {}/summary.json{}{}{}{}\n", out.dir().string(),
-                  result.hdf5 ? ", trajectory.h5 + .xdmf" : "", result.vtu ? ", vtu/frame.pvd" : "",
-                  result.geometry ? ", geometry.vtp" : "",
-                  figures && WritesSnapshots(scenario) ? ", snapshots.png" : "");
+  report += fmt::format("wrote {}/summary.json{}{}{}{}{}\n", out.dir().string(),
+                        result.hdf5 ? ", trajectory.h5 + .xdmf" : "",
+                        result.txt ? ", trajectory.txt" : "", result.vtu ? ", vtu/frame.pvd" : "",
+                        result.geometry ? ", geometry.vtp" : "",
+                        figures && WritesSnapshots(scenario) ? ", snapshots.png" : "");
   return report;
 }
 

@@ -12,6 +12,7 @@
 #include "field_table.h"
 #include "moreau/common/error.h"
 #include "moreau/common/steps.h"
+#include "moreau/io/text_trajectory.h"
 #include "moreau/io/trajectory.h"
 #include "moreau/particles/room.h"
 #include "progress.h"
@@ -37,6 +38,13 @@ class RunRecorder {
     if (output_.hdf5) {
       out.Stage("trajectory.xdmf");
       hdf5_ = io::MakeHdf5Writer(out.Stage("trajectory.h5"), output_.trajectory);
+    }
+    if (output_.trajectory_txt) {
+      io::TextTrajectoryOptions text;
+      text.frame_rate = 1.0 / (h_ * static_cast<double>(stride_));
+      text.steps_per_frame = stride_;
+      text.comments = {fmt::format("moreau run: h = {:g} s, a frame every {} steps", h_, stride_)};
+      txt_ = io::MakeTextTrajectoryWriter(out.Stage("trajectory.txt"), text);
     }
     if (output_.vtu) {
       const std::filesystem::path dir = out.Stage("vtu");
@@ -99,10 +107,11 @@ class RunRecorder {
     if (!summary.ok() && last_step_ % stride_ != 0) WriteFrame(last_step_, t, x);
     if (hdf5_) hdf5_->Close();
     if (vtu_) vtu_->Close();
+    if (txt_) txt_->Close();
     if (output_.snapshot_times.empty()) snapshots_.emplace_back(t, x);
     ParticleRunResult result{
-        summary,          std::move(x),    std::nullopt, "", std::move(snapshots_),
-        hdf5_ != nullptr, vtu_ != nullptr, geometry_};
+        summary,         std::move(x), std::nullopt,   "", std::move(snapshots_), hdf5_ != nullptr,
+        vtu_ != nullptr, geometry_,    txt_ != nullptr};
     if (evacuation_) {
       result.evacuated = evacuation_->out();
       result.evacuation_csv = std::move(evacuation_csv_);
@@ -123,6 +132,7 @@ class RunRecorder {
         step, t, model_.dimension, x.data(), ids_.data(), model_.radius.data(), model_.count(), {}};
     if (hdf5_) hdf5_->Write(frame);
     if (vtu_) vtu_->Write(frame);
+    if (txt_) txt_->Write(frame);  // the frames on the stride only
   }
 
   const ParticleOutputSettings& output_;
@@ -131,7 +141,7 @@ class RunRecorder {
   double h_;
   std::int64_t steps_;
   std::vector<std::int64_t> ids_;
-  std::unique_ptr<io::TrajectoryWriter> hdf5_, vtu_;
+  std::unique_ptr<io::TrajectoryWriter> hdf5_, vtu_, txt_;
   bool geometry_ = false;  // geometry.vtp written
   std::optional<particles::EvacuationCount> evacuation_;
   std::string evacuation_csv_ = "t,out\n";

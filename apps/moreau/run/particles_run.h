@@ -45,6 +45,7 @@ struct ParticleRunResult {
   bool hdf5 = false;                                              // trajectory.h5 + .xdmf written
   bool vtu = false;                                               // vtu/frame.pvd written
   bool geometry = false;  // geometry.vtp written (walls and obstacles)
+  bool txt = false;       // trajectory.txt written
 };
 
 // Runs the engine over [0, T] (with a progress bar on a terminal), writing the trajectory into

@@ -231,6 +231,9 @@ void AddOutputFields(FieldTable<PS>& t) {
   AddFlag(
       t, "output.vtu", [](auto& s) -> auto& { return s.output.vtu; },
       [](const PS& s) { return s.count <= 100000; }, "vtu/frame.pvd");
+  t.Flag(
+      "output.trajectory_txt", [](auto& s) -> auto& { return s.output.trajectory_txt; },
+      "trajectory.txt: id frame x y z per person and frame (PedPy, JuPedSim, PeTrack)");
   AddFlag(
       t, "output.snapshots", [](auto& s) -> auto& { return s.output.snapshots; },
       [](const PS& s) { return s.count <= 200000 && s.dimension == 2; }, "snapshots.png (2D only)");
@@ -350,6 +353,12 @@ void AddChecks(FieldTable<PS>& t) {
                if (s.method != "pbd") throw InputError("the particle engine runs pbd");
              })
       .Check("solver.h", [](const PS& s) { (void)StepCount(s.T, s.solver.h); })
+      .Check("output.trajectory_txt",
+             [](const PS& s) {
+               if (s.output.trajectory_txt && s.is_population()) {
+                 throw InputError("not written for agent-based runs ([[types]])");
+               }
+             })
       .Check("output.snapshot_times", [](const PS& s) {
         if (s.output.snapshot_times.size() > 4) throw InputError("at most four times");
         for (double time : s.output.snapshot_times) {

@@ -46,6 +46,7 @@ struct ParticleOutputSettings {
   std::int64_t stride = 0;  // a trajectory frame every stride steps (and the last); 0: ~100 frames
   bool hdf5 = true;
   bool vtu = true;                     // default: count ≤ 100000
+  bool trajectory_txt = false;         // trajectory.txt (PedPy's text format, docs/io.md)
   bool snapshots = true;               // snapshots.png, 2D only; default: count ≤ 200000
   std::vector<double> snapshot_times;  // at most four; empty: the first and the last frame
   // output.precision and output.compression: how trajectory.h5 stores its data.
