@@ -150,27 +150,50 @@ def moreau_trajectory(run_dir, leave):
     return trajectory(txt if txt.is_file() else h5_to_txt(run_dir), leave)
 
 
-def jupedsim_run(geometry, exit_area, positions, duration, sqlite=None):
+def jupedsim_run(geometry, exit_area, positions, duration, sqlite=None, steer=None):
     """JuPedSim's CollisionFreeSpeedModel from the positions until everybody has left or
-    `duration`; returns the seconds it took (set-up included)."""
+    `duration`; returns the seconds it took (set-up included). Without `steer` people follow
+    JuPedSim's own routing to the exit area (its centroid, along the shortest path through the
+    navigation mesh); with it they walk toward steer(x, y) each step (a direct-steering stage:
+    moreau's desired direction) and leave once inside the exit area."""
     import jupedsim as jps
     start = time.perf_counter()
     writer = None if sqlite is None else jps.SqliteTrajectoryWriter(
         output_file=sqlite, every_nth_frame=STRIDE)
     sim = jps.Simulation(model=jupedsim_model(), geometry=geometry, dt=STEP,
                          trajectory_writer=writer)
-    exit_id = sim.add_exit_stage(exit_area)
-    journey = sim.add_journey(jps.JourneyDescription([exit_id]))
+    stage = sim.add_exit_stage(exit_area) if steer is None else sim.add_direct_steering_stage()
+    journey = sim.add_journey(jps.JourneyDescription([stage]))
     for p in positions:
         sim.add_agent(jps.CollisionFreeSpeedModelAgentParameters(
             position=(float(p[0]), float(p[1])), time_gap=TIME_GAP, desired_speed=V0,
-            radius=LENGTH / 2, journey_id=journey, stage_id=exit_id))
+            radius=LENGTH / 2, journey_id=journey, stage_id=stage))
     steps = round(duration / STEP)
+    leave = exit_area.bounds[0]
     while sim.agent_count() > 0 and sim.iteration_count() < steps:
+        if steer is not None:
+            for agent in sim.agents():
+                x, y = agent.position
+                if x >= leave:
+                    sim.mark_agent_for_removal(agent.id)
+                else:
+                    agent.target = steer(x, y)
         sim.iterate()
     if writer is not None:
         writer.close()  # commits the last frames
     return time.perf_counter() - start
+
+
+def door_steer(b):
+    """moreau's desired direction in the room (Room::WalkToTheDoor) as a target: the nearest
+    point of the door for someone beside it, straight on (+x) in front of it and past it."""
+    lo, hi = (ROOM - b) / 2, (ROOM + b) / 2
+
+    def steer(x, y):
+        if x >= ROOM or lo <= y <= hi:
+            return (min(x + 1.0, LEAVE + 0.4), y)
+        return (ROOM, min(max(y, lo + 1e-6), hi - 1e-6))
+    return steer
 
 
 def room_geometry(b):
@@ -208,12 +231,14 @@ def door_measures(traj, walkable, b, people):
     area = pedpy.MeasurementArea(box(ROOM - 1.0, lo, ROOM, hi))
     row["classic_density_per_m2"] = float(pedpy.compute_classic_density(
         traj_data=steady, measurement_area=area).density.mean())
+    every_other = steady.data[steady.data.frame % 2 == 0].reset_index(drop=True)  # 5 per second
     cells = pedpy.compute_individual_voronoi_polygons(
-        traj_data=steady, walkable_area=pedpy.WalkableArea(walkable),
+        traj_data=pedpy.TrajectoryData(data=every_other, frame_rate=traj.frame_rate),
+        walkable_area=pedpy.WalkableArea(walkable),
         cut_off=pedpy.Cutoff(radius=1.0, quad_segments=3))
     density, _ = pedpy.compute_voronoi_density(individual_voronoi_data=cells,
                                                measurement_area=area)
-    row["voronoi_density_per_m2"] = float(density.density.mean())
+    row["voronoi_density_per_m2"] = float(density.density[density.frame % 2 == 0].mean())
     return row, t
 
 
@@ -224,13 +249,16 @@ def bottleneck(moreau, out, b, people, txt, seed):
     name = f"door_{b:g}_s{seed}"
     run_dir, _ = moreau_run(moreau, out, name, with_output(text, txt=txt))
     walkable, exit_area = room_geometry(b)
-    sqlite = out / f"{name}_jupedsim.sqlite"
-    sqlite.unlink(missing_ok=True)
-    jupedsim_run(walkable, exit_area, first_frame(run_dir), DOOR_DURATION, sqlite)
+    files = {}
+    for code, steer in (("jupedsim", None), ("jupedsim_steered", door_steer(b))):
+        files[code] = out / f"{name}_{code}.sqlite"
+        files[code].unlink(missing_ok=True)
+        jupedsim_run(walkable, exit_area, first_frame(run_dir), DOOR_DURATION, files[code],
+                     steer)
     summary = json.loads((run_dir / "summary.json").read_text())
     rows, passages = [], {}
-    for code, traj in (("moreau", moreau_trajectory(run_dir, LEAVE)),
-                       ("jupedsim", trajectory(sqlite, LEAVE))):
+    for code, traj in [("moreau", moreau_trajectory(run_dir, LEAVE))] + [
+            (code, trajectory(path, LEAVE)) for code, path in files.items()]:
         row, t = door_measures(traj, walkable, b, people)
         row.update(scenario="bottleneck", parameter=b, seed=seed, code=code, people=people,
                    projections=summary["projections"] if code == "moreau" else "")
@@ -283,15 +311,19 @@ def corridor(moreau, out, rho, block, txt, seed):
     run_dir, _ = moreau_run(moreau, out, name, with_output(text, txt=txt))
     walkable = box(0.0, 0.0, end + 1.0, CORRIDOR_WIDTH)  # moreau's domain.box_walls
     exit_area = box(end, 0.0, end + 1.0, CORRIDOR_WIDTH)
-    sqlite = out / f"{name}_jupedsim.sqlite"
-    sqlite.unlink(missing_ok=True)
-    jupedsim_run(walkable, exit_area, first_frame(run_dir), CORRIDOR_DURATION, sqlite)
+    files = {}
+    for code, steer in (("jupedsim", None),
+                        ("jupedsim_steered", lambda x, y: (min(x + 1.0, end + 0.9), y))):
+        files[code] = out / f"{name}_{code}.sqlite"
+        files[code].unlink(missing_ok=True)
+        jupedsim_run(walkable, exit_area, first_frame(run_dir), CORRIDOR_DURATION, files[code],
+                     steer)
     scale = block / BLOCK  # a shorter block: the area and the window scaled with it
     x0, x1 = (scale * x for x in CORRIDOR_AREA)
     area = pedpy.MeasurementArea(box(x0, 0, x1, CORRIDOR_WIDTH))
     rows = []
-    for code, traj in (("moreau", moreau_trajectory(run_dir, end)),
-                       ("jupedsim", trajectory(sqlite, end))):
+    for code, traj in [("moreau", moreau_trajectory(run_dir, end))] + [
+            (code, trajectory(path, end)) for code, path in files.items()]:
         speed = pedpy.compute_individual_speed(
             traj_data=traj, frame_step=5,
             speed_calculation=pedpy.SpeedCalculation.BORDER_SINGLE_SIDED)
@@ -342,7 +374,8 @@ def plot(rows, passages, figure):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(13, 4))
-    style = {"moreau": ("o-", "C0", "-"), "jupedsim": ("s--", "C3", "--")}
+    style = {"moreau": ("o-", "C0", "-"), "jupedsim": ("s--", "C3", "--"),
+             "jupedsim_steered": ("^:", "C2", ":")}
     for k, (code, (marker, colour, line)) in enumerate(style.items()):
         mine = [r for r in rows if r["scenario"] == "bottleneck" and r["code"] == code]
         widths = sorted({r["parameter"] for r in mine})
@@ -356,9 +389,9 @@ def plot(rows, passages, figure):
         mine = [r for r in rows if r["scenario"] == "corridor" and r["code"] == code]
         for rho in sorted({r["parameter"] for r in mine}):
             v = [r["mean_speed_m_s"] for r in mine if r["parameter"] == rho]
-            cx.bar(rho + (k - 0.5) * 0.3, np.mean(v), width=0.28, color=colour,
+            cx.bar(rho + (k - 1) * 0.25, np.mean(v), width=0.23, color=colour,
                    label=code if rho == mine[0]["parameter"] else None)
-            cx.plot([rho + (k - 0.5) * 0.3] * len(v), v, "k.", ms=3)
+            cx.plot([rho + (k - 1) * 0.25] * len(v), v, "k.", ms=3)
     ax.set_xlabel("door width b (m)")
     ax.set_ylabel("specific flow J/b (persons/(m·s))")
     ax.set_ylim(0, 3)

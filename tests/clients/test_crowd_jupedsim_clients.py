@@ -6,10 +6,14 @@ made by the Makefile; env MOREAU_CROWDS_VENV); without it these tests skip, sayi
 both codes let everybody through the door exactly once; PedPy's passages of moreau's trajectory
 (moreau's trajectory.txt, or its trajectory.h5 converted by the script) fall in the frame where
 moreau's own evacuation.csv counts them; nobody in either code reaches the door sooner than
-walking straight to it at v0 allows; the corridor's measures are densities and speeds."""
+walking straight to it at v0 allows; the corridor's measures are densities and speeds; and in the
+corridor, where no wall stands between neighbours and nothing is projected, moreau's trajectory
+and JuPedSim's with moreau's desired direction (`jupedsim_steered`) are the same to within what
+JuPedSim's longer neighbour range (3 m against moreau's R) can add."""
 import csv
 import math
 import os
+import sqlite3
 import subprocess
 
 import h5py
@@ -20,6 +24,8 @@ from conftest import CLI, ROOT
 
 VENV = os.environ.get("MOREAU_CROWDS_VENV", str(ROOT / "build/crowds-venv"))
 PEOPLE, WIDTH, ROOM, V0, FRAME = 30, 1.2, 8.0, 1.34, 0.1
+LENGTH, TIME_GAP, REPULSION, RANGE, STEP = 0.3, 1.0, 5.0, 0.1, 0.01  # the script's parameters
+JUPEDSIM_RANGE = 3.0  # JuPedSim's CollisionFreeSpeedModel counts neighbours up to 3 m
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +55,7 @@ def door_rows(rows):
 def test_everybody_passes_the_door_once_in_both_codes(side_by_side):
     _, rows = side_by_side
     door = door_rows(rows)
-    assert set(door) == {"moreau", "jupedsim"}
+    assert set(door) == {"moreau", "jupedsim", "jupedsim_steered"}
     for code, r in door.items():
         assert int(r["passages"]) == PEOPLE, (code, r)
         flow = float(r["flow_per_s"])
@@ -87,7 +93,34 @@ def test_nobody_reaches_the_door_faster_than_v0(side_by_side):
 def test_the_corridor_measures_are_densities_and_speeds(side_by_side):
     _, rows = side_by_side
     corridor = [r for r in rows if r["scenario"] == "corridor"]
-    assert {r["code"] for r in corridor} == {"moreau", "jupedsim"}
+    assert {r["code"] for r in corridor} == {"moreau", "jupedsim", "jupedsim_steered"}
     for r in corridor:
         assert 0 < float(r["mean_speed_m_s"]) <= V0 + 1e-6, r
         assert float(r["classic_density_per_m2"]) > 0 and float(r["voronoi_density_per_m2"]) > 0
+
+
+def test_the_corridor_is_the_same_walk_in_both_codes_for_a_second(side_by_side):
+    # moreau counts neighbours up to R = ℓ + max(T v0, 10 D) (forces.h), JuPedSim up to 3 m.
+    # Beyond R the speed is v0 in both, and a neighbour's weight in the direction is below
+    # w = a exp((ℓ − R)/D): the sums u = e0 + Σ differ by at most n w (n neighbours between R
+    # and 3 m), ê(u) by 2 n w / |u| with |u| ≈ 1 in a one-way corridor (e0 = (1, 0), the
+    # repulsions small), a step by h v0 2 n w; over the first second, 100 steps, the positions
+    # by about 100 h v0 2 n w (2.6e-4 m here), the growth of earlier differences aside. A
+    # parameter mapped wrongly (ℓ against the radii, D_w, a) moves them by centimetres.
+    out, _ = side_by_side
+    with h5py.File(out / "corridor_1_s1" / "trajectory.h5", "r") as f:
+        order = np.argsort(f["ids"][0])
+        moreau = f["positions"][:11][:, order]
+    with sqlite3.connect(out / "corridor_1_s1_jupedsim_steered.sqlite") as db:
+        rows = np.array(db.execute("SELECT frame, id, pos_x, pos_y FROM trajectory_data "
+                                   "WHERE frame <= 10 ORDER BY frame, id").fetchall())
+    jupedsim = rows[:, 2:].reshape(11, -1, 2)  # agents in the order they were added: moreau's ids
+    start = moreau[0]
+    assert np.array_equal(jupedsim[0], start)
+    r = np.hypot(*(start[:, None, :] - start[None, :, :]).transpose(2, 0, 1))
+    reach = LENGTH + max(TIME_GAP * V0, 10 * RANGE)
+    n = int(((r > reach) & (r < JUPEDSIM_RANGE)).sum(axis=1).max())
+    w = REPULSION * math.exp((LENGTH - reach) / RANGE)
+    bound = 100 * STEP * V0 * 2 * n * w
+    gap = np.hypot(*(moreau - jupedsim).transpose(2, 0, 1)).max()
+    assert 0 < bound < 1e-3 and gap <= bound, (gap, bound, n)
