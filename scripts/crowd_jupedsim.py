@@ -206,11 +206,13 @@ def room_geometry(b):
 
 
 def door_measures(traj, walkable, b, people):
-    """Passages of the door line and densities in front of the door (PedPy)."""
+    """Passages of the door line x = ROOM and densities in front of the door (PedPy)."""
     import pedpy
     from shapely import box
     lo, hi = (ROOM - b) / 2, (ROOM + b) / 2
-    line = pedpy.MeasurementLine([(ROOM, lo), (ROOM, hi)])
+    # The door line drawn across the whole wall: nobody passes the wall, and a straight step
+    # between frames that rounds a door post would cross x = ROOM just beside the door.
+    line = pedpy.MeasurementLine([(ROOM, 0.0), (ROOM, ROOM)])
     _, crossing = pedpy.compute_n_t(traj_data=traj, measurement_line=line)
     t = np.sort(crossing["frame"].to_numpy()) / traj.frame_rate
     row = {"passages": len(t), "evac_first_s": np.nan, "evac_all_s": np.nan, "flow_per_s": np.nan,
@@ -242,12 +244,28 @@ def door_measures(traj, walkable, b, people):
     return row, t
 
 
+def thick_wall(text, b):
+    """The scenario with segments that give the wall around the door JuPedSim's thickness WALL:
+    the door's two sides and the wall's outer face."""
+    lo, hi = (ROOM - b) / 2, (ROOM + b) / 2
+    segments = [((ROOM, lo), (ROOM + WALL, lo)), ((ROOM, hi), (ROOM + WALL, hi)),
+                ((ROOM + WALL, 0.0), (ROOM + WALL, lo)), ((ROOM + WALL, hi), (ROOM + WALL, ROOM))]
+    tables = "".join(f"[[segments]]\na = [{p[0]!r}, {p[1]!r}]\nb = [{q[0]!r}, {q[1]!r}]\n"
+                     for p, q in segments)
+    i = text.index("[forces]")
+    return text[:i] + tables + "\n" + text[i:]
+
+
 def bottleneck(moreau, out, b, people, txt, seed):
-    """Both codes through the door of width b: rows of the CSV and the passage times."""
+    """Both codes through the door of width b: rows of the CSV and the passage times. moreau
+    runs twice: with the room's walls (segments, no thickness) and with the wall around the
+    door as thick as JuPedSim's (`moreau_wall`)."""
     text = crowd_bottleneck.scenario(b, seed=seed, people=people, duration=DOOR_DURATION,
                                      extra=model_keys(), radius=LENGTH / 2)
     name = f"door_{b:g}_s{seed}"
     run_dir, _ = moreau_run(moreau, out, name, with_output(text, txt=txt))
+    wall_dir, _ = moreau_run(moreau, out, f"{name}_wall", with_output(thick_wall(text, b),
+                                                                     txt=txt))
     walkable, exit_area = room_geometry(b)
     files = {}
     for code, steer in (("jupedsim", None), ("jupedsim_steered", door_steer(b))):
@@ -255,13 +273,15 @@ def bottleneck(moreau, out, b, people, txt, seed):
         files[code].unlink(missing_ok=True)
         jupedsim_run(walkable, exit_area, first_frame(run_dir), DOOR_DURATION, files[code],
                      steer)
-    summary = json.loads((run_dir / "summary.json").read_text())
+    projections = {code: json.loads((d / "summary.json").read_text())["projections"]
+                   for code, d in (("moreau", run_dir), ("moreau_wall", wall_dir))}
     rows, passages = [], {}
-    for code, traj in [("moreau", moreau_trajectory(run_dir, LEAVE))] + [
+    for code, traj in [("moreau", moreau_trajectory(run_dir, LEAVE)),
+                       ("moreau_wall", moreau_trajectory(wall_dir, LEAVE))] + [
             (code, trajectory(path, LEAVE)) for code, path in files.items()]:
         row, t = door_measures(traj, walkable, b, people)
         row.update(scenario="bottleneck", parameter=b, seed=seed, code=code, people=people,
-                   projections=summary["projections"] if code == "moreau" else "")
+                   projections=projections.get(code, ""))
         rows.append(row)
         passages[code] = t
     return rows, passages
@@ -374,8 +394,8 @@ def plot(rows, passages, figure):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(13, 4))
-    style = {"moreau": ("o-", "C0", "-"), "jupedsim": ("s--", "C3", "--"),
-             "jupedsim_steered": ("^:", "C2", ":")}
+    style = {"moreau": ("o-", "C0", "-"), "moreau_wall": ("v-.", "C1", "-."),
+             "jupedsim": ("s--", "C3", "--"), "jupedsim_steered": ("^:", "C2", ":")}
     for k, (code, (marker, colour, line)) in enumerate(style.items()):
         mine = [r for r in rows if r["scenario"] == "bottleneck" and r["code"] == code]
         widths = sorted({r["parameter"] for r in mine})
@@ -387,6 +407,7 @@ def plot(rows, passages, figure):
             bx.step(t[code], np.arange(1, len(t[code]) + 1), where="post", color=colour,
                     ls=line, lw=1, label=f"{code}, b = {b:g} m")
         mine = [r for r in rows if r["scenario"] == "corridor" and r["code"] == code]
+        k = ("moreau", "jupedsim", "jupedsim_steered").index(code) if mine else 0
         for rho in sorted({r["parameter"] for r in mine}):
             v = [r["mean_speed_m_s"] for r in mine if r["parameter"] == rho]
             cx.bar(rho + (k - 1) * 0.25, np.mean(v), width=0.23, color=colour,
@@ -410,7 +431,8 @@ def plot(rows, passages, figure):
 
 
 def timing(moreau, out, sizes, rounds, path, duration=5.0, width=10.0):
-    """Paired rounds: moreau (2 threads) and JuPedSim on the same corridor block."""
+    """Paired rounds on the same corridor block: moreau on 2 threads and on 1 (the whole `moreau
+    run`, and its own engine time, summary.json total_seconds), then JuPedSim (one thread)."""
     from shapely import box
     rows = []
     for people in sizes:
@@ -421,21 +443,31 @@ def timing(moreau, out, sizes, rounds, path, duration=5.0, width=10.0):
                                   with_output(re.sub(r"T = [\d.]+", f"T = {STEP!r}", text)))
         positions = first_frame(start_dir)
         walkable = box(0.0, 0.0, end + 1.0, width)
+        quiet = with_output(text, stride=10**6, hdf5=False)
         for k in range(rounds[people]):
-            _, tm = moreau_run(moreau, out, f"timing_{people}", with_output(
-                text, stride=10**6, hdf5=False), threads=2)
-            tj = jupedsim_run(walkable, box(end, 0, end + 1.0, width), positions, duration)
-            rows.append((people, k + 1, duration, tm, tj))
-            print(f"timing: {people} people, round {k + 1}: moreau {tm:.2f} s, JuPedSim {tj:.2f} s")
+            row = [people, k + 1, duration]
+            for threads in (2, 1):
+                run_dir, seconds = moreau_run(moreau, out, f"timing_{people}_{threads}", quiet,
+                                              threads=threads)
+                engine = json.loads((run_dir / "summary.json").read_text())["total_seconds"]
+                row += [seconds, engine]
+            row.append(jupedsim_run(walkable, box(end, 0, end + 1.0, width), positions,
+                                    duration))
+            rows.append(row)
+            print(f"timing: {people} people, round {k + 1}: moreau {row[3]:.2f} s (2 threads), "
+                  f"{row[5]:.2f} s (1 thread), JuPedSim {row[7]:.2f} s")
     with open(path, "w", newline="") as f:
         f.write("# scripts/crowd_jupedsim.py --timing: wall-clock seconds for the same corridor "
-                "(10 m wide, 1 person/m^2, h = 0.01 s, no output); moreau: the whole `moreau run` "
-                "on 2 threads; JuPedSim 1.4.2: set-up and steps, one thread\n")
+                f"(10 m wide, 1 person/m^2, {duration:g} s simulated, h = 0.01 s, no output); "
+                "moreau: the whole `moreau run` and its engine's total_seconds, on 2 and on 1 "
+                "thread; JuPedSim 1.4.2: set-up and steps, one thread; rounds paired, in turn\n")
         w = csv.writer(f)
-        w.writerow(["people", "round", "simulated_s", "moreau_s", "jupedsim_s",
-                    "jupedsim_over_moreau"])
-        for people, k, d, tm, tj in rows:
-            w.writerow([people, k, d, f"{tm:.3f}", f"{tj:.3f}", f"{tj / tm:.2f}"])
+        w.writerow(["people", "round", "simulated_s", "moreau_2threads_s",
+                    "moreau_2threads_engine_s", "moreau_1thread_s", "moreau_1thread_engine_s",
+                    "jupedsim_s", "jupedsim_over_moreau_2threads", "jupedsim_over_moreau_1thread"])
+        for r in rows:
+            w.writerow(r[:3] + [f"{x:.3f}" for x in r[3:]] + [f"{r[7] / r[3]:.2f}",
+                                                                f"{r[7] / r[5]:.2f}"])
 
 
 def main():

@@ -55,7 +55,7 @@ def door_rows(rows):
 def test_everybody_passes_the_door_once_in_both_codes(side_by_side):
     _, rows = side_by_side
     door = door_rows(rows)
-    assert set(door) == {"moreau", "jupedsim", "jupedsim_steered"}
+    assert set(door) == {"moreau", "moreau_wall", "jupedsim", "jupedsim_steered"}
     for code, r in door.items():
         assert int(r["passages"]) == PEOPLE, (code, r)
         flow = float(r["flow_per_s"])
