@@ -98,12 +98,18 @@ test-asan: sanitize-build
 CLIENTS_VENV ?= build/clients-venv
 CLIENTS_PINS := tests/clients/requirements.txt
 
+# $(call make-venv,DIR,PINS,MESSAGE): DIR made afresh from the pins, stamped DIR/installed; when
+# pip fails, DIR is removed and MESSAGE printed.
+define make-venv
+	@rm -rf $(1)
+	@if $(PYTHON) -m venv $(1) && $(1)/bin/pip install -q \
+	  --disable-pip-version-check --retries 1 --timeout 30 -r $(2); then touch $(1)/installed; \
+	else rm -rf $(1); echo "$(3)"; fi
+endef
+
 $(CLIENTS_VENV)/installed: $(CLIENTS_PINS)
-	@rm -rf $(CLIENTS_VENV)
-	@if $(PYTHON) -m venv $(CLIENTS_VENV) && $(CLIENTS_VENV)/bin/pip install -q \
-	  --disable-pip-version-check --retries 1 --timeout 30 -r $(CLIENTS_PINS); then touch $@; \
-	else rm -rf $(CLIENTS_VENV); \
-	  echo "test-clients: $(CLIENTS_VENV) not made (PyPI unreachable?): the C3D reader tests skip"; fi
+	$(call make-venv,$(CLIENTS_VENV),$(CLIENTS_PINS),test-clients: $(CLIENTS_VENV) not made \
+	  (PyPI unreachable?): the C3D reader tests skip)
 
 # JuPedSim and PedPy (PyPI only) for the side-by-side comparison of the collision-free speed model
 # (scripts/crowd_jupedsim.py, docs/crowds.md) and its client test: CROWDS_VENV, made like
@@ -113,11 +119,8 @@ CROWDS_VENV ?= build/crowds-venv
 CROWDS_PINS := tests/crowds/requirements.txt
 
 $(CROWDS_VENV)/installed: $(CROWDS_PINS)
-	@rm -rf $(CROWDS_VENV)
-	@if $(PYTHON) -m venv $(CROWDS_VENV) && $(CROWDS_VENV)/bin/pip install -q \
-	  --disable-pip-version-check --retries 1 --timeout 30 -r $(CROWDS_PINS); then touch $@; \
-	else rm -rf $(CROWDS_VENV); \
-	  echo "crowds-venv: $(CROWDS_VENV) not made (PyPI unreachable?): the JuPedSim comparison skips"; fi
+	$(call make-venv,$(CROWDS_VENV),$(CROWDS_PINS),crowds-venv: $(CROWDS_VENV) not made \
+	  (PyPI unreachable?): the JuPedSim comparison skips)
 
 crowds-venv: $(CROWDS_VENV)/installed
 
