@@ -34,7 +34,7 @@ in paired rounds, and writes docs/results/crowds/speed_vs_jupedsim.csv.
 
 usage: crowd_jupedsim.py MOREAU OUT_DIR [--widths B ...] [--densities RHO ...] [--people N]
                          [--block L] [--seeds N] [--csv CSV] [--figure PNG] [--timing]
-                         [--timing-csv CSV]
+                         [--timing-csv CSV] [--reuse]
 """
 import argparse
 import csv
@@ -93,8 +93,15 @@ def with_output(text, stride=STRIDE, hdf5=True, txt=False):
     return head + "[output]\n" + "\n".join(lines) + "\n"
 
 
+REUSE = False  # --reuse: keep the runs already in OUT_DIR (the same scenario text), analyse again
+
+
 def moreau_run(moreau, out, name, text, threads=None):
     """Runs the scenario as OUT/name; returns (folder, wall-clock seconds)."""
+    toml = out / f"{name}.toml"
+    if REUSE and toml.is_file() and toml.read_text() == text and (
+            out / name / "summary.json").is_file():
+        return out / name, float("nan")
     (out / f"{name}.toml").write_text(text)
     args = [moreau, "run", str(out / f"{name}.toml"), "--out", str(out / name)]
     if threads:
@@ -157,6 +164,8 @@ def jupedsim_run(geometry, exit_area, positions, duration, sqlite=None, steer=No
     navigation mesh); with it they walk toward steer(x, y) each step (a direct-steering stage:
     moreau's desired direction) and leave once inside the exit area."""
     import jupedsim as jps
+    if REUSE and sqlite is not None and sqlite.is_file():
+        return float("nan")
     start = time.perf_counter()
     writer = None if sqlite is None else jps.SqliteTrajectoryWriter(
         output_file=sqlite, every_nth_frame=STRIDE)
@@ -270,7 +279,8 @@ def bottleneck(moreau, out, b, people, txt, seed):
     files = {}
     for code, steer in (("jupedsim", None), ("jupedsim_steered", door_steer(b))):
         files[code] = out / f"{name}_{code}.sqlite"
-        files[code].unlink(missing_ok=True)
+        if not REUSE:
+            files[code].unlink(missing_ok=True)
         jupedsim_run(walkable, exit_area, first_frame(run_dir), DOOR_DURATION, files[code],
                      steer)
     projections = {code: json.loads((d / "summary.json").read_text())["projections"]
@@ -335,7 +345,8 @@ def corridor(moreau, out, rho, block, txt, seed):
     for code, steer in (("jupedsim", None),
                         ("jupedsim_steered", lambda x, y: (min(x + 1.0, end + 0.9), y))):
         files[code] = out / f"{name}_{code}.sqlite"
-        files[code].unlink(missing_ok=True)
+        if not REUSE:
+            files[code].unlink(missing_ok=True)
         jupedsim_run(walkable, exit_area, first_frame(run_dir), CORRIDOR_DURATION, files[code],
                      steer)
     scale = block / BLOCK  # a shorter block: the area and the window scaled with it
@@ -401,7 +412,7 @@ def plot(rows, passages, figure):
         widths = sorted({r["parameter"] for r in mine})
         ax.plot([r["parameter"] for r in mine], [r["flow_per_s"] / r["parameter"] for r in mine],
                 ".", color=colour, alpha=0.5)
-        ax.plot(widths, [np.mean([r["flow_per_s"] / b for r in mine if r["parameter"] == b])
+        ax.plot(widths, [np.nanmean([r["flow_per_s"] / b for r in mine if r["parameter"] == b])
                          for b in widths], marker, color=colour, label=f"{code} (seeds: dots)")
         for b, t in passages.items():
             bx.step(t[code], np.arange(1, len(t[code]) + 1), where="post", color=colour,
@@ -422,6 +433,7 @@ def plot(rows, passages, figure):
     bx.set_ylabel("persons through the door")
     bx.set_title("Passages of the door line (PedPy's N(t)), seed 1", fontsize=9)
     bx.legend(fontsize=7)
+    cx.set_xticks(sorted({r["parameter"] for r in rows if r["scenario"] == "corridor"}))
     cx.set_xlabel("initial density in the corridor block (persons/m²)")
     cx.set_ylabel("mean speed in the measurement area (m/s)")
     cx.set_title("Corridor 3 m wide (PedPy, 15–30 s)", fontsize=9)
@@ -482,8 +494,12 @@ def main():
     ap.add_argument("--csv", type=pathlib.Path, default=RESULTS / "jupedsim_side_by_side.csv")
     ap.add_argument("--figure", type=pathlib.Path, default=RESULTS / "jupedsim_side_by_side.png")
     ap.add_argument("--timing", action="store_true")
+    ap.add_argument("--reuse", action="store_true",
+                    help="analyse the runs already in OUT_DIR again instead of rerunning them")
     ap.add_argument("--timing-csv", type=pathlib.Path, default=RESULTS / "speed_vs_jupedsim.csv")
     args = ap.parse_args()
+    global REUSE
+    REUSE = args.reuse
     args.out.mkdir(parents=True, exist_ok=True)
     txt = writes_text(args.moreau)
     rows, passages = [], {}
