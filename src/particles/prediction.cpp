@@ -38,6 +38,11 @@ DriftParameters::DriftParameters(const Forces& forces, int k, double h) {
   if (exit) {
     for (int a = 0; a < k; ++a) exit_direction[a] /= std::sqrt(n2);
   }
+  if (propulsion) route_owner = forces.propulsion->route;
+  route = route_owner.get();
+  if (route != nullptr && k != 2) {
+    throw InputError(fmt::format("forces.propulsion.route needs dimension 2 (got {})", k));
+  }
   fixed = propulsion && forces.propulsion->direction.has_value();
   if (fixed) {
     double d2 = 0.0;

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "moreau/particles/forces.h"
+#include "moreau/particles/routing.h"
 #include "particles/colouring.h"
 #include "particles/neighbour_list.h"
 #include "particles/noise.h"
@@ -32,6 +34,8 @@ struct DriftParameters {
   double exit_direction[3] = {0, 0, 0};
   bool fixed = false;  // one desired direction everywhere (normalised)
   double direction[3] = {0, 0, 0};
+  std::shared_ptr<const DistanceField> route_owner;  // the exits' distance field (2D)
+  const DistanceField* route = nullptr;              // route_owner.get()
   double speed_sd = 0.0;  // σ_v of the desired speeds; 0: v0 for all
   bool density = false;   // Weidmann's factor on the walking speed
   DensitySpeed density_law;
@@ -49,12 +53,19 @@ struct DriftParameters {
 struct StepContext;  // step_context.h
 
 // The desired direction e0 (unit, or zero when already at the target) of a particle at xw
-// (wrapped) into e: the fixed direction; past the target along the exit direction; else toward
-// the target point or the nearest point of the target segment. Inlined: a call in the prediction
+// (wrapped) into e: −∇d of the distance field to the exits; the fixed direction; past the
+// target along the exit direction; else toward the target point or the nearest point of the
+// target segment. Inlined: a call in the prediction
 // loop would keep its running maximum in memory.
 template <int K>
 [[gnu::always_inline]] inline void DesiredDirection(const DriftParameters& d, const double* xw,
                                                     double* e) {
+  if constexpr (K == 2) {
+    if (d.route != nullptr) {
+      d.route->Direction(xw, e);
+      return;
+    }
+  }
   if (d.fixed) {
     for (int a = 0; a < K; ++a) e[a] = d.direction[a];
     return;

@@ -15,6 +15,8 @@ const FieldList<Room>& Room::Fields() {
         .Number("height", &Room::height, Range::Positive(), "length", "room height (y)")
         .Number("door_width", &Room::door_width, Range::Positive(), "length",
                 "door in the right wall, centred")
+        .Number("door_length", &Room::door_length, Range::NonNegative(), "length",
+                "passage beyond the door (a bottleneck); 0: none")
         .Rule("door_width", [](const Room& r) {
           return r.door_width < r.height
                      ? std::string()
@@ -31,11 +33,16 @@ void Room::Validate() const { Fields().Validate(*this); }
 std::vector<SegmentObstacle> Room::Walls() const {
   const double W = width;
   const double H = height;
-  return {{{0.0, 0.0}, {W, 0.0}},
-          {{0.0, H}, {W, H}},
-          {{0.0, 0.0}, {0.0, H}},
-          {{W, 0.0}, {W, door_lo()}},
-          {{W, door_hi()}, {W, H}}};
+  std::vector<SegmentObstacle> walls = {{{0.0, 0.0}, {W, 0.0}},
+                                        {{0.0, H}, {W, H}},
+                                        {{0.0, 0.0}, {0.0, H}},
+                                        {{W, 0.0}, {W, door_lo()}},
+                                        {{W, door_hi()}, {W, H}}};
+  if (door_length > 0.0) {
+    walls.push_back({{W, door_lo()}, {W + door_length, door_lo()}});
+    walls.push_back({{W, door_hi()}, {W + door_length, door_hi()}});
+  }
+  return walls;
 }
 
 SelfPropulsion Room::WalkToTheDoor(double speed) const {
@@ -60,23 +67,37 @@ void AddRoom(const Room& room, ParticleModel* model) {
 }
 
 EvacuationCount::EvacuationCount(const Room& room, int count)
-    : door_line_(room.width), left_(static_cast<std::size_t>(count), 0) {}
+    : door_line_(room.width + room.door_length),
+      left_(static_cast<std::size_t>(count), 0),
+      per_exit_(1, 0) {}
 
-void EvacuationCount::Mark(std::size_t id, double x) {
-  if (!left_[id] && x > door_line_) {
-    left_[id] = 1;
-    ++out_;
+EvacuationCount::EvacuationCount(const CrowdGeometry& geometry, int count)
+    : geometry_(geometry),
+      left_(static_cast<std::size_t>(count), 0),
+      per_exit_(geometry.exits.size(), 0) {}
+
+void EvacuationCount::Mark(std::size_t id, double x, double y) {
+  if (left_[id]) return;
+  std::size_t exit = 0;
+  if (geometry_) {
+    if (geometry_->InsideWalkablePolygon(x, y)) return;
+    exit = geometry_->NearestExit(x, y);
+  } else if (!(x > door_line_)) {
+    return;
   }
+  left_[id] = static_cast<int>(1 + exit);
+  ++per_exit_[exit];
+  ++out_;
 }
 
 int EvacuationCount::Update(std::span<const double> positions) {
-  for (std::size_t i = 0; i < left_.size(); ++i) Mark(i, positions[2 * i]);
+  for (std::size_t i = 0; i < left_.size(); ++i) Mark(i, positions[2 * i], positions[2 * i + 1]);
   return out_;
 }
 
 int EvacuationCount::Update(std::span<const int> ids, std::span<const double> positions) {
   for (std::size_t s = 0; s < ids.size(); ++s)
-    Mark(static_cast<std::size_t>(ids[s]), positions[2 * s]);
+    Mark(static_cast<std::size_t>(ids[s]), positions[2 * s], positions[2 * s + 1]);
   return out_;
 }
 
@@ -88,16 +109,36 @@ std::vector<int> EvacuationCount::OutIds() const {
   return ids;
 }
 
-void EvacuationCount::RestoreOut(std::span<const int> ids) {
-  std::vector<char> left(left_.size(), 0);
-  for (const int id : ids) {
+std::vector<int> EvacuationCount::OutExits() const {
+  std::vector<int> exits;
+  for (const int c : left_) {
+    if (c) exits.push_back(c - 1);
+  }
+  return exits;
+}
+
+void EvacuationCount::RestoreOut(std::span<const int> ids, std::span<const int> exits) {
+  if (!exits.empty() && exits.size() != ids.size()) {
+    throw InputError("checkpoint: the evacuated ids and their exits differ in number");
+  }
+  std::vector<int> left(left_.size(), 0);
+  std::vector<int> per_exit(per_exit_.size(), 0);
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const int id = ids[k];
+    const int exit = exits.empty() ? 0 : exits[k];
     if (id < 0 || static_cast<std::size_t>(id) >= left.size() ||
         left[static_cast<std::size_t>(id)]) {
       throw InputError(fmt::format("checkpoint: evacuated id {} is out of range or repeated", id));
     }
-    left[static_cast<std::size_t>(id)] = 1;
+    if (exit < 0 || static_cast<std::size_t>(exit) >= per_exit.size()) {
+      throw InputError(
+          fmt::format("checkpoint: exit {} of evacuated id {} is out of range", exit, id));
+    }
+    left[static_cast<std::size_t>(id)] = static_cast<int>(1 + exit);
+    ++per_exit[static_cast<std::size_t>(exit)];
   }
   left_.swap(left);
+  per_exit_.swap(per_exit);
   out_ = static_cast<int>(ids.size());
 }
 

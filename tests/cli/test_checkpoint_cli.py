@@ -161,6 +161,9 @@ SHORT = {
                    ("population.csv", "lineage.csv", "agents.csv")),
     "crowd_room": ("sweeps/crowd_room.toml", ["problem.T=4", "output.stride=50"], 100,
                    ("evacuation.csv",)),
+    "two_exits": ("crowds/two_exits_pillar.toml",
+                  ["problem.T=12", "output.stride=100", "output.snapshots=false",
+                   "output.snapshot_times=[]"], 800, ("evacuation.csv", "exits.csv")),
 }
 POPULATION_COUNTERS = ("positions_hash", "rule_steps", "births", "deaths", "removals",
                        "relax_sweeps", "final_count", "max_overlap_before")

@@ -373,7 +373,8 @@ TEST(ParticleEngine, CrowdLeavesARoomThroughTheDoor) {
                 {{10, 5.6}, {10, 10}}};
   const std::vector<double> x0 = RandomSequentialAddition(m, {0.3, 0.3, 0}, {9.7, 9.7, 0}, 1);
   Forces f;
-  f.propulsion = SelfPropulsion{1.0, {13.0, 5.0, 0.0}, std::nullopt, std::nullopt, std::nullopt};
+  f.propulsion =
+      SelfPropulsion{1.0, {13.0, 5.0, 0.0}, std::nullopt, std::nullopt, std::nullopt, nullptr};
   for (const double h : {0.01, 0.005}) {
     EngineOptions o;
     o.h = h;
@@ -406,7 +407,8 @@ TEST(ParticleEngine, MoreSweepsShrinkTheOverlapsAndStayDeterministic) {
   m.AddBoxWalls({0, 0, 0}, {8, 8, 0});
   const std::vector<double> x0 = RandomSequentialAddition(m, {0, 0, 0}, {8, 8, 0}, 5);
   Forces f;
-  f.propulsion = SelfPropulsion{1.0, {0.0, 0.0, 0.0}, std::nullopt, std::nullopt, std::nullopt};
+  f.propulsion =
+      SelfPropulsion{1.0, {0.0, 0.0, 0.0}, std::nullopt, std::nullopt, std::nullopt, nullptr};
   double previous = std::numeric_limits<double>::infinity();
   for (const int sweeps : {1, 4, 16}) {
     EngineOptions o;
@@ -437,8 +439,8 @@ TEST(ParticleEngine, MoreSweepsShrinkTheOverlapsAndStayDeterministic) {
   ParticleModel one;
   one.radius = {0.1};
   Forces g;
-  g.propulsion =
-      SelfPropulsion{2.0, {1.0, 0.0, 0.0}, Vec3{1.0, 1.0, 0.0}, Vec3{1.0, 0.0, 0.0}, std::nullopt};
+  g.propulsion = SelfPropulsion{
+      2.0, {1.0, 0.0, 0.0}, Vec3{1.0, 1.0, 0.0}, Vec3{1.0, 0.0, 0.0}, std::nullopt, nullptr};
   EngineOptions o;
   o.h = 0.01;
   Engine e(one, g, o, std::vector<double>{1.5, 0.5});

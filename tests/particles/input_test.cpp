@@ -117,7 +117,7 @@ TEST(ParticleInput, OptionsAndForces) {
   f.attraction = PairAttraction{1.0, 0.0, {}};
   ExpectInputError([&] { Make(TwoDisks(), kApart, f); }, "forces.attraction.range must be > 0");
   f = {};
-  f.propulsion = SelfPropulsion{-1.0, {0, 0, 0}, std::nullopt, std::nullopt, std::nullopt};
+  f.propulsion = SelfPropulsion{-1.0, {0, 0, 0}, std::nullopt, std::nullopt, std::nullopt, nullptr};
   ExpectInputError([&] { Make(TwoDisks(), kApart, f); }, "forces.propulsion.speed must be ≥ 0");
   f = {};
   f.trap = HarmonicTrap{-1.0, {0, 0, 0}};

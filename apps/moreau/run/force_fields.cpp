@@ -91,10 +91,15 @@ particles::Forces ParticleScenario::MakeForces() const {
   const ParticleForceSettings& in = forces;
   if (in.trap_gamma) f.trap = particles::HarmonicTrap{*in.trap_gamma, in.trap_center};
   f.constant_force = in.constant;
-  if (in.propulsion_speed || room) {
+  if (in.propulsion_speed || room || route) {
     const double speed = in.propulsion_speed.value_or(1.0);
     if (room) {
       f.propulsion = room->WalkToTheDoor(speed);
+    } else if (route) {
+      particles::SelfPropulsion p;
+      p.speed = speed;
+      p.route = route;
+      f.propulsion = p;
     } else {
       particles::SelfPropulsion p;
       p.speed = speed;

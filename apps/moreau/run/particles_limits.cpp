@@ -19,7 +19,7 @@ void CheckOutputSize(const PS& s) {
   (void)CheckFrameCount(
       steps, s.output.stride > 0 ? s.output.stride : std::max<std::int64_t>(1, steps / 100));
   // The evacuation series is kept in memory, one line of about 24 bytes a step.
-  if (s.room) {
+  if (s.room || s.geometry) {
     CheckMemory(fmt::format("{} steps of the evacuation series", steps),
                 24.0 * static_cast<double>(steps));
   }

@@ -95,6 +95,7 @@ std::string ReportParticleRun(const ParticleScenario& scenario, const ParticleSe
                               const ParticleRunResult& result, const nlohmann::json& summary,
                               OutputDir& out, bool figures) {
   if (result.evacuated) out.WriteText("evacuation.csv", result.evacuation_csv);
+  if (!result.exits_csv.empty()) out.WriteText("exits.csv", result.exits_csv);
   out.WriteText("summary.json", JsonText(summary) + "\n");
   if (figures) WriteFigures(scenario, setup.engine.model(), result, out);
   out.Commit(WhenStopped::kPublish);  // a run stopped on request is a result

@@ -22,6 +22,15 @@
 namespace moreau::cli {
 namespace {
 
+// "id,exit": who left through which exit, ascending ids.
+std::string ExitsCsv(const particles::EvacuationCount& count) {
+  std::string csv = "id,exit\n";
+  const std::vector<int> ids = count.OutIds();
+  const std::vector<int> exits = count.OutExits();
+  for (std::size_t k = 0; k < ids.size(); ++k) csv += fmt::format("{},{}\n", ids[k], exits[k]);
+  return csv;
+}
+
 // What the run writes as it goes: trajectory frames, snapshot frames, the evacuation series.
 class RunRecorder {
  public:
@@ -53,6 +62,7 @@ class RunRecorder {
     }
     geometry_ = WriteSceneGeometry(model_, scenario, out);
     if (scenario.room) evacuation_.emplace(*scenario.room, model_.count());
+    if (scenario.geometry) evacuation_.emplace(*scenario.geometry, model_.count());
   }
 
   // The engine's observer: positions are copied to id order only for a frame or a snapshot.
@@ -80,7 +90,11 @@ class RunRecorder {
   void KeepFrames() { keep_frames_ = true; }
   nlohmann::json State() const {
     nlohmann::json j = {{"frames", kept_}, {"snapshots", snapshots_}, {"last_step", last_step_}};
-    if (evacuation_) j["evacuation"] = {{"out", evacuation_->OutIds()}, {"csv", evacuation_csv_}};
+    if (evacuation_) {
+      j["evacuation"] = {{"out", evacuation_->OutIds()},
+                         {"exits", evacuation_->OutExits()},
+                         {"csv", evacuation_csv_}};
+    }
     return j;
   }
   void Resume(const nlohmann::json& state) {
@@ -93,7 +107,8 @@ class RunRecorder {
       state.at("snapshots").get_to(snapshots_);
       state.at("last_step").get_to(last_step_);
       if (evacuation_) {
-        evacuation_->RestoreOut(state.at("evacuation").at("out").get<std::vector<int>>());
+        evacuation_->RestoreOut(state.at("evacuation").at("out").get<std::vector<int>>(),
+                                state.at("evacuation").value("exits", std::vector<int>{}));
         state.at("evacuation").at("csv").get_to(evacuation_csv_);
       }
     } catch (const nlohmann::json::exception&) {
@@ -111,10 +126,11 @@ class RunRecorder {
     if (output_.snapshot_times.empty()) snapshots_.emplace_back(t, x);
     ParticleRunResult result{
         summary,         std::move(x), std::nullopt,   "", std::move(snapshots_), hdf5_ != nullptr,
-        vtu_ != nullptr, geometry_,    txt_ != nullptr};
+        vtu_ != nullptr, geometry_,    txt_ != nullptr, {}};
     if (evacuation_) {
       result.evacuated = evacuation_->out();
       result.evacuation_csv = std::move(evacuation_csv_);
+      if (evacuation_->exits() > 1) result.exits_csv = ExitsCsv(*evacuation_);
     }
     return result;
   }

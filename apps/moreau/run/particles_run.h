@@ -40,12 +40,13 @@ struct ParticleRunResult {
   particles::EngineSummary summary;
   std::vector<double> x;         // final positions, id order
   std::optional<int> evacuated;  // with a room: people out at the end
-  std::string evacuation_csv;    // with a room: "t,out", one row per step
+  std::string evacuation_csv;    // with a room or a geometry: "t,out", one row per step
   std::vector<std::pair<double, std::vector<double>>> snapshots;  // (t, positions in id order)
   bool hdf5 = false;                                              // trajectory.h5 + .xdmf written
   bool vtu = false;                                               // vtu/frame.pvd written
   bool geometry = false;  // geometry.vtp written (walls and obstacles)
   bool txt = false;       // trajectory.txt written
+  std::string exits_csv;  // with a geometry of several exits: "id,exit" per person out
 };
 
 // Runs the engine over [0, T] (with a progress bar on a terminal), writing the trajectory into

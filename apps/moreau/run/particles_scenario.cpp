@@ -8,6 +8,7 @@
 #include "moreau/common/error.h"
 #include "moreau/common/random.h"
 #include "moreau/common/steps.h"
+#include "run/crowd_geometry.h"
 #include "run/fields_scenario.h"
 #include "run/force_fields.h"
 #include "run/population_scenario.h"
@@ -121,19 +122,24 @@ nlohmann::json EchoSegments(const PS& s) {
   return j;
 }
 
-// [room] width, height, door_width, all three required when the table is there.
+// [room] width, height, door_width, all three required when the table is there, and the
+// optional door_length (a passage; 0: none, not echoed).
 void ReadRoom(Scenario& sc, PS& s, const std::string& key) {
   if (!sc.Has(key)) {
     (void)sc.GetNode(key);
     return;
   }
   s.room = particles::Room{sc.RequireDouble(key + ".width"), sc.RequireDouble(key + ".height"),
-                           sc.RequireDouble(key + ".door_width")};
+                           sc.RequireDouble(key + ".door_width"),
+                           sc.GetDouble(key + ".door_length", 0.0)};
 }
 
 nlohmann::json EchoRoom(const PS& s) {
   if (!s.room) return nullptr;
-  return {{"width", s.room->width}, {"height", s.room->height}, {"door_width", s.room->door_width}};
+  nlohmann::json j = {
+      {"width", s.room->width}, {"height", s.room->height}, {"door_width", s.room->door_width}};
+  if (s.room->door_length > 0.0) j["door_length"] = s.room->door_length;
+  return j;
 }
 
 // [initial] positions = [[x, y], …]: problem.count rows of k numbers.
@@ -209,8 +215,8 @@ void AddProblemFields(FieldTable<PS>& t) {
               EchoSpheres, "obstacles")
       .Custom("segments", "[[segments]] a, b", ReadEach(&PS::segments, MakeSegment), EchoSegments,
               "segment obstacles (2D)")
-      .Custom("room", "width, height, door_width", ReadRoom, EchoRoom,
-              "a walled room with a door; everybody walks to it");
+      .Custom("room", "width, height, door_width, door_length", ReadRoom, EchoRoom,
+              "a walled room with a door (a passage of door_length); everybody walks to it");
 }
 
 void AddOutputFields(FieldTable<PS>& t) {
@@ -279,8 +285,8 @@ void AddPedestrianModelChecks(FieldTable<PS>& t) {
   t.Check("forces.pedestrian_model", [](const PS& s) {
      const ParticleForceSettings& f = s.forces;
      if (f.pedestrian_model != "collision_free") return;
-     if (!f.propulsion_speed && !s.room) {
-       throw InputError("collision_free needs forces.propulsion_speed or a [room]");
+     if (!f.propulsion_speed && !s.room && !s.geometry) {
+       throw InputError("collision_free needs forces.propulsion_speed, a [room] or a [geometry]");
      }
      if (f.density_radius) {
        throw InputError("collision_free does not go with forces.density_radius");
@@ -332,8 +338,8 @@ void AddChecks(FieldTable<PS>& t) {
              [](const PS& s) {
                const ParticleForceSettings& f = s.forces;
                if ((f.density_radius || f.propulsion_speed_sd != 0.0) && !f.propulsion_speed &&
-                   !s.room) {
-                 throw InputError("needs forces.propulsion_speed or a [room]");
+                   !s.room && !s.geometry) {
+                 throw InputError("needs forces.propulsion_speed, a [room] or a [geometry]");
                }
                if ((f.density_gamma || f.density_max) && !f.density_radius) {
                  throw InputError("required by forces.density_gamma and forces.density_max");
@@ -372,6 +378,7 @@ void AddChecks(FieldTable<PS>& t) {
 FieldTable<PS> MakeParticleFields() {
   FieldTable<PS> t;
   AddProblemFields(t);
+  AddGeometryFields(t);
   AddForceFields(t);
   t.Mount("solver", &PS::solver, particles::EngineOptions::Fields(), {{"seed", ""}})
       .Require("solver.h")
@@ -418,6 +425,9 @@ particles::ParticleModel ParticleScenario::MakeModel() const {
   model.spheres.insert(model.spheres.end(), spheres.begin(), spheres.end());
   model.segments.insert(model.segments.end(), segments.begin(), segments.end());
   if (room) particles::AddRoom(*room, &model);
+  if (geometry) {
+    for (const particles::SegmentObstacle& w : geometry->Walls()) model.segments.push_back(w);
+  }
   return model;
 }
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "moreau/particles/engine.h"
 #include "moreau/particles/population.h"
 #include "moreau/particles/room.h"
+#include "moreau/particles/routing.h"
 #include "scenario.h"
 
 namespace moreau::cli {
@@ -94,6 +96,12 @@ struct ParticleScenario {
   std::vector<particles::SphereObstacle> spheres;
   std::vector<particles::SegmentObstacle> segments;
   std::optional<particles::Room> room;
+  // [geometry] (crowd_geometry.h): the walkable area, its obstacles and exits, and the distance
+  // field to the exits built from them with `routing`.
+  std::string geometry_file;  // geometry.file as written; empty: inline or none
+  std::optional<particles::CrowdGeometry> geometry;
+  particles::RoutingOptions routing;
+  std::shared_ptr<const particles::DistanceField> route;
   ParticleForceSettings forces;
   particles::EngineOptions solver;  // seed comes from problem.seed
   std::string method = "pbd";       // the particle engine runs pbd only
@@ -108,10 +116,11 @@ struct ParticleScenario {
   std::vector<int> InitialTypes() const;
 
   int n() const { return static_cast<int>(count); }
-  // The model's radii, mobilities, domain, walls and obstacles (room walls included).
+  // The model's radii, mobilities, domain, walls and obstacles (room and geometry walls
+  // included).
   // Throws InputError from AddRoom.
   particles::ParticleModel MakeModel() const;
-  // The drift; with a room everybody walks to the door. Throws InputError from Validate.
+  // The drift; with a room everybody walks to the door, with a geometry to the nearest exit. Throws InputError from Validate.
   particles::Forces MakeForces() const;
   // The engine options with the seed of [problem].
   particles::EngineOptions MakeEngineOptions() const;

@@ -169,6 +169,14 @@ io::SceneGeometry SceneOf(const particles::ParticleModel& model,
     g.cells.push_back(
         {{{room->width, room->door_lo(), 0.0}, {room->width, room->door_hi(), 0.0}}, kDoor, 0});
   }
+  if (scenario.geometry) {
+    const auto& exits = scenario.geometry->exits;
+    for (std::size_t e = 0; e < exits.size(); ++e) {
+      g.cells.push_back({{{exits[e].a[0], exits[e].a[1], 0.0}, {exits[e].b[0], exits[e].b[1], 0.0}},
+                         kDoor,
+                         static_cast<std::int64_t>(e)});
+    }
+  }
   return g;
 }
 

@@ -13,10 +13,10 @@
 namespace moreau::cli {
 
 // Cells of kind "wall" (each half-space wall where its boundary crosses the scene's box: a line
-// in 2D, a polygon in 3D), "segment" (each segment obstacle, the room's five walls among them),
+// in 2D, a polygon in 3D), "segment" (each segment obstacle, the room's and the geometry's walls among them),
 // "sphere" (each sphere obstacle: a 64-gon in 2D, a 12 × 24 latitude–longitude mesh in 3D) and
-// "door" (the room's door line), each with its index in the model's list (walls, segments,
-// spheres; 0 for the door). The scene's box holds the domain, the initial box, the obstacles and
+// "door" (the room's door line, or each exit of a [geometry]), each with its index in the
+// model's list (walls, segments, spheres; 0 for the room's door, the exit's index for an exit). The scene's box holds the domain, the initial box, the obstacles and
 // the point of every wall nearest the box's centre, widened by 5 % of its diagonal.
 io::SceneGeometry SceneOf(const particles::ParticleModel& model,
                           const std::optional<particles::Room>& room,

@@ -37,6 +37,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -44,6 +45,8 @@
 #include "moreau/particles/model.h"
 
 namespace moreau::particles {
+
+class DistanceField;  // routing.h
 
 struct HarmonicTrap {
   double gamma = 1.0;  // γ ≥ 0, in 1/(time · mobility)
@@ -77,6 +80,10 @@ struct SelfPropulsion {
   // When set (non-zero), every particle's desired direction is direction / ‖direction‖ wherever
   // it is, and target, target_end and exit_direction are not used (a corridor, a ring).
   std::optional<Vec3> direction;
+  // When set (dimension 2), the desired direction is the distance field's −∇d toward the
+  // nearest exit (routing.h DistanceField::Direction), and target, target_end, exit_direction
+  // and direction are not used. Shared, never changed after construction.
+  std::shared_ptr<const DistanceField> route;
 };
 
 // The collision-free speed model of Tordeux, Chraibi & Seyfried (2016, "Collision-free speed

@@ -3,24 +3,28 @@
 //
 // The room is [0, width] × [0, height] in the plane (dimension 2); its walls are line segments
 // (particles stay at distance ≥ r_i from them) with a door of width door_width centred on the
-// right wall x = width, spanning y ∈ [door_lo, door_hi].
+// right wall x = width, spanning y ∈ [door_lo, door_hi]. With door_length L > 0 the door is a
+// passage (a bottleneck) of that width between two walls from x = width to x = width + L.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "moreau/common/field_list.h"
 #include "moreau/particles/forces.h"
+#include "moreau/particles/geometry.h"
 #include "moreau/particles/model.h"
 
 namespace moreau::particles {
 
 struct Room {
-  double width = 15.0;      // > 0
-  double height = 15.0;     // > 0
-  double door_width = 1.2;  // in (0, height)
+  double width = 15.0;       // > 0
+  double height = 15.0;      // > 0
+  double door_width = 1.2;   // in (0, height)
+  double door_length = 0.0;  // ≥ 0: the passage's length; 0: a door in the wall
 
-  static const FieldList<Room>& Fields();  // width, height, door_width
+  static const FieldList<Room>& Fields();  // width, height, door_width, door_length
   // Throws InputError(key, reason): ("width", "must be > 0 (got 0)"), ("door_width", "must be
   // smaller than the room height (got 16 ≥ 15)").
   void Validate() const;
@@ -28,7 +32,7 @@ struct Room {
   double door_hi() const { return 0.5 * (height + door_width); }
 
   // The five wall segments, in this order: bottom, top, left, right below the door, right above
-  // the door.
+  // the door; with a passage, then its lower and its upper wall.
   std::vector<SegmentObstacle> Walls() const;
   // Walking at `speed` toward the nearest point of the door; once through it (x > width), along
   // +e_0, away from the room.
@@ -40,10 +44,13 @@ struct Room {
 void AddRoom(const Room& room, ParticleModel* model);
 
 // People out of the room: a person counts as out from the first time their centre passes the
-// door line x = width (noise may carry them back over it for a moment; they stay counted).
+// door line x = width + door_length (noise may carry them back over it for a moment; they stay
+// counted). For a CrowdGeometry: from the first time their centre is outside the walkable
+// polygon, counted at the exit nearest to it then.
 class EvacuationCount {
  public:
   EvacuationCount(const Room& room, int count);
+  EvacuationCount(const CrowdGeometry& geometry, int count);
   // positions: size 2·count, particle-id order. Returns the number out so far.
   int Update(std::span<const double> positions);
   // The same from positions in any slot order: slot s holds particle ids[s] at
@@ -51,15 +58,23 @@ class EvacuationCount {
   // the order.
   int Update(std::span<const int> ids, std::span<const double> positions);
   int out() const { return out_; }
-  // The ids counted out so far, ascending (a checkpoint), and their restore on a count of the
-  // same room and count: InputError "checkpoint: …" for an id out of range or given twice.
+  // The number of exits (1 for a room) and the people out through each.
+  std::size_t exits() const { return per_exit_.size(); }
+  const std::vector<int>& OutPerExit() const { return per_exit_; }
+  // The ids counted out so far, ascending (a checkpoint), their exits in the same order, and
+  // their restore on a count of the same room and count (exits: empty for a room): InputError
+  // "checkpoint: …" for an id out of range or given twice, or an exit out of range.
   std::vector<int> OutIds() const;
-  void RestoreOut(std::span<const int> ids);
+  std::vector<int> OutExits() const;
+  void RestoreOut(std::span<const int> ids, std::span<const int> exits = {});
 
  private:
-  void Mark(std::size_t id, double x);  // counts particle id at abscissa x if it is out
-  double door_line_;
-  std::vector<char> left_;
+  // Counts particle id at (x, y) if it is out.
+  void Mark(std::size_t id, double x, double y);
+  double door_line_ = 0.0;
+  std::optional<CrowdGeometry> geometry_;
+  std::vector<int> left_;  // per id: 0 in, 1 + exit out
+  std::vector<int> per_exit_;
   int out_ = 0;
 };
 

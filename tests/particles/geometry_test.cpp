@@ -1,0 +1,124 @@
+// A crowd's geometry (geometry.h): the text format and its errors (file, line, reason), the
+// checks of the polygons and exits, the walls it gives and the evacuation count per exit.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "moreau/particles/geometry.h"
+#include "moreau/particles/room.h"
+#include "particles/test_util.h"
+
+namespace moreau::particles {
+namespace {
+
+using testing::ExpectInputError;
+
+// A 10 m × 6 m room, a 2 m × 2 m pillar, a door on the left and one on the right.
+constexpr const char* kTwoExits =
+    "# two exits and a pillar\n"
+    "walkable 0 0 10 0 10 6 0 6\n"
+    "\n"
+    "obstacle 4 2 6 2 6 4 4 4   # the pillar\n"
+    "exit 10 2.5 10 3.5\n"
+    "exit 0 1 0 2\n";
+
+TEST(CrowdGeometry, ParsesPolygonsExitsAndComments) {
+  const CrowdGeometry g = ParseCrowdGeometry(kTwoExits, "room.txt");
+  ASSERT_EQ(g.walkable.size(), 4u);
+  ASSERT_EQ(g.obstacles.size(), 1u);
+  EXPECT_EQ(g.obstacles[0][2], (Point2{6.0, 4.0}));
+  ASSERT_EQ(g.exits.size(), 2u);
+  EXPECT_EQ(g.exits[1].b, (Point2{0.0, 2.0}));
+  EXPECT_TRUE(g.Walkable(1.0, 1.0));
+  EXPECT_FALSE(g.Walkable(5.0, 3.0));   // in the pillar
+  EXPECT_FALSE(g.Walkable(11.0, 3.0));  // outside
+  EXPECT_TRUE(g.InsideWalkablePolygon(5.0, 3.0));
+}
+
+// The walls are the polygon's edges with the exits cut out, then the pillar's four edges; their
+// total length is the perimeters less the exits' widths.
+TEST(CrowdGeometry, WallsLeaveTheExitsOpen) {
+  const CrowdGeometry g = ParseCrowdGeometry(kTwoExits, "room.txt");
+  const std::vector<SegmentObstacle> walls = g.Walls();
+  EXPECT_EQ(walls.size(), 6u + 4u);
+  double length = 0.0;
+  for (const SegmentObstacle& w : walls) length += std::hypot(w.b[0] - w.a[0], w.b[1] - w.a[1]);
+  EXPECT_NEAR(length, 32.0 - 2.0 + 8.0, 1e-12);
+  for (const SegmentObstacle& w : walls) {
+    // No wall covers an exit's midpoint.
+    EXPECT_GT(DistanceToSegment({10.0, 3.0}, {w.a[0], w.a[1]}, {w.b[0], w.b[1]}), 0.4);
+    EXPECT_GT(DistanceToSegment({0.0, 1.5}, {w.a[0], w.a[1]}, {w.b[0], w.b[1]}), 0.4);
+  }
+  EXPECT_EQ(g.ExitNormal(0), (Point2{1.0, 0.0}));
+  EXPECT_EQ(g.ExitNormal(1), (Point2{-1.0, 0.0}));
+  EXPECT_EQ(g.NearestExit(9.0, 3.0), 0u);
+  EXPECT_EQ(g.NearestExit(1.0, 3.0), 1u);
+}
+
+TEST(CrowdGeometry, BadFilesNameTheFileTheLineAndTheReason) {
+  const auto parse = [](const std::string& text) {
+    return [text] { (void)ParseCrowdGeometry(text, "room.txt"); };
+  };
+  ExpectInputError(parse("walkable 0 0 1 0 1 nan\nexit 1 0 1 1\n"),
+                   "room.txt:1: nan is not a finite number");
+  ExpectInputError(parse("walkable 0 0 1 0 1 1e999\n"), "room.txt:1: 1e999 is not a finite");
+  ExpectInputError(parse("walkable 0 0 4 0 4 4 0 4\nobstacle 1 1 2 2\nexit 4 1 4 2\n"),
+                   "room.txt:2: obstacle 0: needs at least 3 vertices (got 2)");
+  ExpectInputError(parse("# a bow tie\nwalkable 0 0 4 4 4 0 0 3\nexit 4 1 4 2\n"),
+                   "room.txt:2: walkable: edges 0 and 2 cross");
+  ExpectInputError(parse("walkable 0 0 1 1 2 2\nexit 0 0 1 1\n"),
+                   "room.txt:1: walkable: has zero area");
+  ExpectInputError(parse("walkable 0 0 4 0 4 4 0 4\n\nexit 2 2 3 2\n"),
+                   "room.txt:3: exit 0: not on an edge of the walkable polygon");
+  ExpectInputError(parse("walkable 0 0 4 0 4 4 0 4\nexit 4 1 4 3\nexit 4 2 4 3.5\n"),
+                   "room.txt:3: exit 1: overlaps exit 0");
+  ExpectInputError(parse("walkable 0 0 4 0 4 4 0 4\nobstacle 3 1 5 1 5 2\nexit 4 3 4 3.5\n"),
+                   "room.txt:2: obstacle 0: not inside the walkable polygon");
+  ExpectInputError(parse("walkable 0 0 4 0 4 4 0 4\n"), "room.txt: exit: the geometry needs");
+  ExpectInputError(parse("walkable 0 0 4 0 4\n"), "room.txt:1: expected an even number");
+  ExpectInputError(parse("wall 0 0 4 0\n"), "room.txt:1: unknown keyword 'wall'");
+  ExpectInputError(parse("exit 0 0 4 0 1 1\n"), "room.txt:1: an exit is a segment");
+  ExpectInputError(parse("obstacle 0 0 1 0 1 1\n"), "room.txt: no walkable polygon");
+  ExpectInputError(parse("walkable 0 0 4 0 4 4\nwalkable 0 0 4 0 4 4\n"),
+                   "room.txt:2: a second walkable polygon");
+  ExpectInputError([] { (void)ReadCrowdGeometry("/nonexistent/room.txt", "room.txt"); },
+                   "room.txt: cannot be read");
+}
+
+// People out through either exit: counted once, at the exit nearest to them.
+TEST(CrowdGeometry, EvacuationCountsEachExit) {
+  const CrowdGeometry g = ParseCrowdGeometry(kTwoExits, "room.txt");
+  EvacuationCount count(g, 3);
+  EXPECT_EQ(count.exits(), 2u);
+  EXPECT_EQ(count.Update(std::vector<double>{5.0, 1.0, 9.0, 3.0, 1.0, 1.5}), 0);
+  EXPECT_EQ(count.Update(std::vector<double>{5.0, 1.0, 10.2, 3.0, -0.1, 1.5}), 2);
+  EXPECT_EQ(count.Update(std::vector<double>{5.0, 1.0, 9.9, 3.0, -0.3, 1.5}), 2);  // stays out
+  EXPECT_EQ(count.OutPerExit(), (std::vector<int>{1, 1}));
+  EXPECT_EQ(count.OutIds(), (std::vector<int>{1, 2}));
+  EXPECT_EQ(count.OutExits(), (std::vector<int>{0, 1}));
+  EvacuationCount restored(g, 3);
+  restored.RestoreOut(count.OutIds(), count.OutExits());
+  EXPECT_EQ(restored.OutPerExit(), count.OutPerExit());
+  ExpectInputError([&] { restored.RestoreOut(std::vector<int>{0}, std::vector<int>{2}); },
+                   "exit 2 of evacuated id 0 is out of range");
+}
+
+// A room with a passage: its two walls follow the door's edges, and people count at its end.
+TEST(CrowdGeometry, RoomPassageWallsAndCountLine) {
+  Room room;
+  room.door_length = 2.0;
+  const std::vector<SegmentObstacle> walls = room.Walls();
+  ASSERT_EQ(walls.size(), 7u);
+  EXPECT_EQ(walls[5].a, (std::array<double, 2>{15.0, room.door_lo()}));
+  EXPECT_EQ(walls[6].b, (std::array<double, 2>{17.0, room.door_hi()}));
+  EXPECT_EQ(Room().Walls().size(), 5u);
+  EvacuationCount count(room, 1);
+  EXPECT_EQ(count.Update(std::vector<double>{16.0, 7.5}), 0);
+  EXPECT_EQ(count.Update(std::vector<double>{17.1, 7.5}), 1);
+  room.door_length = -1.0;
+  ExpectInputError([&] { room.Validate(); }, "door_length");
+}
+
+}  // namespace
+}  // namespace moreau::particles
