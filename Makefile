@@ -11,7 +11,7 @@ PYTHON   := /usr/bin/python3
 MOREAU   := $(BUILD)/moreau
 CMAKE_FLAGS := -DMOREAU_PYTHON=$(PYTHON) -DMOREAU_UNITY_BUILD=ON
 
-.PHONY: all deps build python test test-build test-release sanitize-build test-asan test-clients test-fuzz fuzz \
+.PHONY: all deps build python test test-build test-release sanitize-build test-asan test-clients crowds-venv test-fuzz fuzz \
         fuzz-build demo abm-results fields-results bench format clean
 
 all: build
@@ -98,18 +98,38 @@ test-asan: sanitize-build
 CLIENTS_VENV ?= build/clients-venv
 CLIENTS_PINS := tests/clients/requirements.txt
 
+# $(call make-venv,DIR,PINS,MESSAGE): DIR made afresh from the pins, stamped DIR/installed; when
+# pip fails, DIR is removed and MESSAGE printed.
+define make-venv
+	@rm -rf $(1)
+	@if $(PYTHON) -m venv $(1) && $(1)/bin/pip install -q \
+	  --disable-pip-version-check --retries 1 --timeout 30 -r $(2); then touch $(1)/installed; \
+	else rm -rf $(1); echo "$(3)"; fi
+endef
+
 $(CLIENTS_VENV)/installed: $(CLIENTS_PINS)
-	@rm -rf $(CLIENTS_VENV)
-	@if $(PYTHON) -m venv $(CLIENTS_VENV) && $(CLIENTS_VENV)/bin/pip install -q \
-	  --disable-pip-version-check --retries 1 --timeout 30 -r $(CLIENTS_PINS); then touch $@; \
-	else rm -rf $(CLIENTS_VENV); \
-	  echo "test-clients: $(CLIENTS_VENV) not made (PyPI unreachable?): the C3D reader tests skip"; fi
+	$(call make-venv,$(CLIENTS_VENV),$(CLIENTS_PINS),test-clients: $(CLIENTS_VENV) not made \
+	  (PyPI unreachable?): the C3D reader tests skip)
+
+# JuPedSim and PedPy (PyPI only) for the side-by-side comparison of the collision-free speed model
+# (scripts/crowd_jupedsim.py, docs/crowds.md) and its client test: CROWDS_VENV, made like
+# CLIENTS_VENV from the pins of tests/crowds/requirements.txt (benchmark- and test-only); when it
+# cannot be made the test skips, saying so. `make crowds-venv` makes it alone.
+CROWDS_VENV ?= build/crowds-venv
+CROWDS_PINS := tests/crowds/requirements.txt
+
+$(CROWDS_VENV)/installed: $(CROWDS_PINS)
+	$(call make-venv,$(CROWDS_VENV),$(CROWDS_PINS),crowds-venv: $(CROWDS_VENV) not made \
+	  (PyPI unreachable?): the JuPedSim comparison skips)
+
+crowds-venv: $(CROWDS_VENV)/installed
 
 define run-clients
 	@MOREAU_CLI=$(MOREAU) MOREAU_TESTS=$(BUILD)/moreau_tests MOREAU_ROOT=$(CURDIR) \
-	  MOREAU_CLIENTS_VENV=$(CLIENTS_VENV) $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
+	  MOREAU_CLIENTS_VENV=$(CLIENTS_VENV) MOREAU_CROWDS_VENV=$(CROWDS_VENV) \
+	  $(PYTHON) -m pytest -q -p no:cacheprovider tests/clients
 endef
-test-clients: test-build $(CLIENTS_VENV)/installed
+test-clients: test-build $(CLIENTS_VENV)/installed $(CROWDS_VENV)/installed
 	$(run-clients)
 
 # libFuzzer targets of the scenario, sweep, gap-list and C3D readers (fuzz/, in the sanitizer build): `make fuzz`

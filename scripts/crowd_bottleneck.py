@@ -2,16 +2,15 @@
 """Bottleneck flow of the collision-free speed model against the door width (docs/crowds.md).
 
 N = 150 people (radius 0.15 m = l/2) start at random (the engine's random sequential addition,
-seeded) in the waiting area [0.3, 7] m x [0.3, 7.7] m of an 8 m x 8 m `[room]` and walk out
-through its door, of width b in the middle of the right wall (x = 8 m): desired speed
-v0 = 1.34 m/s, the model's default parameters (T = 1 s, l = 0.3 m, a = 5, D = 0.1 m; walls the
-same), the same for every width. evacuation.csv counts the passages (a person passes when their
-centre crosses the door line). The flow is taken from the steady part, between the 10th and the
-(N - 10)th passage: J = (N - 20) / (t_(N-10) - t_10), and the specific flow is J_s = J / b.
-A run in which N - 10 people are not out within 300 s counts as clogged (NaN). The CSV also
-records how often the engine's non-overlap projection acted (summary.json `projections`) and
-the largest overlap left after a step. The experiments'
-specific flows are docs/results/crowds/bottleneck_experiments.csv.
+seeded) in the waiting area [0.3, 7] m x [0.3, 7.7] m of an 8 m x 8 m `[room]` and walk out through
+its door, of width b in the middle of the right wall (x = 8 m): desired speed v0 = 1.34 m/s, the
+model's default parameters (T = 1 s, l = 0.3 m, a = 5, D = 0.1 m; walls a_w = 5, D_w = 0.02 m), the
+same for every width. evacuation.csv counts the passages (a person passes when their centre crosses
+the door line). The flow is taken from the steady part, between the 10th and the (N - 10)th passage:
+J = (N - 20) / (t_(N-10) - t_10), and the specific flow is J_s = J / b. A run in which N - 10 people
+are not out within 300 s counts as clogged (NaN). The CSV also records how often the engine's
+non-overlap projection acted (summary.json `projections`) and the largest overlap left after a step.
+The experiments' specific flows are docs/results/crowds/bottleneck_experiments.csv.
 
 usage: scripts/crowd_bottleneck.py MOREAU OUT_DIR [--widths B ...] [--seeds N] [--figure PNG]
                                    [--csv CSV]

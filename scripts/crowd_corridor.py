@@ -4,13 +4,13 @@
 For each global density rho (persons per square metre) N = rho L W people walk along a corridor of
 length L = 20 m (periodic) and width W = 3 m between two walls (`domain.box_walls`, the
 half-spaces y >= 0 and y <= W), desired direction +x, desired speed v0 = 1.34 m/s, the model's
-default parameters (T = 1 s, l = 0.3 m, a = 5, D = 0.1 m; walls the same). They start at random
-(the engine's random sequential addition, centres at least 0.2 m from the walls, seeded); the
-mean speed along the corridor over the second half of a 60 s run is the stationary speed, three
-seeds per density (the CSV also records how often the engine's non-overlap projection acted,
-summary.json `projections`). It is compared with Weidmann's (1993) speed-density relation
-(Kladek's formula) and with the unidirectional corridor experiments of Zhang et al. (2011),
-docs/results/crowds/corridor_experiments.csv.
+default parameters (T = 1 s, l = 0.3 m, a = 5, D = 0.1 m; walls a_w = 5, D_w = 0.02 m). They
+start at random (the engine's random sequential addition, centres at least 0.2 m from the walls,
+seeded); the mean speed along the corridor over the second half of a 60 s run is the stationary
+speed, three seeds per density (the CSV also records how often the engine's non-overlap
+projection acted, summary.json `projections`). It is compared with Weidmann's (1993)
+speed-density relation (Kladek's formula) and with the unidirectional corridor experiments of
+Zhang et al. (2011), docs/results/crowds/corridor_experiments.csv.
 
 usage: scripts/crowd_corridor.py MOREAU OUT_DIR [--figure PNG] [--csv CSV] [--densities RHO ...]
 """

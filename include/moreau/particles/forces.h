@@ -103,12 +103,14 @@ struct SelfPropulsion {
 // itself keeps people at least ℓ apart along their path; the engine's projection still enforces
 // ‖x_i − x_j‖ ≥ r_i + r_j (the radii are the model's, not ℓ).
 struct CollisionFreeSpeed {
-  double time_gap = 1.0;              // T > 0 (time)
-  double length = 0.3;                // ℓ > 0 (length): the body diameter
-  double repulsion = 5.0;             // a ≥ 0: the neighbours' repulsion strength
-  double repulsion_range = 0.1;       // D > 0 (length)
-  double wall_repulsion = 5.0;        // a_w ≥ 0: the walls' and segments' repulsion strength
-  double wall_repulsion_range = 0.1;  // D_w > 0 (length)
+  double time_gap = 1.0;         // T > 0 (time)
+  double length = 0.3;           // ℓ > 0 (length): the body diameter
+  double repulsion = 5.0;        // a ≥ 0: the neighbours' repulsion strength
+  double repulsion_range = 0.1;  // D > 0 (length)
+  // The wall term is not in the paper; a_w and D_w are those of its authors' codes, jpscore's
+  // model "Tordeux2015" and JuPedSim's CollisionFreeSpeedModel (≥ 1.0), which both use 5, 0.02 m.
+  double wall_repulsion = 5.0;         // a_w ≥ 0: the walls' and segments' repulsion strength
+  double wall_repulsion_range = 0.02;  // D_w > 0 (length)
 
   // time_gap, length, repulsion, repulsion_range, wall_repulsion, wall_repulsion_range.
   static const FieldList<CollisionFreeSpeed>& Fields();
