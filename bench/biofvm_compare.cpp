@@ -18,8 +18,7 @@
 namespace {
 
 double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace
@@ -83,9 +82,10 @@ int main(int argc, char** argv) {
   };
   const double per = 1e9 / voxels / substrates;
   const double b = median(biofvm), f = median(moreau_step);
-  std::printf("threads,substrates,biofvm_ns_per_voxel_substrate,moreau_ns_per_voxel_substrate,"
-              "biofvm_over_moreau\n%d,%d,%.3f,%.3f,%.2f\n",
-              threads, substrates, b * per, f * per, b / f);
+  std::printf(
+      "threads,substrates,biofvm_ns_per_voxel_substrate,moreau_ns_per_voxel_substrate,"
+      "biofvm_over_moreau\n%d,%d,%.3f,%.3f,%.2f\n",
+      threads, substrates, b * per, f * per, b / f);
   // The two solve the same scheme: the fields agree to round-off after the same steps.
   double worst = 0.0;
   for (int v = 0; v < voxels; v += 997) {

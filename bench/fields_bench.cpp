@@ -238,8 +238,7 @@ void FieldPart(moreau::particles::Population& colony, FieldSet& fields,
       },
       &t->wall[kDeposit], &t->cpu[kDeposit]);
   Timed([&] { fields.Step(dt); }, &t->wall[kFieldStep], &t->cpu[kFieldStep]);
-  Timed([&] { fields.Sample(0, x, voxel, value, gradient); }, &t->wall[kSample],
-        &t->cpu[kSample]);
+  Timed([&] { fields.Sample(0, x, voxel, value, gradient); }, &t->wall[kSample], &t->cpu[kSample]);
   t->cpu[kField] += CpuSeconds() - c;
   t->wall[kField] += WallSeconds() - w;
 }
@@ -285,7 +284,8 @@ void BM_FieldAgainstAgents(benchmark::State& state) {
   const double r = static_cast<double>(rounds);
   const double steps = r * kColonyInterval;
   const double agents_step = t.wall[kAgents] / steps, agents_cpu = t.cpu[kAgents] / steps;
-  const double engine_step = (a1.engine.stats.total_seconds - a0.engine.stats.total_seconds) / steps;
+  const double engine_step =
+      (a1.engine.stats.total_seconds - a0.engine.stats.total_seconds) / steps;
   state.counters["agents_step_ms"] = 1e3 * agents_step;
   state.counters["agents_cpu_ms"] = 1e3 * agents_cpu;
   state.counters["engine_step_ms"] = 1e3 * engine_step;

@@ -7,9 +7,9 @@
 
 #include <fmt/format.h>
 
+#include "fields/team.h"
 #include "moreau/common/error.h"
 #include "moreau/fields/field_set.h"
-#include "fields/team.h"
 
 namespace moreau::fields {
 namespace {
@@ -247,7 +247,8 @@ void FieldSet::Sample(int s, std::span<const double> positions, Interpolation in
     for (std::size_t a = 0; a < k; ++a) {
       double g = 0.0;
       for (int q = 0; q < st.size; ++q) {
-        g += st.weight[q] * Derivative(lattice, c, st.index[q], st.along[q][a], static_cast<int>(a));
+        g +=
+            st.weight[q] * Derivative(lattice, c, st.index[q], st.along[q][a], static_cast<int>(a));
       }
       gradient[k * i + a] = g;
     }

@@ -21,7 +21,8 @@
 #include "moreau/fields/field_set.h"
 
 // GCC on x86-64: an AVX2 copy of the strided solves, chosen at run time (as the normals' loop in
-// src/common/random.cpp). Floating-point contraction is off, so no copy fuses a multiply and an add.
+// src/common/random.cpp). Floating-point contraction is off, so no copy fuses a multiply and an
+// add.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define MOREAU_FIELDS_X86_COPIES 1
 #else
@@ -305,8 +306,7 @@ void FieldSet::SolveZLines(int s) {
   const int threads = internal::TeamSize(threads_, plane * nz);
   // The z lines of a block of consecutive (x, y) columns side by side: `width` contiguous values
   // of each plane.
-  const std::int64_t width =
-      std::min(plane, std::max<std::int64_t>(kBlockDoubles / nz / 8 * 8, 8));
+  const std::int64_t width = std::min(plane, std::max<std::int64_t>(kBlockDoubles / nz / 8 * 8, 8));
   const std::int64_t blocks = (plane + width - 1) / width;
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
   for (std::int64_t b = 0; b < blocks; ++b) {

@@ -151,8 +151,8 @@ TEST(FieldInterpolation, DepositHasTheSameBitsOnOneTwoAndThreeThreads) {
     for (int threads : {1, 2, 3}) {
       FieldSet fields(grid, {HalfPeriodic()}, threads);
       fields.Deposit(0, x, volume, secretion, saturation, uptake, amount, interpolation);
-      for (std::span<double> t : {fields.secretion(0), fields.secretion_target(0),
-                                  fields.uptake(0), fields.source(0)}) {
+      for (std::span<double> t :
+           {fields.secretion(0), fields.secretion_target(0), fields.uptake(0), fields.source(0)}) {
         terms.emplace_back(t.begin(), t.end());
       }
     }
