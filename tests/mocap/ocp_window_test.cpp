@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 #include "mocap/io_test_util.h"
@@ -19,6 +20,22 @@
 
 namespace moreau::mocap {
 namespace {
+
+// The fill the optimal control starts from: the candidates' weighted average, no control.
+Recording PriorFill(const Recording& in) {
+  GapFillOptions prior;
+  prior.method = GapFillMethod::kOcp;
+  prior.ocp.optimal_control = false;
+  Recording base;
+  FillGaps(in, FindGaps(in), prior, &base);
+  return base;
+}
+
+// The index of the marker called `label` (markers() when there is none).
+int MarkerIndex(const Recording& in, const std::string& label) {
+  return static_cast<int>(std::find(in.labels().begin(), in.labels().end(), label) -
+                          in.labels().begin());
+}
 
 // ‖F‖_∞ of the window's first iterate, on the problem it is made for (s = 1, γ = gamma_start).
 double FirstResidual(const internal::OcpWindowProblem& p, Eigen::VectorXd* residual = nullptr) {
@@ -74,17 +91,10 @@ TEST(MocapOcpWindow, RealWindowsStartFromThePriorAndConverge) {
   // Eb015pr.c3d: four markers hidden together from frame 0 (the first iterate's residual was
   // 9.223e18 = 2⁶³), and one marker alone in the middle (1.1e43 before the retry).
   const Recording in = ReadRecording(testing::MocapData("Eb015pr.c3d"));
-  GapFillOptions prior;
-  prior.method = GapFillMethod::kOcp;
-  prior.ocp.optimal_control = false;
-  Recording base;
-  FillGaps(in, FindGaps(in), prior, &base);
+  const Recording base = PriorFill(in);
   const OcpFillOptions o;
   const MarkerNetwork net = BuildMarkerNetwork(in, o.network);
-  auto marker = [&](const std::string& label) {
-    return static_cast<int>(std::find(in.labels().begin(), in.labels().end(), label) -
-                            in.labels().begin());
-  };
+  auto marker = [&](const std::string& label) { return MarkerIndex(in, label); };
   const internal::OcpWindow windows[] = {
       {0, 51, {marker("LFT1"), marker("LTH1"), marker("PV1"), marker("PV3")}},
       {338, 359, {marker("PV2")}}};
@@ -186,17 +196,12 @@ TEST(MocapOcpWindow, TheHandHiddenAtTheTakesEndConvergesWithItsPriorWeightedLike
   Recording in = truth;
   std::vector<int> hand;
   for (const char* label : {"LWRA", "LWRB", "LPALA1"}) {
-    hand.push_back(static_cast<int>(std::find(in.labels().begin(), in.labels().end(), label) -
-                                    in.labels().begin()));
+    hand.push_back(MarkerIndex(in, label));
     ASSERT_LT(hand.back(), in.markers());
     testing::Hide(in, hand.back(), 657, 669);
   }
   std::sort(hand.begin(), hand.end());
-  GapFillOptions prior;
-  prior.method = GapFillMethod::kOcp;
-  prior.ocp.optimal_control = false;
-  Recording base;
-  FillGaps(in, FindGaps(in), prior, &base);
+  const Recording base = PriorFill(in);
   const OcpFillOptions o;
   const MarkerNetwork net = BuildMarkerNetwork(in, o.network);
   const internal::OcpWindow w{654, 669, hand};
