@@ -278,7 +278,7 @@ def test_the_speed_table_is_the_committed_timing():
         for cell, column in zip(cells[1:4], ("moreau_2threads_s", "moreau_1thread_s",
                                              "jupedsim_s")):
             assert [float(c) for c in cell.split(",")] == [
-                round(float(r[column]), 1) for r in mine], (cells, column)
+                round(float(r[column]), 2) for r in mine], (cells, column)
         for cell, column in zip(cells[4:6], ("moreau_2threads_s", "moreau_1thread_s"),
                                 strict=True):
             ratios = sorted(float(r["jupedsim_s"]) / float(r[column]) for r in mine)
