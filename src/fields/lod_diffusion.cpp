@@ -36,6 +36,13 @@
 namespace moreau::fields {
 namespace {
 
+#if MOREAU_FIELDS_X86_COPIES
+bool HasAvx2() {
+  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
+  return avx2;
+}
+#endif
+
 constexpr int kLinesTogether = 8;
 // Doubles in one block of columns of a y or z sweep (256 KiB).
 constexpr std::int64_t kBlockDoubles = 32768;
@@ -105,8 +112,7 @@ __attribute__((target("avx2"))) void StridedLinesAvx2(const internal::LineSolve&
 void SolveStridedLines(const internal::LineSolve& f, double* c, std::int64_t n, std::int64_t stride,
                        std::int64_t width) {
 #if MOREAU_FIELDS_X86_COPIES
-  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
-  if (avx2) {
+  if (HasAvx2()) {
     StridedLinesAvx2(f, c, n, stride, width);
     return;
   }
@@ -160,8 +166,7 @@ __attribute__((target("avx2"))) void TransposeAvx2(const double* from, std::int6
 
 void Transpose(const double* from, std::int64_t rows, std::int64_t cols, double* to) {
 #if MOREAU_FIELDS_X86_COPIES
-  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
-  if (avx2) {
+  if (HasAvx2()) {
     TransposeAvx2(from, rows, cols, to);
     return;
   }
