@@ -14,13 +14,10 @@ BOTTLENECK = ROOT / "examples/crowds/bottleneck.toml"
 
 
 def run(tmp_path, name, scenario, *sets):
-    out = tmp_path / name
-    args = ["run", scenario, "--out", out]
-    for s in sets:
-        args += ["--set", s]
-    r = run_cli(*args)
+    """`moreau run SCENARIO` into tmp_path/name with `--set` for each of sets."""
+    r = run_cli("run", scenario, "--out", tmp_path / name, *(a for s in sets for a in ("--set", s)))
     assert r.returncode == 0, r.stderr
-    return out
+    return tmp_path / name
 
 
 def out_count(out):
