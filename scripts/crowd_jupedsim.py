@@ -195,14 +195,15 @@ def jupedsim_run(geometry, exit_area, positions, duration, sqlite=None, steer=No
 
 
 def door_steer(b):
-    """moreau's desired direction in the room (Room::WalkToTheDoor) as a target: the nearest
-    point of the door for someone beside it, straight on (+x) in front of it and past it."""
-    lo, hi = (ROOM - b) / 2, (ROOM + b) / 2
+    """moreau's desired direction in the room (Room::WalkToTheDoor with the clearance l/2) as a
+    target: the nearest point of the door's opening shrunk by l/2 at each post for someone
+    beside it, straight on (+x) in front of it and past it."""
+    lo, hi = (ROOM - b) / 2 + LENGTH / 2, (ROOM + b) / 2 - LENGTH / 2
 
     def steer(x, y):
         if x >= ROOM or lo <= y <= hi:
             return (min(x + 1.0, LEAVE + 0.4), y)
-        return (ROOM, min(max(y, lo + 1e-6), hi - 1e-6))
+        return (ROOM, min(max(y, lo), hi))
     return steer
 
 

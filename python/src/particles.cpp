@@ -166,7 +166,7 @@ void BindRoomAndForces(py::module_& m) {
       .def_readwrite("height", &Room::height)
       .def_readwrite("door_width", &Room::door_width)
       .def("walls", &Room::Walls)
-      .def("walk_to_the_door", &Room::WalkToTheDoor, py::arg("speed"));
+      .def("walk_to_the_door", &Room::WalkToTheDoor, py::arg("speed"), py::arg("clearance") = 0.0);
   m.def(
       "add_room", [](const Room& room, ParticleModel& model) { AddRoom(room, &model); },
       py::arg("room"), py::arg("model"), "Appends the room's walls to model.segments.");

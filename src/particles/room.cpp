@@ -1,5 +1,6 @@
 #include "moreau/particles/room.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -45,11 +46,18 @@ std::vector<SegmentObstacle> Room::Walls() const {
   return walls;
 }
 
-SelfPropulsion Room::WalkToTheDoor(double speed) const {
+SelfPropulsion Room::WalkToTheDoor(double speed, double clearance) const {
+  if (!(clearance >= 0.0) || !std::isfinite(clearance)) {
+    throw InputError(
+        fmt::format("room: the door's clearance must be finite and ≥ 0 (got {})", clearance));
+  }
+  // The opening a body's centre can pass through: each post's end moved in by the clearance,
+  // or the door's middle when the door is narrower than twice the clearance.
+  const double c = std::min(clearance, 0.5 * door_width);
   SelfPropulsion p;
   p.speed = speed;
-  p.target = {width, door_lo(), 0.0};
-  p.target_end = Vec3{width, door_hi(), 0.0};
+  p.target = {width, door_lo() + c, 0.0};
+  p.target_end = Vec3{width, door_hi() - c, 0.0};
   p.exit_direction = Vec3{1.0, 0.0, 0.0};
   return p;
 }

@@ -187,6 +187,10 @@ def test_room_and_evacuation():
     count = particles.EvacuationCount(room, 1)
     e.run(5.0, observer=lambda engine: count.update(engine.positions()))
     assert count.out == 1
+    # The door y ∈ [1.5, 2.5] shrunk by the clearance at each post.
+    walk = room.walk_to_the_door(1.0, clearance=0.2)
+    assert (walk.target[1], walk.target_end[1]) == (1.7, 2.3)
+    assert room.walk_to_the_door(1.0, 0.6).target[1] == 2.0  # narrower than 2 clearances
 
 
 # A periodic 3D layer with gravity and attraction: the same run in the file and in Python.

@@ -94,7 +94,9 @@ particles::Forces ParticleScenario::MakeForces() const {
   if (in.propulsion_speed || room || route) {
     const double speed = in.propulsion_speed.value_or(1.0);
     if (room) {
-      f.propulsion = room->WalkToTheDoor(speed);
+      // The collision-free model steers at the door shrunk by its body radius ℓ/2 (room.h).
+      const bool walk = in.pedestrian_model == "collision_free";
+      f.propulsion = room->WalkToTheDoor(speed, walk ? 0.5 * in.collision_free.length : 0.0);
     } else if (route) {
       particles::SelfPropulsion p;
       p.speed = speed;

@@ -34,9 +34,14 @@ struct Room {
   // The five wall segments, in this order: bottom, top, left, right below the door, right above
   // the door; with a passage, then its lower and its upper wall.
   std::vector<SegmentObstacle> Walls() const;
-  // Walking at `speed` toward the nearest point of the door; once through it (x > width), along
-  // +e_0, away from the room.
-  SelfPropulsion WalkToTheDoor(double speed) const;
+  // Walking at `speed` toward the nearest point of the door's opening shrunk by `clearance` at
+  // each post, y ∈ [door_lo + clearance, door_hi − clearance] (the door's middle when the door
+  // is narrower than 2 clearance); once through it (x > width), along +e_0, away from the room.
+  // With a clearance of a body's radius, someone beside the door heads for a point their body
+  // passes, never at a post's end: a wall's repulsion or contact there, exactly opposite to the
+  // desired direction, would hold them still. Throws InputError for a clearance < 0 or not
+  // finite.
+  SelfPropulsion WalkToTheDoor(double speed, double clearance = 0.0) const;
 };
 
 // Validates the room and appends its walls to model->segments. Throws InputError for a model
