@@ -183,6 +183,8 @@ class Prediction {
   std::vector<double> headway_;       // per slot, s_i; collision-free only
   // The walls and segments binned for the collision-free repulsion, built again when they change.
   std::shared_ptr<const CollisionFreeWalls> walls_;
+  BlockProgress repulsion_progress_;  // the collision-free pair passes' block schedules
+  BlockProgress headway_progress_;
   std::vector<double> scratch_;
 };
 
