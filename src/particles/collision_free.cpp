@@ -130,22 +130,35 @@ struct CollisionFreePairs {
   const CollisionFreeSpeed& m;
   double range2;
 
+  // In batches of in-range pairs: their distances, then their exponentials (independent calls
+  // the processor overlaps), then the additions in the pairs' order.
   void Repulsion(int begin, int end) const {
+    constexpr int kBatch = 8;
     const int* row_start = list.row_start();
     const int* nbr = list.neighbours();
     for (int s = begin; s < end; ++s) {
       double ws[2] = {w[2 * s], w[2 * s + 1]};
-      for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
-        const int t = nbr[p];
-        double u[2];  // x_s − x_t
-        list.Displacement<2, P>(x, s, t, p, u);
-        const double r2 = SquaredNorm<2>(u);
-        if (!(r2 < range2) || r2 == 0.0) continue;
-        const double r = std::sqrt(r2);
-        const double g = m.repulsion * std::exp((m.length - r) / m.repulsion_range) / r;
-        for (int a = 0; a < 2; ++a) {
-          ws[a] += g * u[a];
-          w[2 * t + a] -= g * u[a];
+      for (std::int64_t p = row_start[s]; p < row_start[s + 1];) {
+        int tb[kBatch];
+        double ub[kBatch][2], rb[kBatch], eb[kBatch];
+        int nb = 0;
+        for (; p < row_start[s + 1] && nb < kBatch; ++p) {
+          const int t = nbr[p];
+          list.Displacement<2, P>(x, s, t, p, ub[nb]);  // x_s − x_t
+          const double r2 = SquaredNorm<2>(ub[nb]);
+          if (!(r2 < range2) || r2 == 0.0) continue;
+          tb[nb] = t;
+          rb[nb] = std::sqrt(r2);
+          eb[nb] = (m.length - rb[nb]) / m.repulsion_range;
+          ++nb;
+        }
+        for (int b = 0; b < nb; ++b) eb[b] = std::exp(eb[b]);
+        for (int b = 0; b < nb; ++b) {
+          const double g = m.repulsion * eb[b] / rb[b];
+          for (int a = 0; a < 2; ++a) {
+            ws[a] += g * ub[b][a];
+            w[2 * tb[b] + a] -= g * ub[b][a];
+          }
         }
       }
       w[2 * s] = ws[0];
