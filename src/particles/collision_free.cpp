@@ -15,9 +15,9 @@ namespace moreau::particles::internal {
 // exp(z) is +0 for every z < −745.2 (the smallest subnormal is e^−744.4): walls and segments
 // farther than ℓ/2 + kZeroExponent D_w contribute exactly +0 and are skipped (the same bits).
 constexpr double kZeroExponent = 746.0;
-// The per-person pass asks for the routing field's nodes of the person kAhead slots on: the
+// The per-person pass asks for the routing field's nodes of the person this many slots on: the
 // reads of Direction (scattered over a field of tens of MB) then mostly hit the cache.
-constexpr int kAhead = 8;
+constexpr int kRouteAhead = 8;
 
 // The walls' and segments' repulsion Σ_w a_w exp((ℓ/2 − d_iw) / D_w) n_iw (2D), the segments
 // binned on a grid (segment_grid.h) with the cut-off ℓ/2 + kZeroExponent D_w: a person looks
@@ -211,8 +211,8 @@ void Prediction::CollisionFreeWalkImpl(const StepContext& context) {
   const DistanceField* route = d.route;
   // The direction e_s from the repulsions in w (then complete), the walls' and e0.
   const auto direct = [&](int s) {
-    if (route != nullptr && !wrap && s + kAhead < n_) {
-      const double* node = route->DirectionNodes(x + K * (s + kAhead));
+    if (route != nullptr && !wrap && s + kRouteAhead < n_) {
+      const double* node = route->DirectionNodes(x + K * (s + kRouteAhead));
       const std::ptrdiff_t row = route->DirectionRowStride();
       __builtin_prefetch(node);
       __builtin_prefetch(node + 3);
