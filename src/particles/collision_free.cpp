@@ -15,6 +15,9 @@ namespace moreau::particles::internal {
 // exp(z) is +0 for every z < −745.2 (the smallest subnormal is e^−744.4): walls and segments
 // farther than ℓ/2 + kZeroExponent D_w contribute exactly +0 and are skipped (the same bits).
 constexpr double kZeroExponent = 746.0;
+// The per-person pass asks for the routing field's nodes of the person this many slots on: the
+// reads of Direction (scattered over a field of tens of MB) then mostly hit the cache.
+constexpr int kRouteAhead = 8;
 
 // The walls' and segments' repulsion Σ_w a_w exp((ℓ/2 − d_iw) / D_w) n_iw (2D), the segments
 // binned on a grid (segment_grid.h) with the cut-off ℓ/2 + kZeroExponent D_w: a person looks
@@ -106,11 +109,85 @@ namespace {
 
 // Whether a neighbour at displacement u = x_j − x_i lies in the path of a person walking along e
 // (2D): ahead, ⟨e, u⟩ > 0, and within the body length ℓ of the line of walking.
+// Both tests are made (& instead of &&): the pass over pairs then has no branch on them.
 inline bool InPath(const double* e, const double* u, double length) {
-  return e[0] * u[0] + e[1] * u[1] > 0.0 && std::abs(e[0] * u[1] - e[1] * u[0]) < length;
+  return (e[0] * u[0] + e[1] * u[1] > 0.0) & (std::abs(e[0] * u[1] - e[1] * u[0]) < length);
 }
 
+constexpr double kNoHeadway = std::numeric_limits<double>::infinity();
+
 }  // namespace
+
+// The two passes over the list's pairs closer than R (2D), rows [begin, end): the repulsions
+// into w, and later the squared headways along the unit directions then in w. Slot s's own
+// entries are kept in registers over its row (t > s in it), in the order of the additions.
+template <bool P>
+struct CollisionFreePairs {
+  const NeighbourList& list;
+  const double* x;
+  double* w;
+  double* headway2;
+  const CollisionFreeSpeed& m;
+  double range2;
+
+  // In batches of in-range pairs: their distances, then their exponentials (independent calls
+  // the processor overlaps), then the additions in the pairs' order.
+  void Repulsion(int begin, int end) const {
+    constexpr int kBatch = 8;
+    const int* row_start = list.row_start();
+    const int* nbr = list.neighbours();
+    for (int s = begin; s < end; ++s) {
+      double ws[2] = {w[2 * s], w[2 * s + 1]};
+      for (std::int64_t p = row_start[s]; p < row_start[s + 1];) {
+        int tb[kBatch];
+        double ub[kBatch][2], rb[kBatch], eb[kBatch];
+        int nb = 0;
+        for (; p < row_start[s + 1] && nb < kBatch; ++p) {
+          const int t = nbr[p];
+          list.Displacement<2, P>(x, s, t, p, ub[nb]);  // x_s − x_t
+          const double r2 = SquaredNorm<2>(ub[nb]);
+          if (!(r2 < range2) || r2 == 0.0) continue;
+          tb[nb] = t;
+          rb[nb] = std::sqrt(r2);
+          eb[nb] = (m.length - rb[nb]) / m.repulsion_range;
+          ++nb;
+        }
+        for (int b = 0; b < nb; ++b) eb[b] = std::exp(eb[b]);
+        for (int b = 0; b < nb; ++b) {
+          const double g = m.repulsion * eb[b] / rb[b];
+          for (int a = 0; a < 2; ++a) {
+            ws[a] += g * ub[b][a];
+            w[2 * tb[b] + a] -= g * ub[b][a];
+          }
+        }
+      }
+      w[2 * s] = ws[0];
+      w[2 * s + 1] = ws[1];
+    }
+  }
+
+  // Squared: the square root of their minimum is the minimum of the roots. No branch per pair.
+  void Headways(int begin, int end) const {
+    const int* row_start = list.row_start();
+    const int* nbr = list.neighbours();
+    for (int s = begin; s < end; ++s) {
+      const double es[2] = {w[2 * s], w[2 * s + 1]};
+      double hs = headway2[s];
+      for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
+        const int t = nbr[p];
+        double u[2];  // x_s − x_t
+        list.Displacement<2, P>(x, s, t, p, u);
+        const double r2 = SquaredNorm<2>(u);
+        const bool near = (r2 < range2) & (r2 != 0.0);
+        const double ahead[2] = {-u[0], -u[1]};  // x_t − x_s
+        hs = std::min(hs, near & InPath(es, ahead, m.length) ? r2 : kNoHeadway);
+        const bool behind = near & InPath(w + 2 * t, u, m.length);  // s in t's path
+        headway2[t] = std::min(headway2[t], behind ? r2 : kNoHeadway);
+      }
+      headway2[s] = hs;
+    }
+  }
+};
 
 template <int K, bool P>
 void Prediction::CollisionFreeWalkImpl(const StepContext& context) {
@@ -122,54 +199,26 @@ void Prediction::CollisionFreeWalkImpl(const StepContext& context) {
   const DriftParameters& d = parameters_;
   const CollisionFreeSpeed& m = d.walk;
   const double range = CollisionFreeRange(m, d.v0 + 3.0 * d.speed_sd);
-  const double range2 = range * range;
-  const NeighbourList& list = context.list;
-  const int* row_start = list.row_start();
-  const int* nbr = list.neighbours();
   double* w = walk_.data();
-  double* headway = headway_.data();
+  double* headway2 = headway_.data();  // squared until the speeds
   std::fill(walk_.begin(), walk_.end(), 0.0);
   if (walls_ == nullptr || !walls_->Matches(m, context.model)) {
     walls_ = std::make_shared<const CollisionFreeWalls>(m, context.model);
   }
   const CollisionFreeWalls& walls = *walls_;
-  // Over the list's pairs closer than R: the repulsion (pass 0), or the headways (pass 1).
-  int pass = 0;
-  auto rows = [&](int begin, int end) {
-    for (int s = begin; s < end; ++s) {
-      for (std::int64_t p = row_start[s]; p < row_start[s + 1]; ++p) {
-        const int t = nbr[p];
-        double u[K];  // x_s − x_t
-        list.Displacement<K, P>(x, s, t, p, u);
-        const double r2 = SquaredNorm<K>(u);
-        if (!(r2 < range2) || r2 == 0.0) continue;
-        const double r = std::sqrt(r2);
-        if (pass == 0) {
-          const double g = m.repulsion * std::exp((m.length - r) / m.repulsion_range) / r;
-          for (int a = 0; a < K; ++a) {
-            w[K * s + a] += g * u[a];
-            w[K * t + a] -= g * u[a];
-          }
-          continue;
-        }
-        const double ahead[K] = {-u[0], -u[1]};  // x_t − x_s
-        if (InPath(w + K * s, ahead, m.length)) headway[s] = std::min(headway[s], r);
-        if (InPath(w + K * t, u, m.length)) headway[t] = std::min(headway[t], r);
-      }
-    }
-  };
-  const auto over_pairs = [&] {
-    if (context.lexicographic) {
-      rows(0, n_);
-      return;
-    }
-#pragma omp parallel num_threads(context.threads)
-    ForEachBlockByColour(context.colouring, context.cells, rows);
-  };
-  over_pairs();
+  const CollisionFreePairs<P> pairs{context.list, x, w, headway2, m, range * range};
   const bool wrap = box_.any;
-  ParallelFor(context.threads, 0, n_, [&](std::int64_t i) {
-    const auto s = static_cast<int>(i);
+  const DistanceField* route = d.route;
+  // The direction e_s from the repulsions in w (then complete), the walls' and e0.
+  const auto direct = [&](int s) {
+    if (route != nullptr && !wrap && s + kRouteAhead < n_) {
+      const double* node = route->DirectionNodes(x + K * (s + kRouteAhead));
+      const std::ptrdiff_t row = route->DirectionRowStride();
+      __builtin_prefetch(node);
+      __builtin_prefetch(node + 3);
+      __builtin_prefetch(node + row);
+      __builtin_prefetch(node + row + 3);
+    }
     double xw[K];
     for (int a = 0; a < K; ++a) {
       xw[a] = x[K * s + a];
@@ -182,15 +231,35 @@ void Prediction::CollisionFreeWalkImpl(const StepContext& context) {
     for (int a = 0; a < K; ++a) u[a] += e[a];
     const double norm = std::sqrt(SquaredNorm<K>(u));
     for (int a = 0; a < K; ++a) u[a] = norm > 0.0 ? u[a] / norm : 0.0;
-    headway[s] = std::numeric_limits<double>::infinity();
-  });
-  pass = 1;
-  over_pairs();
-  ParallelFor(context.threads, 0, n_, [&](std::int64_t i) {
-    const auto s = static_cast<int>(i);
+    headway2[s] = kNoHeadway;
+  };
+  const auto speed = [&](int s) {
     const double v0 = DesiredSpeed(seed_, key != nullptr ? key[s] : id[s], d.v0, d.speed_sd);
-    const double speed = CollisionFreeSpeedAt(m, v0, headway[s]);
-    for (int a = 0; a < K; ++a) w[K * s + a] *= speed;
+    const double v = CollisionFreeSpeedAt(m, v0, std::sqrt(headway2[s]));
+    for (int a = 0; a < K; ++a) w[K * s + a] *= v;
+  };
+  if (context.lexicographic) {
+    pairs.Repulsion(0, n_);
+    for (int s = 0; s < n_; ++s) direct(s);
+    pairs.Headways(0, n_);
+    for (int s = 0; s < n_; ++s) speed(s);
+    return;
+  }
+  // One team: the pair passes in the colouring's dependency order (the additions to a slot in
+  // the order of the colours, whatever the thread count), the per-person parts split evenly.
+  repulsion_progress_.Start(context.colouring.blocks());
+  headway_progress_.Start(context.colouring.blocks());
+  InTeam(context.threads, [&] {
+    ForEachBlockInDependencyOrder(context.colouring, context.cells, repulsion_progress_,
+                                  [&](int begin, int end) { pairs.Repulsion(begin, end); });
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (int s = 0; s < n_; ++s) direct(s);
+    ForEachBlockInDependencyOrder(context.colouring, context.cells, headway_progress_,
+                                  [&](int begin, int end) { pairs.Headways(begin, end); });
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (int s = 0; s < n_; ++s) speed(s);
   });
 }
 

@@ -119,9 +119,10 @@ class Prediction {
   bool measures_density() const { return parameters_.density; }
   bool walks_collision_free() const { return parameters_.collision_free; }
   // Each slot's velocity V_i(s_i) e_i of the collision-free speed model (forces.h) at the store's
-  // current positions: the repulsions over the list's pairs closer than R (by colour in
-  // parallel, or lexicographic on one thread), the walls', the directions, then the headways
-  // (a minimum, so no order matters) (collision_free.cpp).
+  // current positions: the repulsions over the list's pairs closer than R (the blocks in the
+  // colouring's dependency order in parallel, or lexicographic on one thread), the walls', the
+  // directions, then the headways (a minimum, so no order matters), in one team
+  // (collision_free.cpp).
   void CollisionFreeWalk(const StepContext& context);
   // Each slot's Weidmann factor φ(ρ_i) at the store's current positions, ρ_i counted over the
   // list's pairs closer than R (forces.h DensitySpeed): by colour in parallel, or
@@ -183,6 +184,8 @@ class Prediction {
   std::vector<double> headway_;       // per slot, s_i; collision-free only
   // The walls and segments binned for the collision-free repulsion, built again when they change.
   std::shared_ptr<const CollisionFreeWalls> walls_;
+  BlockProgress repulsion_progress_;  // the collision-free pair passes' block schedules
+  BlockProgress headway_progress_;
   std::vector<double> scratch_;
 };
 

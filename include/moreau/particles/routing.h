@@ -19,6 +19,7 @@
 // gets the outward normal of its nearest exit: a person past an exit keeps walking out.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -49,6 +50,17 @@ class DistanceField {
   // e0 at x = (x, y) into e (2 values, a unit vector, or zero where the interpolated directions
   // cancel).
   void Direction(const double* x, double* e) const;
+  // Where the node directions that Direction(x) reads start (for a prefetch a few people ahead;
+  // no effect on any result): 4 values from there and 4 from there + DirectionRowStride(). NaN
+  // coordinates count as 0. (A function that prefetches itself is pure to GCC 12, which then
+  // drops its calls.)
+  const double* DirectionNodes(const double* x) const {
+    const double fx = (x[0] - x0_) / h_, fy = (x[1] - y0_) / h_;
+    const int i = static_cast<int>(std::min(std::max(0.0, fx), nx_ - 2.0));
+    const int j = static_cast<int>(std::min(std::max(0.0, fy), ny_ - 2.0));
+    return dir_.data() + 2 * Index(i, j);
+  }
+  std::ptrdiff_t DirectionRowStride() const { return 2 * static_cast<std::ptrdiff_t>(nx_); }
 
   const CrowdGeometry& geometry() const { return geometry_; }
   int nx() const { return nx_; }
