@@ -2,19 +2,16 @@
 // solve per grid line with a factorisation shared by every line of the axis.
 //
 // Every line is solved by the same operations in the same order whatever its neighbours and the
-// thread that runs it, so the bits do not depend on the thread count. The lines of y and z are
-// solved many at once, a row of contiguous values at a time (the inner loop vectorises), in blocks
-// small enough to stay in cache between the elimination and the back substitution. In 3D a z
-// plane that fits in a core's cache is swept along x and then along y before the next plane, so x
-// and y cost one pass over memory together; z is a second pass. Its x lines are solved the same
-// way, side by side in a transposed copy of the plane (copying keeps the bits, and the solve
-// vectorises as y's does). Elsewhere the x lines are solved
-// kLinesTogether at a time (independent recurrences the processor overlaps, each line's running
-// value in a register). The sources are applied just before the x solve; a substrate whose sources
-// were never handed out for writing skips them.
+// thread that runs it, so the bits do not depend on the thread count. The x lines are contiguous
+// and solved kLinesTogether at a time (independent recurrences the processor overlaps, each
+// line's running value in a register); the lines of y and z are solved many at once, a row of
+// contiguous values at a time (the inner loop vectorises), in blocks small enough to stay in cache
+// between the elimination and the back substitution. In 3D a z plane that fits in a core's cache
+// is swept along x and then along y before the next plane, so x and y cost one pass over memory
+// together; z is a second pass. The sources are applied to a group of x lines just before its
+// solve; a substrate whose sources were never handed out for writing skips them.
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include <fmt/format.h>
 
@@ -28,20 +25,12 @@
 // add.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define MOREAU_FIELDS_X86_COPIES 1
-#include <immintrin.h>
 #else
 #define MOREAU_FIELDS_X86_COPIES 0
 #endif
 
 namespace moreau::fields {
 namespace {
-
-#if MOREAU_FIELDS_X86_COPIES
-bool HasAvx2() {
-  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
-  return avx2;
-}
-#endif
 
 constexpr int kLinesTogether = 8;
 // Doubles in one block of columns of a y or z sweep (256 KiB).
@@ -112,66 +101,13 @@ __attribute__((target("avx2"))) void StridedLinesAvx2(const internal::LineSolve&
 void SolveStridedLines(const internal::LineSolve& f, double* c, std::int64_t n, std::int64_t stride,
                        std::int64_t width) {
 #if MOREAU_FIELDS_X86_COPIES
-  if (HasAvx2()) {
+  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
+  if (avx2) {
     StridedLinesAvx2(f, c, n, stride, width);
     return;
   }
 #endif
   StridedLines(f, c, n, stride, width);
-}
-
-// to[x·rows + y] = from[y·cols + x]: the rows × cols values `from` transposed. Only copies, so
-// the values keep their bits.
-[[gnu::always_inline]] inline void TransposeTail(const double* from, std::int64_t rows,
-                                                 std::int64_t cols, std::int64_t first_row,
-                                                 std::int64_t first_col, double* to) {
-  for (std::int64_t y = 0; y < rows; ++y) {
-    for (std::int64_t x = y < first_row ? first_col : 0; x < cols; ++x) {
-      to[x * rows + y] = from[y * cols + x];
-    }
-  }
-}
-
-void TransposePortable(const double* from, std::int64_t rows, std::int64_t cols, double* to) {
-  TransposeTail(from, rows, cols, 0, 0, to);
-}
-
-#if MOREAU_FIELDS_X86_COPIES
-// Blocks of 4 × 4 through registers; the rows and columns beyond the last whole block one by one.
-__attribute__((target("avx2"))) void TransposeAvx2(const double* from, std::int64_t rows,
-                                                   std::int64_t cols, double* to) {
-  const std::int64_t whole_rows = rows / 4 * 4;
-  const std::int64_t whole_cols = cols / 4 * 4;
-  for (std::int64_t y = 0; y < whole_rows; y += 4) {
-    for (std::int64_t x = 0; x < whole_cols; x += 4) {
-      const double* f = from + y * cols + x;
-      const __m256d r0 = _mm256_loadu_pd(f);
-      const __m256d r1 = _mm256_loadu_pd(f + cols);
-      const __m256d r2 = _mm256_loadu_pd(f + 2 * cols);
-      const __m256d r3 = _mm256_loadu_pd(f + 3 * cols);
-      const __m256d t0 = _mm256_unpacklo_pd(r0, r1);  // r0[0] r1[0] r0[2] r1[2]
-      const __m256d t1 = _mm256_unpackhi_pd(r0, r1);  // r0[1] r1[1] r0[3] r1[3]
-      const __m256d t2 = _mm256_unpacklo_pd(r2, r3);
-      const __m256d t3 = _mm256_unpackhi_pd(r2, r3);
-      double* t = to + x * rows + y;
-      _mm256_storeu_pd(t, _mm256_permute2f128_pd(t0, t2, 0x20));
-      _mm256_storeu_pd(t + rows, _mm256_permute2f128_pd(t1, t3, 0x20));
-      _mm256_storeu_pd(t + 2 * rows, _mm256_permute2f128_pd(t0, t2, 0x31));
-      _mm256_storeu_pd(t + 3 * rows, _mm256_permute2f128_pd(t1, t3, 0x31));
-    }
-  }
-  TransposeTail(from, rows, cols, whole_rows, whole_cols, to);
-}
-#endif
-
-void Transpose(const double* from, std::int64_t rows, std::int64_t cols, double* to) {
-#if MOREAU_FIELDS_X86_COPIES
-  if (HasAvx2()) {
-    TransposeAvx2(from, rows, cols, to);
-    return;
-  }
-#endif
-  TransposePortable(from, rows, cols, to);
 }
 
 // The line solve of an axis of n voxels: diagonal 1 + Δt λ/k + 2r, r = D Δt / h², changed on the
@@ -318,24 +254,6 @@ void FieldSet::SolveXLinesOf(int s, std::int64_t first_line, std::int64_t lines)
   }
 }
 
-void FieldSet::SolveXLinesTransposed(int s, std::int64_t z, double* transposed) {
-  const std::array<int, 3> n = grid_.cells();
-  const std::int64_t nx = n[0];
-  const std::int64_t ny = n[1];
-  const auto u = static_cast<std::size_t>(s);
-  const std::int64_t begin = z * nx * ny;
-  double* c = values_[u].data() + begin;
-  if (sources_written_[u] != 0) {
-    ApplySources(line_solves_dt_, nx * ny, c, secretion_[u].data() + begin,
-                 secretion_target_[u].data() + begin, uptake_[u].data() + begin,
-                 source_[u].data() + begin);
-  }
-  const internal::LineSolve& f = line_solves_[3 * u];
-  Transpose(c, ny, nx, transposed);
-  SolveStridedLines(f, transposed, nx, ny, ny);
-  Transpose(transposed, nx, ny, c);
-}
-
 void FieldSet::SolveYLinesOf(int s, std::int64_t z, std::int64_t block) {
   const std::array<int, 3> n = grid_.cells();
   const std::int64_t nx = n[0];
@@ -356,14 +274,10 @@ void FieldSet::SolvePlanes(int s) {
   const int threads = internal::TeamSize(threads_, plane * n[2]);
   if (grid_.dimension == 3 && plane * static_cast<std::int64_t>(sizeof(double)) <= kPlaneBytes) {
     // One z plane at a time: its x lines, then its y lines while the plane is in cache.
-#pragma omp parallel num_threads(threads) if (threads > 1)
-    {
-      std::vector<double> transposed(static_cast<std::size_t>(plane));
-#pragma omp for schedule(static)
-      for (std::int64_t z = 0; z < n[2]; ++z) {
-        SolveXLinesTransposed(s, z, transposed.data());
-        SolveYLinesOf(s, z, -1);
-      }
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+    for (std::int64_t z = 0; z < n[2]; ++z) {
+      SolveXLinesOf(s, z * n[1], n[1]);
+      SolveYLinesOf(s, z, -1);
     }
     return;
   }

@@ -190,11 +190,9 @@ class FieldSet {
 
  private:
   void FactorLines(double dt);
-  // `lines` x lines from `first_line` (counted x fastest); the x lines of plane z solved side by
-  // side in `transposed` (room for a plane); the y lines of plane z, of its block of columns
-  // `block` or of all (−1); the x and y sweeps; the z sweep (lod_diffusion.cpp).
+  // `lines` x lines from `first_line` (counted x fastest); the y lines of plane z, of its block
+  // of columns `block` or of all (−1); the x and y sweeps; the z sweep (lod_diffusion.cpp).
   void SolveXLinesOf(int s, std::int64_t first_line, std::int64_t lines);
-  void SolveXLinesTransposed(int s, std::int64_t z, double* transposed);
   void SolveYLinesOf(int s, std::int64_t z, std::int64_t block);
   void SolvePlanes(int s);
   void SolveZLines(int s);
