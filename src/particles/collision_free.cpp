@@ -180,7 +180,7 @@ struct CollisionFreePairs {
         const double r2 = SquaredNorm<2>(u);
         const bool near = (r2 < range2) & (r2 != 0.0);
         const double ahead[2] = {-u[0], -u[1]};  // x_t − x_s
-        hs = std::min(hs, near & InPath(es, ahead, m.length) ? r2 : kNoHeadway);
+        hs = std::min(hs, (near & InPath(es, ahead, m.length)) ? r2 : kNoHeadway);
         const bool behind = near & InPath(w + 2 * t, u, m.length);  // s in t's path
         headway2[t] = std::min(headway2[t], behind ? r2 : kNoHeadway);
       }
