@@ -34,6 +34,7 @@
 
 #include "moreau/common/enum_names.h"
 #include "moreau/common/field_list.h"
+#include "moreau/common/random.h"
 #include "moreau/common/termination.h"
 
 namespace moreau::fields {
@@ -131,6 +132,13 @@ struct LineSolve {
   double periodic_corner = 0.0;
   double periodic_scale = 0.0;
 };
+
+// Solves `count` contiguous x lines of n values from c in place with the copy of the loops for
+// `set` (tests compare the copies, which give the same bits); kAvx2 and kAvx512 run the AVX2
+// copy, which solves groups of sixteen lines of at least four values and leaves other groups to
+// the portable one.
+void SolveXLinesOn(random_internal::InstructionSet set, const LineSolve& f, double* c,
+                   std::int64_t n, int count);
 
 }  // namespace internal
 
