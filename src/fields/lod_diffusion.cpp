@@ -13,6 +13,7 @@
 // just before its solve; a substrate whose sources were never handed out for writing skips them.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 
@@ -301,11 +302,15 @@ __attribute__((target("avx2"))) void SolveXLinesAvx2(const internal::LineSolve& 
   const double* inverse = f.inverse_pivot.data();
   const double* upper = f.upper.data();
   const std::int64_t whole = n / 4 * 4;
-  // The next group's 8 kVectorLines n bytes: 2 kVectorGroups cache lines per block of four.
-  const char* next = reinterpret_cast<const char*>(c + kVectorLines * n);
+  // The next group's 8 kVectorLines n bytes: 2 kVectorGroups cache lines per block of four. The
+  // addresses may lie past the grid's end (a prefetch never faults), so they are computed as
+  // integers.
+  const std::uintptr_t next = reinterpret_cast<std::uintptr_t>(c + (kVectorLines - 1) * n) +
+                              static_cast<std::uintptr_t>(n) * sizeof(double);
   const auto prefetch = [next](std::int64_t i) {
     for (int q = 0; q < 2 * kVectorGroups; ++q) {
-      __builtin_prefetch(next + i * kVectorLines * 8 + q * 64, 0, 3);
+      __builtin_prefetch(reinterpret_cast<const void*>(
+          next + static_cast<std::uintptr_t>(i * kVectorLines * 8 + q * 64)));
     }
   };
   __m256d carry[kVectorGroups];
