@@ -133,10 +133,10 @@ struct LineSolve {
   double periodic_scale = 0.0;
 };
 
-// Solves `count` contiguous x lines of n values from c in place with the copy of the loops for
-// `set` (tests compare the copies, which give the same bits); kAvx2 and kAvx512 run the AVX2
-// copy, which solves groups of sixteen lines of at least four values and leaves other groups to
-// the portable one.
+// Solves `count` contiguous x lines of n values from c in place (src/fields/line_solves.cpp) with
+// the copy of the loops for `set` (tests compare the copies, which give the same bits); kAvx2 and
+// kAvx512 run the AVX2 copy, which solves groups of sixteen lines of at least four values and
+// leaves other groups to the portable one.
 void SolveXLinesOn(random_internal::InstructionSet set, const LineSolve& f, double* c,
                    std::int64_t n, int count);
 

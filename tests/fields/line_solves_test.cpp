@@ -32,7 +32,7 @@ internal::LineSolve RandomLineSolve(std::int64_t n, bool periodic, std::mt19937_
   return f;
 }
 
-TEST(LodDiffusion, XLineCopiesGiveTheSameBits) {
+TEST(LineSolves, XLineCopiesGiveTheSameBits) {
   if (!random_internal::Supports(InstructionSet::kAvx2)) {
     GTEST_SKIP() << "this processor or build has no AVX2 copy";
   }
@@ -61,7 +61,7 @@ TEST(LodDiffusion, XLineCopiesGiveTheSameBits) {
 
 // A line solved alone (portable) and as one of a group of sixteen (the AVX2 copy where it runs)
 // gives the same bits: the solve of a line does not depend on its neighbours.
-TEST(LodDiffusion, XLineDoesNotDependOnItsGroup) {
+TEST(LineSolves, XLineDoesNotDependOnItsGroup) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> value(-1.0, 2.0);
   const std::int64_t n = 23;
