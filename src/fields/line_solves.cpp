@@ -273,7 +273,9 @@ void internal::SolveXLinesOn(random_internal::InstructionSet set, const LineSolv
                              std::int64_t n, int count) {
   static_assert(kXLinesTogether == kVectorLines);
 #if MOREAU_FIELDS_X86_COPIES
-  if (set != random_internal::InstructionSet::kPortable && count == kVectorLines && n >= 4) {
+  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
+  if (set != random_internal::InstructionSet::kPortable && avx2 && count == kVectorLines &&
+      n >= 4) {
     thread_local std::vector<double> scratch;
     if (scratch.size() < static_cast<std::size_t>(n * kVectorLines)) {
       scratch.resize(static_cast<std::size_t>(n * kVectorLines));

@@ -135,8 +135,8 @@ struct LineSolve {
 
 // Solves `count` contiguous x lines of n values from c in place (src/fields/line_solves.cpp) with
 // the copy of the loops for `set` (tests compare the copies, which give the same bits); kAvx2 and
-// kAvx512 run the AVX2 copy, which solves groups of sixteen lines of at least four values and
-// leaves other groups to the portable one.
+// kAvx512 run the AVX2 copy where the processor has it, which solves groups of sixteen lines of
+// at least four values and leaves other groups to the portable one.
 void SolveXLinesOn(random_internal::InstructionSet set, const LineSolve& f, double* c,
                    std::int64_t n, int count);
 
