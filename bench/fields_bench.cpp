@@ -1,8 +1,9 @@
 // Diffusing fields (docs/benchmarks.md, "Diffusing fields"): one Step of a substrate on 100³
 // voxels against a memory pass over the same values (c ← a c + b: one read and one write of every
 // voxel), on the same threads, timed in turns within one run; and 1, 2 and 4 substrates in turns,
-// to show the cost is linear in their number. And the field's part of a population's step against
-// the agents' part at 10^5 agents in 3D (BM_FieldAgainstAgents, below).
+// to show the cost is linear in their number; the x lines' two copies in turns (BM_XLineCopies).
+// And the field's part of a population's step against the agents' part at 10^5 agents in 3D
+// (BM_FieldAgainstAgents, below).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 
 #include "bench_main.h"
 #include "moreau/common/openmp_wait.h"
+#include "moreau/common/random.h"
 #include "moreau/fields/field_set.h"
 #include "moreau/particles/population.h"
 
@@ -123,6 +125,50 @@ BENCHMARK(BM_StepAgainstMemoryPass)
     ->Args({2, 2 * kSide, 0})
     ->Args({1, kSide, 1})
     ->Args({2, kSide, 1})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// The x lines' solve alone, its portable and AVX2 copies in turns (the same bits) on the 10^4 x
+// lines of the 100³ grid (the factorisation of BM_StepAgainstMemoryPass's substrate), groups of
+// 16 lines shared between the threads. Counters: ms per sweep of each copy, and portable ÷ AVX2.
+void BM_XLineCopies(benchmark::State& state) {
+  using moreau::random_internal::InstructionSet;
+  if (!moreau::random_internal::Supports(InstructionSet::kAvx2)) {
+    state.SkipWithError("no AVX2 copy on this processor or build");
+    return;
+  }
+  const int threads = static_cast<int>(state.range(0));
+  const moreau::fields::FaceBoundary zero_flux;
+  const moreau::fields::internal::LineSolve f =
+      moreau::fields::internal::MakeLineSolve(kSide, kDt, kDt * 0.1 / 3, zero_flux, zero_flux);
+  FieldSet fields = MakeFields(1, threads);
+  std::span<double> c = fields.values(0);
+  const std::int64_t groups = kSide * kSide / 16;
+  const auto sweep = [&](InstructionSet set) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::int64_t g = 0; g < groups; ++g) {
+      moreau::fields::internal::SolveXLinesOn(set, f, c.data() + g * 16 * kSide, kSide, 16);
+    }
+  };
+  sweep(InstructionSet::kAvx2);
+  double wall[2] = {0.0, 0.0};
+  double cpu[2] = {0.0, 0.0};
+  std::int64_t rounds = 0;
+  for (auto _ : state) {
+    Timed([&] { sweep(InstructionSet::kPortable); }, &wall[0], &cpu[0]);
+    Timed([&] { sweep(InstructionSet::kAvx2); }, &wall[1], &cpu[1]);
+    ++rounds;
+  }
+  const auto r = static_cast<double>(rounds);
+  state.counters["portable_ms"] = 1e3 * wall[0] / r;
+  state.counters["avx2_ms"] = 1e3 * wall[1] / r;
+  state.counters["ratio"] = wall[0] / wall[1];
+  state.counters["cpu_ratio"] = cpu[0] / cpu[1];
+}
+BENCHMARK(BM_XLineCopies)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 

@@ -1,6 +1,6 @@
-// The line solves of a field step (Thomas elimination and back substitution with a shared
-// factorisation; Sherman–Morrison's correction on a periodic axis), in portable loops and, where
-// the processor has it, AVX2 copies of them.
+// The line solves of a field step and their factorisation (Thomas elimination and back
+// substitution with a factorisation shared by an axis's lines; Sherman–Morrison's correction on a
+// periodic axis), in portable loops and, where the processor has it, AVX2 copies of them.
 //
 // The y and z lines are solved many at once, a row of contiguous values at a time (the inner loop
 // vectorises). The x lines, whose values are contiguous, are solved kXLinesTogether at a time:
@@ -24,6 +24,22 @@ namespace moreau::fields {
 namespace {
 
 constexpr int kVectorLines = internal::kXLinesTogether;
+
+// Factors the tridiagonal matrix `diagonal` (n entries), −off above and below it, in place into
+// the line solve's pivots and upper coefficients.
+void Factor(const std::vector<double>& diagonal, double off, internal::LineSolve* f) {
+  const std::size_t n = diagonal.size();
+  f->off = off;
+  f->inverse_pivot.resize(n);
+  f->upper.assign(n, 0.0);
+  double previous_upper = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double pivot = diagonal[i] + off * previous_upper;
+    f->inverse_pivot[i] = 1.0 / pivot;
+    previous_upper = i + 1 < n ? -off / pivot : 0.0;
+    f->upper[i] = previous_upper;
+  }
+}
 
 // `width` lines side by side: line q's value i at c[q + i·stride], n values each.
 [[gnu::always_inline]] inline void StridedLines(const internal::LineSolve& f, double* c,
@@ -267,6 +283,48 @@ void internal::SolveStridedLines(const internal::LineSolve& f, double* c, std::i
   }
 #endif
   StridedLines(f, c, n, stride, width);
+}
+
+// The line solve of an axis of n voxels: diagonal 1 + Δt λ/k + 2r, r = D Δt / h², changed on the
+// face rows (zero flux: the ghost mirrors the voxel, −r; fixed: the ghost is 2 c_b − c, +r and
+// 2 r c_b on the right-hand side), or cyclic on a periodic axis.
+internal::LineSolve internal::MakeLineSolve(int n, double r, double decay_part,
+                                            const FaceBoundary& lower, const FaceBoundary& upper) {
+  internal::LineSolve f;
+  const double base = 1.0 + decay_part + 2.0 * r;
+  std::vector<double> diagonal(static_cast<std::size_t>(n), base);
+  if (lower.kind == BoundaryKind::kPeriodic) {
+    if (n <= 2) {  // the neighbours on both sides are the same voxel (n = 2) or the voxel itself
+      diagonal.assign(static_cast<std::size_t>(n), n == 1 ? 1.0 + decay_part : base);
+      Factor(diagonal, n == 1 ? 0.0 : 2.0 * r, &f);
+      return f;
+    }
+    // Sherman–Morrison: A = T + u vᵀ, u = (γ, 0, …, −r), v = (1, 0, …, −r/γ), γ = −base.
+    const double gamma = -base;
+    diagonal.front() = base - gamma;
+    diagonal.back() = base - r * r / gamma;
+    Factor(diagonal, r, &f);
+    std::vector<double> z(static_cast<std::size_t>(n), 0.0);
+    z.front() = gamma;
+    z.back() = -r;
+    internal::SolveStridedLines(f, z.data(), n, 1, 1);
+    f.periodic_corner = -r / gamma;
+    f.periodic_scale = 1.0 / (1.0 + z.front() + f.periodic_corner * z.back());
+    f.periodic_z = std::move(z);
+    return f;
+  }
+  const auto face = [&](const FaceBoundary& b, double* row, double* rhs) {
+    *row += b.kind == BoundaryKind::kFixed ? r : -r;
+    *rhs = b.kind == BoundaryKind::kFixed ? 2.0 * r * b.value : 0.0;
+  };
+  double lower_face = 0.0;
+  double upper_face = 0.0;
+  face(lower, &diagonal.front(), &lower_face);
+  face(upper, &diagonal.back(), &upper_face);
+  Factor(diagonal, r, &f);
+  f.lower_face = lower_face;
+  f.upper_face = upper_face;
+  return f;
 }
 
 void internal::SolveXLinesOn(random_internal::InstructionSet set, const LineSolve& f, double* c,

@@ -31,64 +31,6 @@ constexpr std::int64_t kBlockDoubles = 32768;
 // A z plane up to this size is swept along x and then y while it stays in a core's cache.
 constexpr std::int64_t kPlaneBytes = std::int64_t{1} << 20;
 
-// Factors the tridiagonal matrix `diagonal` (n entries), −off above and below it, in place into
-// the line solve's pivots and upper coefficients.
-void Factor(const std::vector<double>& diagonal, double off, internal::LineSolve* f) {
-  const std::size_t n = diagonal.size();
-  f->off = off;
-  f->inverse_pivot.resize(n);
-  f->upper.assign(n, 0.0);
-  double previous_upper = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double pivot = diagonal[i] + off * previous_upper;
-    f->inverse_pivot[i] = 1.0 / pivot;
-    previous_upper = i + 1 < n ? -off / pivot : 0.0;
-    f->upper[i] = previous_upper;
-  }
-}
-
-// The line solve of an axis of n voxels: diagonal 1 + Δt λ/k + 2r, r = D Δt / h², changed on the
-// face rows (zero flux: the ghost mirrors the voxel, −r; fixed: the ghost is 2 c_b − c, +r and
-// 2 r c_b on the right-hand side), or cyclic on a periodic axis.
-internal::LineSolve MakeLineSolve(int n, double r, double decay_part, const FaceBoundary& lower,
-                                  const FaceBoundary& upper) {
-  internal::LineSolve f;
-  const double base = 1.0 + decay_part + 2.0 * r;
-  std::vector<double> diagonal(static_cast<std::size_t>(n), base);
-  if (lower.kind == BoundaryKind::kPeriodic) {
-    if (n <= 2) {  // the neighbours on both sides are the same voxel (n = 2) or the voxel itself
-      diagonal.assign(static_cast<std::size_t>(n), n == 1 ? 1.0 + decay_part : base);
-      Factor(diagonal, n == 1 ? 0.0 : 2.0 * r, &f);
-      return f;
-    }
-    // Sherman–Morrison: A = T + u vᵀ, u = (γ, 0, …, −r), v = (1, 0, …, −r/γ), γ = −base.
-    const double gamma = -base;
-    diagonal.front() = base - gamma;
-    diagonal.back() = base - r * r / gamma;
-    Factor(diagonal, r, &f);
-    std::vector<double> z(static_cast<std::size_t>(n), 0.0);
-    z.front() = gamma;
-    z.back() = -r;
-    internal::SolveStridedLines(f, z.data(), n, 1, 1);
-    f.periodic_corner = -r / gamma;
-    f.periodic_scale = 1.0 / (1.0 + z.front() + f.periodic_corner * z.back());
-    f.periodic_z = std::move(z);
-    return f;
-  }
-  const auto face = [&](const FaceBoundary& b, double* row, double* rhs) {
-    *row += b.kind == BoundaryKind::kFixed ? r : -r;
-    *rhs = b.kind == BoundaryKind::kFixed ? 2.0 * r * b.value : 0.0;
-  };
-  double lower_face = 0.0;
-  double upper_face = 0.0;
-  face(lower, &diagonal.front(), &lower_face);
-  face(upper, &diagonal.back(), &upper_face);
-  Factor(diagonal, r, &f);
-  f.lower_face = lower_face;
-  f.upper_face = upper_face;
-  return f;
-}
-
 // The sources of one voxel: c ← (c + Δt (S c* + R)) / (1 + Δt (S + U)), over n voxels.
 void ApplySources(double dt, std::int64_t n, double* c, const double* secretion,
                   const double* target, const double* uptake, const double* source) {
@@ -129,8 +71,9 @@ void FieldSet::FactorLines(double dt) {
         line_solves_.emplace_back();
         continue;
       }
-      line_solves_.push_back(MakeLineSolve(n[a], sub.diffusion * dt / h2, dt * sub.decay / k,
-                                           sub.boundary[2 * a], sub.boundary[2 * a + 1]));
+      line_solves_.push_back(internal::MakeLineSolve(n[a], sub.diffusion * dt / h2,
+                                                     dt * sub.decay / k, sub.boundary[2 * a],
+                                                     sub.boundary[2 * a + 1]));
     }
   }
   line_solves_dt_ = dt;

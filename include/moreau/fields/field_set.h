@@ -140,6 +140,11 @@ struct LineSolve {
 void SolveXLinesOn(random_internal::InstructionSet set, const LineSolve& f, double* c,
                    std::int64_t n, int count);
 
+// The line solve of an axis of n voxels (src/fields/line_solves.cpp): r = D Δt / h², decay_part
+// = Δt λ / k on a k-dimensional grid, the faces' conditions at either end.
+LineSolve MakeLineSolve(int n, double r, double decay_part, const FaceBoundary& lower,
+                        const FaceBoundary& upper);
+
 }  // namespace internal
 
 class FieldSet {
