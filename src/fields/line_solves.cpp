@@ -25,6 +25,14 @@ namespace {
 
 constexpr int kVectorLines = internal::kXLinesTogether;
 
+#if MOREAU_FIELDS_X86_COPIES
+// Whether this processor runs the AVX2 copies (asked once).
+bool HasAvx2() {
+  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
+  return avx2;
+}
+#endif
+
 // Factors the tridiagonal matrix `diagonal` (n entries), −off above and below it, in place into
 // the line solve's pivots and upper coefficients.
 void Factor(const std::vector<double>& diagonal, double off, internal::LineSolve* f) {
@@ -276,8 +284,7 @@ __attribute__((target("avx2"))) void SolveXLinesAvx2(const internal::LineSolve& 
 void internal::SolveStridedLines(const internal::LineSolve& f, double* c, std::int64_t n,
                                  std::int64_t stride, std::int64_t width) {
 #if MOREAU_FIELDS_X86_COPIES
-  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
-  if (avx2) {
+  if (HasAvx2()) {
     StridedLinesAvx2(f, c, n, stride, width);
     return;
   }
@@ -331,8 +338,7 @@ void internal::SolveXLinesOn(random_internal::InstructionSet set, const LineSolv
                              std::int64_t n, int count) {
   static_assert(kXLinesTogether == kVectorLines);
 #if MOREAU_FIELDS_X86_COPIES
-  static const bool avx2 = random_internal::Supports(random_internal::InstructionSet::kAvx2);
-  if (set != random_internal::InstructionSet::kPortable && avx2 && count == kVectorLines &&
+  if (set != random_internal::InstructionSet::kPortable && HasAvx2() && count == kVectorLines &&
       n >= 4) {
     thread_local std::vector<double> scratch;
     if (scratch.size() < static_cast<std::size_t>(n * kVectorLines)) {

@@ -43,14 +43,10 @@ void ApplySources(double dt, std::int64_t n, double* c, const double* secretion,
 // `sources` is not null, with the widest copy this processor runs.
 void SolveXLines(const internal::LineSolve& f, double* c, std::int64_t n, int count,
                  const double* const* sources, double dt) {
-  using random_internal::InstructionSet;
   if (sources != nullptr) {
     ApplySources(dt, count * n, c, sources[0], sources[1], sources[2], sources[3]);
   }
-  static const InstructionSet set = random_internal::Supports(InstructionSet::kAvx2)
-                                        ? InstructionSet::kAvx2
-                                        : InstructionSet::kPortable;
-  internal::SolveXLinesOn(set, f, c, n, count);
+  internal::SolveXLinesOn(random_internal::BestInstructionSet(), f, c, n, count);
 }
 
 // Columns of x solved side by side in a y sweep: a block of ny rows within kBlockDoubles.
