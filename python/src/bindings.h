@@ -23,6 +23,9 @@ namespace py = pybind11;
 
 void RegisterParticles(py::module_& m);
 void RegisterPopulation(py::module_& m);  // in moreau.particles, after RegisterParticles
+// The crowd types of moreau.particles (crowds.cpp), registered by RegisterParticles before the
+// forces that hold them.
+void BindCrowdTypes(py::module_& m);
 void RegisterPbd(py::module_& m);
 void RegisterControl(py::module_& m);
 void RegisterMocap(py::module_& m);

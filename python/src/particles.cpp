@@ -15,6 +15,7 @@
 #include "moreau/particles/engine.h"
 #include "moreau/particles/population.h"
 #include "moreau/particles/room.h"
+#include "moreau/particles/routing.h"
 
 namespace moreau::python {
 
@@ -145,7 +146,15 @@ void BindRoomAndForces(py::module_& m) {
       .def_readwrite("speed", &SelfPropulsion::speed)
       .def_readwrite("target", &SelfPropulsion::target)
       .def_readwrite("target_end", &SelfPropulsion::target_end)
-      .def_readwrite("exit_direction", &SelfPropulsion::exit_direction);
+      .def_readwrite("exit_direction", &SelfPropulsion::exit_direction)
+      .def_readwrite("direction", &SelfPropulsion::direction)
+      .def_property(
+          "route",
+          [](const SelfPropulsion& p) { return std::const_pointer_cast<DistanceField>(p.route); },
+          [](SelfPropulsion& p, std::shared_ptr<DistanceField> route) {
+            p.route = std::move(route);
+          },
+          "A DistanceField: the desired direction is its −∇d toward the nearest exit (2D).");
   py::class_<PairAttraction>(m, "PairAttraction", "Short-range attraction between surfaces.")
       .def(py::init(&FromKwargs<PairAttraction>))
       .def_readwrite("stiffness", &PairAttraction::stiffness)
@@ -157,6 +166,7 @@ void BindRoomAndForces(py::module_& m) {
       .def_readwrite("trap", &Forces::trap)
       .def_readwrite("constant_force", &Forces::constant_force)
       .def_readwrite("propulsion", &Forces::propulsion)
+      .def_readwrite("walking", &Forces::walking)
       .def_readwrite("attraction", &Forces::attraction)
       .def_readwrite("diffusion", &Forces::diffusion)
       .def("validate", &Forces::Validate);
@@ -172,6 +182,7 @@ void BindRoomAndForces(py::module_& m) {
       py::arg("room"), py::arg("model"), "Appends the room's walls to model.segments.");
   py::class_<EvacuationCount>(m, "EvacuationCount")
       .def(py::init<const Room&, int>(), py::arg("room"), py::arg("count"))
+      .def(py::init<const CrowdGeometry&, int>(), py::arg("geometry"), py::arg("count"))
       .def(
           "update",
           [](EvacuationCount& c, const Positions& x) { return c.Update(PositionSpan(x)); },
@@ -347,6 +358,7 @@ void BindEngine(py::module_& m) {
 
 void RegisterParticles(py::module_& m) {
   BindModel(m);
+  BindCrowdTypes(m);
   BindRoomAndForces(m);
   BindEngineOptions(m);
   BindEngine(m);
