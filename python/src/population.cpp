@@ -84,29 +84,40 @@ void CallPython(Call&& call) {
 
 // The Python drift(population, velocity): velocity an (N, k) writable view, zero on entry.
 // `self` is borrowed: the C++ population that holds this function lives inside it.
-UserDrift PythonDrift(py::object drift, PyObject* self) {
-  return [drift = std::move(drift), self](const PopulationView& view, std::span<double> v) {
+struct PythonDriftCall {
+  py::object callable;
+  PyObject* self;
+  void operator()(const PopulationView& view, std::span<double> v) const {
     CallPython([&] {
       const auto n = static_cast<py::ssize_t>(view.agents.size());
       const auto k = static_cast<py::ssize_t>(view.dimension);
-      drift(py::handle(self), View(v.data(), {n, k}, {}, py::none(), true));
+      callable(py::handle(self), View(v.data(), {n, k}, {}, py::none(), true));
     });
-  };
-}
+  }
+};
 
 // The Python rule(population, divide, die): divide and die (N,) writable bool views, False on
 // entry.
-UserRule PythonRule(py::object rule, PyObject* self) {
-  return [rule = std::move(rule), self](PopulationView& view, std::span<std::uint8_t> divide,
-                                        std::span<std::uint8_t> die) {
+struct PythonRuleCall {
+  py::object callable;
+  PyObject* self;
+  void operator()(PopulationView& view, std::span<std::uint8_t> divide,
+                  std::span<std::uint8_t> die) const {
     CallPython([&] {
       const auto n = static_cast<py::ssize_t>(view.agents.size());
       auto flags = [&](std::span<std::uint8_t> f) {
         return py::array(py::dtype("bool"), {n}, {}, f.data(), py::none());
       };
-      rule(py::handle(self), flags(divide), flags(die));
+      callable(py::handle(self), flags(divide), flags(die));
     });
-  };
+  }
+};
+
+// The Python callable behind a user drift or rule set from Python; None for none.
+template <typename Call, typename F>
+py::object PythonCallable(const F& f) {
+  const Call* call = f.template target<Call>();
+  return call != nullptr ? call->callable : py::none();
 }
 
 // Runs `steps` with the GIL released, checking Ctrl-C between steps; the observer at rule steps.
@@ -170,21 +181,22 @@ void BindRuns(py::class_<Population>& c) {
           py::arg("T"), py::arg("observer") = py::none(),
           "T/h steps; observer(population) at step 0 and after every rule step: False stops.")
       .def_property(
-          "drift", [](const Population&) { return py::none(); },
+          "drift", [](const Population& p) { return PythonCallable<PythonDriftCall>(p.drift()); },
           [](py::object self, py::object f) {
             Population& p = self.cast<Population&>();
-            p.SetDrift(f.is_none() ? UserDrift{} : PythonDrift(f, self.ptr()));
+            p.SetDrift(f.is_none() ? UserDrift{} : UserDrift(PythonDriftCall{f, self.ptr()}));
           },
-          "Write-only: drift(population, velocity) before every step fills velocity (N, k), "
-          "zero on entry, added to the agents' drift. None removes it.")
+          "drift(population, velocity) before every step fills velocity (N, k), zero on entry, "
+          "added to the agents' drift. None removes it.")
       .def_property(
-          "rule", [](const Population&) { return py::none(); },
+          "rule", [](const Population& p) { return PythonCallable<PythonRuleCall>(p.rule()); },
           [](py::object self, py::object f) {
             Population& p = self.cast<Population&>();
-            p.SetRule(f.is_none() ? UserRule{} : PythonRule(f, self.ptr()));
+            p.SetRule(f.is_none() ? UserRule{} : UserRule(PythonRuleCall{f, self.ptr()}));
           },
-          "Write-only: rule(population, divide, die) at every rule step, before the built-in "
-          "rules; may change radii, types, polarities and variables, and set divide[i] or die[i].");
+          "rule(population, divide, die) at every rule step, before the built-in rules; may "
+          "change radii, types, polarities and variables, and set divide[i] or die[i]. None "
+          "removes it.");
 }
 
 // The numpy views of the agents' arrays (owned by the population, valid until its next step).

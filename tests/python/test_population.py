@@ -57,7 +57,9 @@ def test_a_rule_marks_divisions_and_deaths_and_split_amounts_are_conserved():
             divide[:2] = True
             die[3] = True
 
+    assert p.rule is None and p.drift is None
     p.rule = rule
+    assert p.rule is rule  # the user code reads back as set
     p.step(10)
     assert seen == [5, 10]
     assert p.count == 5
@@ -76,6 +78,7 @@ def test_errors_in_user_code_reach_python_with_the_last_good_state():
         p.step()
     assert np.array_equal(p.positions, before)
     p.drift = None
+    assert p.drift is None
     p.rule = lambda pop, divide, die: pop.radii.__setitem__(0, -1.0)
     p.step(997)  # up to the rule step
     with pytest.raises(ValueError, match="radius -1"):

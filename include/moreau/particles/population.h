@@ -290,6 +290,9 @@ class Population {
   // type out of range, stops the step with InputError naming the agent.
   void SetDrift(UserDrift drift) { drift_ = std::move(drift); }
   void SetRule(UserRule rule) { rule_ = std::move(rule); }
+  // The user code set (empty when none).
+  const UserDrift& drift() const { return drift_; }
+  const UserRule& rule() const { return rule_; }
   // The view user code gets, over this population's own storage (valid until the next step).
   PopulationView View();
   // The positions now (k·N, index order, wrapped; empty when no agent is left), gathered from
