@@ -3,6 +3,8 @@
 # room with four 4 m exits, one in the middle of each wall, and eight 2 m × 2 m pillars between
 # the start area and the walls: the [geometry] routing field (spacing 0.25 m) gives every
 # person its walking direction. They start at random in [40, 360]² (0.98 persons/m²).
+# With VERTICES=n (default 4) the walkable polygon's sides are cut into about n/4 collinear
+# pieces each (a floor plan of n vertices; the exits stay on one piece).
 # `moreau run` on THREADS threads (default 2) for T simulated seconds (default 10) with step H
 # (default 0.05 s), REPEATS times (default 3); prints per run the simulated seconds per wall
 # second of the time loop (setup and the distance field excluded; the engine's total_seconds),
@@ -20,11 +22,20 @@ h=${H:-0.05}
 repeats=${REPEATS:-3}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-/usr/bin/python3 - "$tmp" "$sim" "$h" "$threads" <<'PY'
+/usr/bin/python3 - "$tmp" "$sim" "$h" "$threads" "${VERTICES:-4}" <<'PY'
 import sys
-tmp, T, h, threads = sys.argv[1:5]
+tmp, T, h, threads, vertices = sys.argv[1:6]
 L, m = 400.0, 200.0
-lines = [f"walkable 0 0  {L} 0  {L} {L}  0 {L}"]
+pieces = max(1, int(vertices) // 4)
+corners = ((0, 0), (L, 0), (L, L), (0, L))
+walkable = []
+for k in range(4):
+    (x0, y0), (x1, y1) = corners[k], corners[(k + 1) % 4]
+    for i in range(pieces):
+        x, y = x0 + (x1 - x0) * i / pieces, y0 + (y1 - y0) * i / pieces
+        if i == 0 or (abs(x - m) > 2.5 and abs(y - m) > 2.5):  # not inside an exit
+            walkable.append(f"{x:.6f} {y:.6f}")
+lines = ["walkable " + "  ".join(walkable)]
 for cx, cy in ((20, m), (L - 20, m), (m, 20), (m, L - 20),
                (20, 20), (L - 20, 20), (20, L - 20), (L - 20, L - 20)):
     lines.append(f"obstacle {cx - 1} {cy - 1}  {cx + 1} {cy - 1}  {cx + 1} {cy + 1}  {cx - 1} {cy + 1}")
@@ -62,7 +73,7 @@ stride = 1000000
 vtu = false
 """)
 PY
-echo "10^5 people, T = $sim s, h = $h s, $threads threads, $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
+echo "10^5 people, T = $sim s, h = $h s, $threads threads, ${VERTICES:-4}-vertex room, $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
 for ((rep = 1; rep <= repeats; ++rep)); do
   start=$(date +%s.%N)
   "$moreau" run "$tmp/crowd.toml" --out "$tmp/r$rep" "$@" >/dev/null

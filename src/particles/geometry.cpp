@@ -48,17 +48,22 @@ bool SegmentsMeet(const Point2& a, const Point2& b, const Point2& c, const Point
   return on(c, d, a, d1) || on(c, d, b, d2) || on(a, b, c, d3) || on(a, b, d, d4);
 }
 
+// Whether edge (a, b) crosses the horizontal line through (x, y) right of x (the even-odd rule's
+// count): only an edge with exactly one end above y, i.e. min(a_y, b_y) ≤ y < max(a_y, b_y).
+inline bool CrossesRightOf(const Point2& a, const Point2& b, double x, double y) {
+  return (a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0];
+}
+
 bool InsidePolygon(const Polygon2& p, double x, double y) {
   bool inside = false;
   for (std::size_t i = 0, j = p.size() - 1; i < p.size(); j = i++) {
-    const Point2& a = p[i];
-    const Point2& b = p[j];
-    if ((a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0]) {
-      inside = !inside;
-    }
+    if (CrossesRightOf(p[i], p[j], x, y)) inside = !inside;
   }
   return inside;
 }
+
+// At most this many edge entries in all the strips of a PolygonStrips (fewer strips otherwise).
+constexpr std::size_t kMaxStripEntries = std::size_t{1} << 20;
 
 // A polygon's own checks: vertices, area, edges that cross (non-adjacent edges that meet, or
 // adjacent ones that fold back onto each other).
@@ -189,6 +194,64 @@ void CrowdGeometry::Validate() const {
     }
   }
   CheckExits(*this);
+}
+
+PolygonStrips::PolygonStrips(const Polygon2& polygon) {
+  if (polygon.empty()) return;
+  y0_ = y1_ = polygon[0][1];
+  for (const Point2& v : polygon) {
+    y0_ = std::min(y0_, v[1]);
+    y1_ = std::max(y1_, v[1]);
+  }
+  // The edges in InsidePolygon's order and orientation; a level edge never crosses a line.
+  std::vector<Edge> edges;
+  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    if (polygon[i][1] != polygon[j][1]) edges.push_back({polygon[i], polygon[j]});
+  }
+  const auto entries = [&] {
+    std::size_t n = 0;
+    for (const Edge& e : edges) {
+      n += static_cast<std::size_t>(Strip(std::max(e.a[1], e.b[1])) -
+                                    Strip(std::min(e.a[1], e.b[1])) + 1);
+    }
+    return n;
+  };
+  strips_ = static_cast<int>(std::clamp<std::size_t>(edges.size(), 1, 4096));
+  for (;; strips_ /= 2) {
+    height_ = y1_ > y0_ ? (y1_ - y0_) / strips_ : 1.0;
+    if (strips_ == 1 || entries() <= kMaxStripEntries) break;
+  }
+  // Strip(v) is non-decreasing in v, so an edge with lo ≤ y ≤ hi is listed in y's strip.
+  std::vector<std::vector<Edge>> bins(static_cast<std::size_t>(strips_));
+  for (const Edge& e : edges) {
+    for (int k = Strip(std::min(e.a[1], e.b[1])); k <= Strip(std::max(e.a[1], e.b[1])); ++k) {
+      bins[static_cast<std::size_t>(k)].push_back(e);
+    }
+  }
+  begin_.assign(1, 0);
+  for (const std::vector<Edge>& bin : bins) {
+    edges_.insert(edges_.end(), bin.begin(), bin.end());
+    begin_.push_back(static_cast<int>(edges_.size()));
+  }
+}
+
+int PolygonStrips::Strip(double y) const {
+  return std::clamp(static_cast<int>((y - y0_) / height_), 0, strips_ - 1);
+}
+
+bool PolygonStrips::Contains(double x, double y) const {
+  // Outside [y0, y1] (or NaN) every edge has both ends on one side of the line: no crossing.
+  if (strips_ == 0 || !(y >= y0_ && y <= y1_)) return false;
+  const int k = Strip(y);
+  bool inside = false;
+  for (int e = begin_[static_cast<std::size_t>(k)]; e < begin_[static_cast<std::size_t>(k) + 1];
+       ++e) {
+    if (CrossesRightOf(edges_[static_cast<std::size_t>(e)].a, edges_[static_cast<std::size_t>(e)].b,
+                       x, y)) {
+      inside = !inside;
+    }
+  }
+  return inside;
 }
 
 std::vector<SegmentObstacle> CrowdGeometry::Walls() const {

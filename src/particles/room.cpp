@@ -81,6 +81,7 @@ EvacuationCount::EvacuationCount(const Room& room, int count)
 
 EvacuationCount::EvacuationCount(const CrowdGeometry& geometry, int count)
     : geometry_(geometry),
+      walkable_(geometry.walkable),
       left_(static_cast<std::size_t>(count), 0),
       per_exit_(geometry.exits.size(), 0) {}
 
@@ -88,7 +89,7 @@ void EvacuationCount::Mark(std::size_t id, double x, double y) {
   if (left_[id]) return;
   std::size_t exit = 0;
   if (geometry_) {
-    if (geometry_->InsideWalkablePolygon(x, y)) return;
+    if (walkable_.Contains(x, y)) return;
     exit = geometry_->NearestExit(x, y);
   } else if (!(x > door_line_)) {
     return;

@@ -67,6 +67,7 @@ DistanceField::DistanceField(const CrowdGeometry& geometry, const RoutingOptions
   for (std::size_t k = 0; k < geometry_.exits.size(); ++k) {
     exit_normal_.push_back(geometry_.ExitNormal(k));
   }
+  walkable_ = PolygonStrips(geometry_.walkable);
   const std::vector<char> free = FreeNodes(options.clearance);
   March(free);
   NodeDirections();
@@ -255,7 +256,7 @@ double DistanceField::Distance(double x, double y) const {
 }
 
 void DistanceField::Direction(const double* x, double* e) const {
-  if (!geometry_.InsideWalkablePolygon(x[0], x[1])) {
+  if (!walkable_.Contains(x[0], x[1])) {
     const Point2& n = exit_normal_[geometry_.NearestExit(x[0], x[1])];
     e[0] = n[0];
     e[1] = n[1];

@@ -2,6 +2,9 @@
 // checks of the polygons and exits, the walls it gives and the evacuation count per exit.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -105,6 +108,77 @@ TEST(CrowdGeometry, EvacuationCountsEachExit) {
 }
 
 // A room with a passage: its two walls follow the door's edges, and people count at its end.
+// PolygonStrips::Contains against the test over every edge on polygons of many vertices: a
+// star (every edge short), a rectangle whose sides are cut into collinear pieces (level edges),
+// a comb whose teeth span the whole height (so many edge entries that the strips are halved);
+// at random points, at every vertex, at edge midpoints and at the vertices' heights.
+TEST(PolygonStrips, AnswersAsTheTestOverEveryEdge) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Polygon2> polygons(3);
+  const double pi = std::acos(-1.0);
+  for (int i = 0; i < 600; ++i) {
+    const double angle = 2.0 * pi * i / 600, r = 3.0 + 7.0 * unit(rng);
+    polygons[0].push_back({r * std::cos(angle), r * std::sin(angle)});
+  }
+  for (int side = 0; side < 4; ++side) {
+    for (int i = 0; i < 100; ++i) {
+      const double t = i / 100.0;
+      const Point2 corners[4] = {{0, 0}, {40, 0}, {40, 30}, {0, 30}};
+      const Point2& a = corners[side];
+      const Point2& b = corners[(side + 1) % 4];
+      polygons[1].push_back({a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])});
+    }
+  }
+  for (int i = 0; i < 1500; ++i) {  // teeth of width 1, gaps of 1, 100 high
+    polygons[2].push_back({2.0 * i, 0.0});
+    polygons[2].push_back({2.0 * i, 100.0});
+    polygons[2].push_back({2.0 * i + 1.0, 100.0});
+    polygons[2].push_back({2.0 * i + 1.0, 0.0});
+  }
+  polygons[2].push_back({3000.0, -1.0});
+  polygons[2].push_back({0.0, -1.0});
+  for (const Polygon2& polygon : polygons) {
+    CrowdGeometry g;
+    g.walkable = polygon;
+    const PolygonStrips strips(polygon);
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (const Point2& v : polygon) {
+      for (int a = 0; a < 2; ++a) {
+        lo[a] = std::min(lo[a], v[a]);
+        hi[a] = std::max(hi[a], v[a]);
+      }
+    }
+    std::vector<Point2> points;
+    for (int k = 0; k < 20000; ++k) {
+      points.push_back({lo[0] - 1 + (hi[0] - lo[0] + 2) * unit(rng),
+                        lo[1] - 1 + (hi[1] - lo[1] + 2) * unit(rng)});
+    }
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Point2& a = polygon[i];
+      const Point2& b = polygon[(i + 1) % polygon.size()];
+      points.push_back(a);
+      points.push_back({0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])});
+      points.push_back({lo[0] + (hi[0] - lo[0]) * unit(rng), a[1]});
+    }
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    for (const Point2& p : {Point2{nan, 0.0}, Point2{0.0, nan}, Point2{-inf, 1.0}, Point2{1.0, inf},
+                            Point2{hi[0], hi[1]}, Point2{lo[0], lo[1]}}) {
+      points.push_back(p);
+    }
+    int inside = 0;
+    for (const Point2& p : points) {
+      ASSERT_EQ(strips.Contains(p[0], p[1]), g.InsideWalkablePolygon(p[0], p[1]))
+          << "polygon of " << polygon.size() << " vertices at (" << p[0] << ", " << p[1] << ")";
+      inside += g.InsideWalkablePolygon(p[0], p[1]) ? 1 : 0;
+    }
+    EXPECT_GT(inside, 1000);  // the points test both answers
+    EXPECT_LT(inside, static_cast<int>(points.size()) - 1000);
+  }
+  EXPECT_FALSE(PolygonStrips().Contains(0.0, 0.0));
+}
+
 TEST(CrowdGeometry, RoomPassageWallsAndCountLine) {
   Room room;
   room.door_length = 2.0;

@@ -58,6 +58,30 @@ struct CrowdGeometry {
   bool BoxWalkable(const Point2& lo, const Point2& hi) const;
 };
 
+// The even-odd test of one polygon (CrowdGeometry::InsideWalkablePolygon's) with its edges
+// binned by horizontal strips: a point looks only at the edges whose height range meets its
+// strip, by the same operations per edge, and gets the answer of the test over every edge (an
+// edge outside the strip cannot cross the point's horizontal line). For the tests of every
+// person at every step, where a floor plan of many vertices would make each one slow.
+class PolygonStrips {
+ public:
+  PolygonStrips() = default;
+  explicit PolygonStrips(const Polygon2& polygon);
+  // Whether (x, y) is inside: InsidePolygon(polygon, x, y) bit for bit, NaN included.
+  bool Contains(double x, double y) const;
+
+ private:
+  struct Edge {
+    Point2 a, b;
+  };
+  int Strip(double y) const;
+
+  double y0_ = 0.0, y1_ = -1.0, height_ = 1.0;  // the strips cover [y0, y1]
+  int strips_ = 0;
+  std::vector<int> begin_;   // strip s: edges_[begin_[s], begin_[s + 1])
+  std::vector<Edge> edges_;  // each strip's edges, an edge in every strip its heights meet
+};
+
 // Reads the text format above; `name` (the file's path as the user wrote it) starts every
 // error: InputError "NAME:LINE: REASON" ("room.txt:3: expected an even number of coordinates",
 // "room.txt:7: nan is not a finite number", "room.txt:2: obstacle 0: needs at least 3 vertices

@@ -78,7 +78,8 @@ class EvacuationCount {
   void Mark(std::size_t id, double x, double y);
   double door_line_ = 0.0;
   std::optional<CrowdGeometry> geometry_;
-  std::vector<int> left_;  // per id: 0 in, 1 + exit out
+  PolygonStrips walkable_;  // geometry_->walkable's inside test
+  std::vector<int> left_;   // per id: 0 in, 1 + exit out
   std::vector<int> per_exit_;
   int out_ = 0;
 };

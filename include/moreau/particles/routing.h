@@ -80,6 +80,7 @@ class DistanceField {
   void NodeDirections();
 
   CrowdGeometry geometry_;
+  PolygonStrips walkable_;  // geometry_.walkable's inside test
   std::vector<Point2> exit_normal_;
   double x0_ = 0.0, y0_ = 0.0, h_ = 0.1;
   int nx_ = 0, ny_ = 0;
