@@ -12,6 +12,7 @@
 #include "moreau/common/random.h"
 #include "particles/cell_list.h"
 #include "particles/neighbour_list.h"
+#include "particles/segment_grid.h"
 
 namespace moreau::particles {
 
@@ -37,9 +38,24 @@ double Norm(int k, const double* u) {
   return std::sqrt(r2);
 }
 
+// The model's segments binned for FixedSetViolation (2D, more than a few): every segment that
+// a particle with gap < −tol·r (distance < (1 − tol) r ≤ reach) can reach is listed for it.
+internal::SegmentGrid NearSegments(const ParticleModel& model, double tol) {
+  if (model.dimension != 2 || model.segments.size() <= 4) return {};
+  std::vector<double> a, b;
+  for (const SegmentObstacle& s : model.segments) {
+    a.insert(a.end(), {s.a[0], s.a[1]});
+    b.insert(b.end(), {s.b[0], s.b[1]});
+  }
+  return internal::SegmentGrid(a, b, model.max_radius() * std::max(1.0, 1.0 - tol), 64);
+}
+
 // How deep particle i at x is inside a wall or obstacle (> tol·r_i), as a message; empty if not.
-std::string FixedSetViolation(const ParticleModel& model, const std::vector<UnitWall>& walls, int i,
-                              const double* x, double tol) {
+// The segments visited are those `near` lists for x (all when it is not active), in index order:
+// a segment it leaves out is farther than the reach, so the answer is the loop over all's.
+std::string FixedSetViolation(const ParticleModel& model, const std::vector<UnitWall>& walls,
+                              const internal::SegmentGrid& near, int i, const double* x,
+                              double tol) {
   const int k = model.dimension;
   const double r = model.radius[static_cast<std::size_t>(i)];
   for (std::size_t w = 0; w < walls.size(); ++w) {
@@ -53,10 +69,25 @@ std::string FixedSetViolation(const ParticleModel& model, const std::vector<Unit
     const double g = Norm(k, d) - model.spheres[s].radius - r;
     if (g < -tol * r) return fmt::format("particle {} is inside spheres[{}] by {}", i, s, -g);
   }
-  for (std::size_t s = 0; s < model.segments.size(); ++s) {
+  const auto segment = [&](std::size_t s) -> std::string {
     const double g =
         internal::SegmentGap(x, model.segments[s].a.data(), model.segments[s].b.data(), r);
     if (g < -tol * r) return fmt::format("particle {} is inside segments[{}] by {}", i, s, -g);
+    return {};
+  };
+  if (near.active()) {
+    const int* first = nullptr;
+    const int* last = nullptr;
+    near.Near(x, &first, &last);
+    for (; first != last; ++first) {
+      std::string v = segment(static_cast<std::size_t>(*first));
+      if (!v.empty()) return v;
+    }
+    return {};
+  }
+  for (std::size_t s = 0; s < model.segments.size(); ++s) {
+    std::string v = segment(s);
+    if (!v.empty()) return v;
   }
   return {};
 }
@@ -112,9 +143,10 @@ void CheckInitialState(const ParticleModel& model, std::span<const double> posit
     }
   }
   const std::vector<UnitWall> walls = UnitWalls(model);
+  const internal::SegmentGrid near = NearSegments(model, tol);
   for (int i = 0; i < n; ++i) {
     const std::string v =
-        FixedSetViolation(model, walls, i, &positions[static_cast<std::size_t>(k * i)], tol);
+        FixedSetViolation(model, walls, near, i, &positions[static_cast<std::size_t>(k * i)], tol);
     if (!v.empty()) throw InputError("initial state: " + v);
   }
   const std::vector<double> x = WrappedCopy(model, positions);
@@ -153,7 +185,11 @@ class SequentialPlacement {
  public:
   SequentialPlacement(const ParticleModel& model, const Vec3& lo, const Vec3& hi,
                       std::uint64_t seed)
-      : model_(model), k_(model.dimension), walls_(UnitWalls(model)), rng_(seed) {
+      : model_(model),
+        k_(model.dimension),
+        walls_(UnitWalls(model)),
+        near_(NearSegments(model, 0.0)),
+        rng_(seed) {
     PlacementBox(model, lo, hi, &lo_, &hi_);
     const int n = model.count();
     grid_.Fit(k_, lo_.data(), hi_.data(), internal::PeriodicBox::Of(model),
@@ -169,7 +205,7 @@ class SequentialPlacement {
     bool placed = false;
     for (std::int64_t attempt = 0; attempt < max_attempts && !placed; ++attempt) {
       Draw(i, xi);
-      placed = FixedSetViolation(model_, walls_, i, xi, 0.0).empty() && ClearOfOthers(i, xi);
+      placed = FixedSetViolation(model_, walls_, near_, i, xi, 0.0).empty() && ClearOfOthers(i, xi);
     }
     if (!placed) {
       throw InputError(fmt::format(
@@ -230,6 +266,7 @@ class SequentialPlacement {
   const ParticleModel& model_;
   int k_;
   std::vector<UnitWall> walls_;
+  internal::SegmentGrid near_;  // the segments near each candidate
   SplitMix64 rng_;
   Vec3 lo_{}, hi_{};
   internal::CellGrid grid_;
