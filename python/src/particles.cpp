@@ -197,7 +197,9 @@ void BindRoomAndForces(py::module_& m) {
           },
           py::arg("ids"), py::arg("positions"),
           "The same from Engine.stored_ids and Engine.stored_positions (views, no copy).")
-      .def_property_readonly("out", &EvacuationCount::out);
+      .def_property_readonly("out", &EvacuationCount::out)
+      .def_property_readonly("out_per_exit", &EvacuationCount::OutPerExit,
+                             "People out through each exit (one entry for a room).");
 
   m.def(
       "gaussian_noise",

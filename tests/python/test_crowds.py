@@ -1,6 +1,9 @@
 """moreau.particles' crowds from Python: the collision-free speed model, the walkable area and
 its routing field, against the model's formulas and the command-line tool's bits."""
 import json
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -8,7 +11,7 @@ import pytest
 import moreau
 from moreau import particles
 
-from conftest import run_cli
+from conftest import ROOT, run_cli
 
 # A 12 m × 8 m room with a 2 m × 2 m pillar and two exits, one on the right wall, one at the top.
 ROOM = """walkable 0 0  12 0  12 8  0 8
@@ -153,3 +156,18 @@ def test_evacuation_count_by_exit():
     # Inside, past the right exit, past the top exit.
     assert count.update(np.array([[1.0, 1.0], [12.5, 4.0], [2.5, 8.5]])) == 2
     assert count.out == 2
+
+
+def test_the_routing_example_empties_the_room_by_both_exits(tmp_path):
+    """examples/python/crowd_routing.py: everybody out, each exit taken by the people nearer to
+    it (the crowd starts along the whole bottom of the room), and the figure written."""
+    r = subprocess.run([sys.executable, str(ROOT / "examples/python/crowd_routing.py"),
+                        str(tmp_path)], capture_output=True, text=True, timeout=300,
+                       env=dict(os.environ, MPLBACKEND="Agg"))
+    assert r.returncode == 0, r.stderr
+    line = [l for l in r.stdout.splitlines() if " out after " in l][0]
+    out, total = line.split(" of ")[0], line.split(" of ")[1].split()[0]
+    assert out == total == "150", line
+    right, top = (int(v) for v in line.split("[")[1].split("]")[0].split(","))
+    assert right + top == 150 and right > 40 and top > 40, line
+    assert (tmp_path / "routing.png").stat().st_size > 10000
