@@ -1,7 +1,9 @@
 // moreau.particles' pedestrian crowds: the walking speeds (desired speeds, Weidmann's density
 // law, the collision-free speed model), the walkable area with its exits, and the routing field
 // that gives each person the direction toward the nearest exit.
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
