@@ -25,21 +25,21 @@ constexpr int kRouteAhead = 8;
 class CollisionFreeWalls {
  public:
   CollisionFreeWalls(const CollisionFreeSpeed& m, const ParticleModel& model)
-      : a_(m.wall_repulsion), range_(m.wall_repulsion_range), half_(0.5 * m.length),
-        source_walls_(model.walls), source_segments_(model.segments) {
+      : a_(m.wall_repulsion),
+        range_(m.wall_repulsion_range),
+        half_(0.5 * m.length),
+        source_walls_(model.walls),
+        source_segments_(model.segments) {
     cut_ = half_ + kZeroExponent * range_;
     for (const Wall& w : model.walls) {
       const double norm = std::hypot(w.normal[0], w.normal[1]);
       walls_.push_back({w.normal[0] / norm, w.normal[1] / norm, w.offset / norm});
     }
-    std::vector<double> ends[2];
     for (const SegmentObstacle& g : model.segments) {
       const double ab0 = g.b[0] - g.a[0], ab1 = g.b[1] - g.a[1];
       segments_.push_back({g.a[0], g.a[1], ab0, ab1, ab0 * ab0 + ab1 * ab1});
-      ends[0].insert(ends[0].end(), {g.a[0], g.a[1]});
-      ends[1].insert(ends[1].end(), {g.b[0], g.b[1]});
     }
-    if (segments_.size() > 4) grid_ = SegmentGrid(ends[0], ends[1], cut_, 64);
+    grid_ = SegmentGrid::Of(model.segments, cut_, 64);
   }
 
   // Whether this was built for these parameters and walls (then it can be used again).
@@ -50,8 +50,7 @@ class CollisionFreeWalls {
     const auto same_segment = [](const SegmentObstacle& p, const SegmentObstacle& q) {
       return p.a == q.a && p.b == q.b;
     };
-    return a_ == m.wall_repulsion && range_ == m.wall_repulsion_range &&
-           half_ == 0.5 * m.length &&
+    return a_ == m.wall_repulsion && range_ == m.wall_repulsion_range && half_ == 0.5 * m.length &&
            std::equal(model.walls.begin(), model.walls.end(), source_walls_.begin(),
                       source_walls_.end(), same_wall) &&
            std::equal(model.segments.begin(), model.segments.end(), source_segments_.begin(),
@@ -86,8 +85,7 @@ class CollisionFreeWalls {
     double a0, a1, ab0, ab1, ab2;  // a, b − a, ‖b − a‖²
   };
   void AddSegment(const SegmentTerm& g, const double* x, double* rep) const {
-    const double t =
-        std::clamp(((x[0] - g.a0) * g.ab0 + (x[1] - g.a1) * g.ab1) / g.ab2, 0.0, 1.0);
+    const double t = std::clamp(((x[0] - g.a0) * g.ab0 + (x[1] - g.a1) * g.ab1) / g.ab2, 0.0, 1.0);
     const double u0 = x[0] - (g.a0 + t * g.ab0), u1 = x[1] - (g.a1 + t * g.ab1);
     if (u0 * u0 + u1 * u1 > cut_ * cut_) return;  // exp's argument below −745.2: +0
     const double d = std::hypot(u0, u1);

@@ -41,13 +41,9 @@ double Norm(int k, const double* u) {
 // The model's segments binned for FixedSetViolation (2D, more than a few): every segment that
 // a particle with gap < −tol·r (distance < (1 − tol) r ≤ reach) can reach is listed for it.
 internal::SegmentGrid NearSegments(const ParticleModel& model, double tol) {
-  if (model.dimension != 2 || model.segments.size() <= 4) return {};
-  std::vector<double> a, b;
-  for (const SegmentObstacle& s : model.segments) {
-    a.insert(a.end(), {s.a[0], s.a[1]});
-    b.insert(b.end(), {s.b[0], s.b[1]});
-  }
-  return internal::SegmentGrid(a, b, model.max_radius() * std::max(1.0, 1.0 - tol), 64);
+  if (model.dimension != 2) return {};
+  return internal::SegmentGrid::Of(model.segments, model.max_radius() * std::max(1.0, 1.0 - tol),
+                                   64);
 }
 
 // How deep particle i at x is inside a wall or obstacle (> tol·r_i), as a message; empty if not.

@@ -12,6 +12,8 @@
 #include <limits>
 #include <vector>
 
+#include "moreau/particles/model.h"
+
 namespace moreau::particles::internal {
 
 class SegmentGrid {
@@ -35,6 +37,18 @@ class SegmentGrid {
       cells_[q] = std::min(4 * side, static_cast<int>(std::ceil((hi[q] - lo[q]) / cell_)) + 1);
     }
     Bin(a, b, cut, count);
+  }
+
+  // The grid of a model's segments (2D), or an inactive one for four segments or fewer, where a
+  // loop over all of them is as fast.
+  static SegmentGrid Of(const std::vector<SegmentObstacle>& segments, double cut, int side) {
+    if (segments.size() <= 4) return {};
+    std::vector<double> a, b;
+    for (const SegmentObstacle& g : segments) {
+      a.insert(a.end(), {g.a[0], g.a[1]});
+      b.insert(b.end(), {g.b[0], g.b[1]});
+    }
+    return SegmentGrid(a, b, cut, side);
   }
 
   // Whether the grid is in use (else visit every segment).
