@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
+#include <cstdint>
 #include <limits>
-#include <queue>
 #include <utility>
 
 #include <fmt/format.h>
@@ -26,6 +25,76 @@ double EikonalUpdate(double a, double b, double h) {
   if (!(b < kNoDistance) || b - a >= h) return a + h;
   return 0.5 * (a + b + std::sqrt(2.0 * h * h - (a - b) * (a - b)));
 }
+
+// The unfinished nodes of the march, smallest (distance, node) first: a binary heap of node
+// numbers with each node's place in it, so that a node whose distance drops moves up in place
+// instead of being pushed again. Its pops are those of a heap of (distance, node) pairs that
+// skips the stale ones, in the same order, with one entry per node instead of one per update.
+// A popped node is done (its distance known) and is not added again.
+class NodeHeap {
+ public:
+  explicit NodeHeap(const std::vector<double>& d) : d_(d), place_(d.size(), kAbsent) {}
+
+  bool empty() const { return nodes_.empty(); }
+  bool done(std::size_t n) const { return place_[n] == kDone; }
+
+  // Adds node n, or moves it up after d[n] dropped.
+  void Update(std::uint32_t n) {
+    if (place_[n] == kAbsent) {
+      place_[n] = static_cast<std::uint32_t>(nodes_.size());
+      nodes_.push_back(n);
+    }
+    Up(place_[n]);
+  }
+
+  std::uint32_t Pop() {
+    const std::uint32_t top = nodes_.front();
+    place_[top] = kDone;
+    const std::uint32_t last = nodes_.back();
+    nodes_.pop_back();
+    if (!nodes_.empty()) {
+      Put(last, 0);
+      Down(0);
+    }
+    return top;
+  }
+
+ private:
+  static constexpr std::uint32_t kAbsent = std::numeric_limits<std::uint32_t>::max();
+  static constexpr std::uint32_t kDone = kAbsent - 1;
+
+  bool Before(std::uint32_t a, std::uint32_t b) const {
+    return d_[a] < d_[b] || (d_[a] == d_[b] && a < b);
+  }
+  void Put(std::uint32_t n, std::size_t at) {
+    nodes_[at] = n;
+    place_[n] = static_cast<std::uint32_t>(at);
+  }
+  void Up(std::size_t at) {
+    const std::uint32_t n = nodes_[at];
+    while (at > 0 && Before(n, nodes_[(at - 1) / 2])) {
+      Put(nodes_[(at - 1) / 2], at);
+      at = (at - 1) / 2;
+    }
+    Put(n, at);
+  }
+  void Down(std::size_t at) {
+    const std::uint32_t n = nodes_[at];
+    for (;;) {
+      std::size_t child = 2 * at + 1;
+      if (child >= nodes_.size()) break;
+      if (child + 1 < nodes_.size() && Before(nodes_[child + 1], nodes_[child])) ++child;
+      if (!Before(nodes_[child], n)) break;
+      Put(nodes_[child], at);
+      at = child;
+    }
+    Put(n, at);
+  }
+
+  const std::vector<double>& d_;
+  std::vector<std::uint32_t> place_;
+  std::vector<std::uint32_t> nodes_;
+};
 
 }  // namespace
 
@@ -122,10 +191,8 @@ std::vector<char> DistanceField::FreeNodes(double clearance) const {
 
 void DistanceField::March(const std::vector<char>& free) {
   d_.assign(free.size(), kNoDistance);
-  std::vector<char> known(free.size(), 0);
-  using Entry = std::pair<double, std::size_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
-  std::vector<char> exit_reached(geometry_.exits.size(), 0);
+  NodeHeap heap(d_);
+  std::vector<int> exit_reached(geometry_.exits.size(), 0);
   for (int j = 0; j < ny_; ++j) {
     for (int i = 0; i < nx_; ++i) {
       const std::size_t n = Index(i, j);
@@ -138,7 +205,7 @@ void DistanceField::March(const std::vector<char>& free) {
           exit_reached[k] = 1;
         }
       }
-      if (d_[n] < kNoDistance) heap.emplace(d_[n], n);
+      if (d_[n] < kNoDistance) heap.Update(static_cast<std::uint32_t>(n));
     }
   }
   for (std::size_t k = 0; k < exit_reached.size(); ++k) {
@@ -152,13 +219,10 @@ void DistanceField::March(const std::vector<char>& free) {
   const auto value = [&](int i, int j) {
     if (i < 0 || j < 0 || i >= nx_ || j >= ny_) return kNoDistance;
     const std::size_t n = Index(i, j);
-    return known[n] ? d_[n] : kNoDistance;
+    return heap.done(n) ? d_[n] : kNoDistance;
   };
   while (!heap.empty()) {
-    const auto [dn, n] = heap.top();
-    heap.pop();
-    if (known[n] || dn > d_[n]) continue;
-    known[n] = 1;
+    const std::size_t n = heap.Pop();
     const int i = static_cast<int>(n % static_cast<std::size_t>(nx_));
     const int j = static_cast<int>(n / static_cast<std::size_t>(nx_));
     const int di[4] = {-1, 1, 0, 0}, dj[4] = {0, 0, -1, 1};
@@ -166,12 +230,12 @@ void DistanceField::March(const std::vector<char>& free) {
       const int a = i + di[q], b = j + dj[q];
       if (a < 0 || b < 0 || a >= nx_ || b >= ny_) continue;
       const std::size_t m = Index(a, b);
-      if (!free[m] || known[m]) continue;
+      if (!free[m] || heap.done(m)) continue;
       const double u = EikonalUpdate(std::min(value(a - 1, b), value(a + 1, b)),
                                      std::min(value(a, b - 1), value(a, b + 1)), h_);
       if (u < d_[m]) {
         d_[m] = u;
-        heap.emplace(u, m);
+        heap.Update(static_cast<std::uint32_t>(m));
       }
     }
   }
