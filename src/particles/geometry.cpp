@@ -244,12 +244,10 @@ bool PolygonStrips::Contains(double x, double y) const {
   if (strips_ == 0 || !(y >= y0_ && y <= y1_)) return false;
   const int k = Strip(y);
   bool inside = false;
-  for (int e = begin_[static_cast<std::size_t>(k)]; e < begin_[static_cast<std::size_t>(k) + 1];
-       ++e) {
-    if (CrossesRightOf(edges_[static_cast<std::size_t>(e)].a, edges_[static_cast<std::size_t>(e)].b,
-                       x, y)) {
-      inside = !inside;
-    }
+  const auto strip = static_cast<std::size_t>(k);
+  const Edge* const end = edges_.data() + begin_[strip + 1];
+  for (const Edge* e = edges_.data() + begin_[strip]; e != end; ++e) {
+    if (CrossesRightOf(e->a, e->b, x, y)) inside = !inside;
   }
   return inside;
 }
