@@ -338,7 +338,9 @@ void DistanceField::Direction(const double* x, double* e) const {
     ex += w[q] * dir_[2 * n[q]];
     ey += w[q] * dir_[2 * n[q] + 1];
   }
-  const double norm = std::hypot(ex, ey);
+  // ‖(ex, ey)‖ ≤ 1, a weighted mean of unit vectors: the plain root cannot overflow, and it
+  // costs a fraction of std::hypot's guarded one (every person at every step of a routed crowd).
+  const double norm = std::sqrt(ex * ex + ey * ey);
   e[0] = norm > 0.0 ? ex / norm : 0.0;
   e[1] = norm > 0.0 ? ey / norm : 0.0;
 }
