@@ -6,25 +6,29 @@
 # With VERTICES=n (default 4) the walkable polygon's sides are cut into about n/4 collinear
 # pieces each (a floor plan of n vertices; the exits stay on one piece).
 # `moreau run` on THREADS threads (default 2) for T simulated seconds (default 10) with step H
-# (default 0.05 s), REPEATS times (default 3); prints per run the simulated seconds per wall
-# second of the time loop (setup and the distance field excluded; the engine's total_seconds),
-# the same with the process's whole wall time, and the engine's phase seconds.
+# (default 0.1 s, the largest step docs/crowds.md "The time step" validates) and Verlet skin
+# SKIN · r (`solver.skin_factor`, default 0.3: people walk more than a quarter of the default skin
+# in a step, so the list is built every step whatever the skin, and a thinner one only lists fewer
+# pairs), REPEATS times (default 3); prints per run the simulated seconds per wall second of the
+# time loop (setup and the distance field excluded; the engine's total_seconds), the same with
+# the process's whole wall time, and the engine's phase seconds.
 #
 #   bench/crowd_speed.sh [path/to/moreau] [extra --set options ...]
-#   H=0.01 T=2 bench/crowd_speed.sh build/release/moreau
+#   H=0.01 T=2 SKIN=1 bench/crowd_speed.sh build/release/moreau
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 moreau=${1:-$here/build/release/moreau}
 shift || true
 threads=${THREADS:-2}
 sim=${T:-10}
-h=${H:-0.05}
+h=${H:-0.1}
+skin=${SKIN:-0.3}
 repeats=${REPEATS:-3}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-/usr/bin/python3 - "$tmp" "$sim" "$h" "$threads" "${VERTICES:-4}" <<'PY'
+/usr/bin/python3 - "$tmp" "$sim" "$h" "$threads" "${VERTICES:-4}" "$skin" <<'PY'
 import sys
-tmp, T, h, threads, vertices = sys.argv[1:6]
+tmp, T, h, threads, vertices, skin = sys.argv[1:7]
 L, m = 400.0, 200.0
 pieces = max(1, int(vertices) // 4)
 corners = ((0, 0), (L, 0), (L, L), (0, L))
@@ -67,13 +71,14 @@ pedestrian_model = "collision_free"
 [solver]
 h = {h}
 threads = {threads}
+skin_factor = {skin}
 
 [output]
 stride = 1000000
 vtu = false
 """)
 PY
-echo "10^5 people, T = $sim s, h = $h s, $threads threads, ${VERTICES:-4}-vertex room, $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
+echo "10^5 people, T = $sim s, h = $h s, skin $skin r, $threads threads, ${VERTICES:-4}-vertex room, $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
 for ((rep = 1; rep <= repeats; ++rep)); do
   start=$(date +%s.%N)
   "$moreau" run "$tmp/crowd.toml" --out "$tmp/r$rep" "$@" >/dev/null

@@ -12,8 +12,8 @@ are not out within 300 s counts as clogged (NaN). The CSV also records how often
 non-overlap projection acted (summary.json `projections`) and the largest overlap left after a step.
 The experiments' specific flows are docs/results/crowds/bottleneck_experiments.csv.
 
-usage: scripts/crowd_bottleneck.py MOREAU OUT_DIR [--widths B ...] [--seeds N] [--figure PNG]
-                                   [--csv CSV]
+usage: scripts/crowd_bottleneck.py MOREAU OUT_DIR [--widths B ...] [--seeds N] [--step H]
+                                   [--figure PNG] [--csv CSV]
 """
 import argparse
 import csv
@@ -34,9 +34,9 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 EXPERIMENT = ROOT / "docs/results/crowds/bottleneck_experiments.csv"
 
 
-def scenario(width, seed=1, people=PEOPLE, duration=T_MAX, extra=(), radius=0.15):
+def scenario(width, seed=1, people=PEOPLE, duration=T_MAX, extra=(), radius=0.15, step=STEP):
     """The TOML text of the room with a door of the given width; extra: lines added to
-    [forces], radius: the bodies' radius (l/2)."""
+    [forces], radius: the bodies' radius (l/2), step: the time step h."""
     lines = "\n".join(extra)
     return f"""[problem]
 kind = "particles"
@@ -61,7 +61,7 @@ pedestrian_model = "collision_free"
 {lines}
 
 [solver]
-h = {STEP}
+h = {step!r}
 
 [output]
 stride = 1000
@@ -100,6 +100,7 @@ def main():
     ap.add_argument("out", type=pathlib.Path)
     ap.add_argument("--widths", type=float, nargs="+", default=WIDTHS)
     ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--step", type=float, default=STEP, help="time step h (s)")
     ap.add_argument("--figure", type=pathlib.Path,
                     default=ROOT / "docs/results/crowds/bottleneck_flow.png")
     ap.add_argument("--csv", type=pathlib.Path,
@@ -110,7 +111,7 @@ def main():
     for b in args.widths:
         for seed in range(1, args.seeds + 1):
             name = f"door_{b:g}_s{seed}"
-            j = run(args.moreau, args.out, name, scenario(b, seed))
+            j = run(args.moreau, args.out, name, scenario(b, seed, step=args.step))
             with open(args.out / name / "summary.json") as f:
                 summary = json.load(f)
             rows.append((b, seed, j, summary["projections"], summary["max_overlap"]))

@@ -13,6 +13,7 @@ speed-density relation (Kladek's formula) and with the unidirectional corridor e
 Zhang et al. (2011), docs/results/crowds/corridor_experiments.csv.
 
 usage: scripts/crowd_corridor.py MOREAU OUT_DIR [--figure PNG] [--csv CSV] [--densities RHO ...]
+                                 [--seeds N] [--step H]
 """
 import argparse
 import csv
@@ -41,9 +42,10 @@ def people(rho, length=LENGTH, width=WIDTH):
     return max(1, round(rho * length * width))
 
 
-def scenario(rho, duration=DURATION, seed=1, length=LENGTH, width=WIDTH, extra=(), radius=0.15):
+def scenario(rho, duration=DURATION, seed=1, length=LENGTH, width=WIDTH, extra=(), radius=0.15,
+             step=STEP):
     """The TOML text of the corridor at global density rho (persons/m^2); extra: lines added
-    to [forces], radius: the bodies' radius (l/2)."""
+    to [forces], radius: the bodies' radius (l/2), step: the time step h (frames every 0.1 s)."""
     count = people(rho, length, width)
     lines = "\n".join(extra)
     return f"""[problem]
@@ -71,10 +73,10 @@ pedestrian_model = "collision_free"
 {lines}
 
 [solver]
-h = {STEP}
+h = {step!r}
 
 [output]
-stride = 10
+stride = {crowd_single_file.frame_stride(step)}
 vtu = false
 snapshots = false
 """
@@ -112,12 +114,13 @@ def main():
                     default=ROOT / "docs/results/crowds/corridor_simulated.csv")
     ap.add_argument("--densities", type=float, nargs="+", default=DENSITIES)
     ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--step", type=float, default=STEP, help="time step h (s)")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []
     for rho in args.densities:
         for seed in range(1, args.seeds + 1):
-            text = scenario(rho, seed=seed)
+            text = scenario(rho, seed=seed, step=args.step)
             out = run(args.moreau, args.out, f"corridor_{rho}_s{seed}", text)
             v = mean_speed(out)
             with open(out / "summary.json") as f:

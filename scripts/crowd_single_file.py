@@ -7,7 +7,7 @@ a tenth of it; the mean speed over the second half of the run is the stationary 
 compared with the model's exact stationary speed V(1/rho) = min(v0, max(0, (1/rho - l) / T)) and
 with the experiment of Seyfried et al. (2005), docs/results/crowds/seyfried2005_single_file.csv.
 
-usage: scripts/crowd_single_file.py MOREAU OUT_DIR [--figure PNG] [--csv CSV]
+usage: scripts/crowd_single_file.py MOREAU OUT_DIR [--figure PNG] [--csv CSV] [--step H]
 """
 import argparse
 import csv
@@ -23,12 +23,18 @@ import numpy as np
 DENSITIES = [0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.25, 2.5, 2.75, 3.0]
 PEOPLE = 20
 V0, LENGTH, TIME_GAP = 1.34, 0.3, 1.0
+STEP = 0.01
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 EXPERIMENT = ROOT / "docs/results/crowds/seyfried2005_single_file.csv"
 
 
-def scenario(rho, people=PEOPLE, duration=40.0, seed=1, jitter=0.1):
-    """The TOML text of the ring at density rho."""
+def frame_stride(step):
+    """The output stride that writes a frame every 0.1 s (at least one a step)."""
+    return max(1, round(0.1 / step))
+
+
+def scenario(rho, people=PEOPLE, duration=40.0, seed=1, jitter=0.1, step=STEP):
+    """The TOML text of the ring at density rho with time step h = step."""
     ring = people / rho
     spacing = ring / people
     rng = random.Random(seed)
@@ -58,10 +64,10 @@ collision_free.time_gap = {TIME_GAP}
 collision_free.length = {LENGTH}
 
 [solver]
-h = 0.01
+h = {step!r}
 
 [output]
-stride = 10
+stride = {frame_stride(step)}
 vtu = false
 snapshots = false
 """
@@ -90,12 +96,13 @@ def main():
                     default=ROOT / "docs/results/crowds/single_file_fd.png")
     ap.add_argument("--csv", type=pathlib.Path,
                     default=ROOT / "docs/results/crowds/single_file_simulated.csv")
+    ap.add_argument("--step", type=float, default=STEP, help="time step h (s)")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []
     for rho in DENSITIES:
         toml = args.out / f"ring_{rho}.toml"
-        toml.write_text(scenario(rho))
+        toml.write_text(scenario(rho, step=args.step))
         run = args.out / f"ring_{rho}"
         shutil.rmtree(run, ignore_errors=True)
         r = subprocess.run([args.moreau, "run", str(toml), "--out", str(run)],

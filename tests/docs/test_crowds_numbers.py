@@ -1,10 +1,10 @@
-"""The numbers docs/crowds.md quotes for the corridor, the bottleneck, the sensitivity study and
-the comparison with JuPedSim are those of the committed CSVs.
+"""The numbers docs/crowds.md quotes for the corridor, the bottleneck, the sensitivity study, the
+time step and the comparison with JuPedSim are those of the committed CSVs.
 
 docs/results/crowds/ holds what scripts/crowd_corridor.py, crowd_bottleneck.py,
-crowd_sensitivity.py and crowd_jupedsim.py measured, and the experiments' values. Nothing is rerun
-here: the tables of docs/crowds.md's sections "Corridor and bottleneck against experiment" and
-"Side by side with JuPedSim" are compared with the CSVs.
+crowd_sensitivity.py, crowd_time_step.py and crowd_jupedsim.py measured, and the experiments'
+values. Nothing is rerun here: the tables of docs/crowds.md's sections "Corridor and bottleneck
+against experiment", "The time step" and "Side by side with JuPedSim" are compared with the CSVs.
 """
 import csv
 import math
@@ -283,3 +283,44 @@ def test_the_speed_table_is_the_committed_timing():
                                 strict=True):
             ratios = sorted(float(r["jupedsim_s"]) / float(r[column]) for r in mine)
             assert close(cell, ratios[len(ratios) // 2]), (cells, column)
+
+
+def time_step_section():
+    start = DOC.index("### The time step")
+    return DOC[start:DOC.index("\n## ", start)]
+
+
+def test_the_time_step_table_is_the_committed_study():
+    """Each row: the ring's largest change from h = 0.01 s, the corridor's mean speeds at 1, 2
+    and 4 persons/m², the range of the bottleneck's per-width means, its mean at 1.2 m and its
+    largest overlap, all from time_step.csv."""
+    study = rows("time_step.csv")
+
+    def of(name, step):
+        return [r for r in study if r["study"] == name and float(r["step_s"]) == step]
+
+    def at(name, step, x):
+        return mean(float(r["value"]) for r in of(name, step) if float(r["x"]) == x)
+
+    t = table("h (s)", time_step_section())
+    steps = sorted({float(r["step_s"]) for r in study})
+    assert [float(c[0]) for c in t[1:]] == steps
+    ring0 = {r["x"]: float(r["value"]) for r in of("single_file", steps[0])}
+    for cells, h in zip(t[1:], steps, strict=True):
+        ring = max(abs(float(r["value"]) - ring0[r["x"]]) for r in of("single_file", h))
+        assert close(cells[1], ring), cells
+        for cell, rho in zip(cells[2].split(" / "), (1.0, 2.0, 4.0), strict=True):
+            assert close(cell, at("corridor", h, rho)), (cells, rho)
+        widths = sorted({float(r["x"]) for r in of("bottleneck", h)})
+        flows = [at("bottleneck", h, b) for b in widths]
+        low, high = cells[3].split("–")
+        assert close(low, min(flows)) and close(high, max(flows)), cells
+        assert close(cells[4], at("bottleneck", h, 1.2)), cells
+        assert close(cells[5], max(float(r["max_overlap_m"]) for r in of("bottleneck", h))), cells
+    prose = " ".join(time_step_section().split())
+    exp = [float(r["specific_flow_per_m_s"]) for r in rows("bottleneck_experiments.csv")
+           if float(r["door_width_m"]) >= 0.8]
+    assert f"range is {min(exp):.2f}–{max(exp):.2f} persons/(m·s)" in prose
+    drop = max(1 - at("bottleneck", steps[-1], b) / at("bottleneck", steps[0], b)
+               for b in sorted({float(r["x"]) for r in of("bottleneck", steps[0])}))
+    assert f"by up to {round(100 * drop)} % at h = {steps[-1]:g} s" in prose
