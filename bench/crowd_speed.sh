@@ -6,12 +6,10 @@
 # With VERTICES=n (default 4) the walkable polygon's sides are cut into about n/4 collinear
 # pieces each (a floor plan of n vertices; the exits stay on one piece).
 # `moreau run` on THREADS threads (default 2) for T simulated seconds (default 10) with step H
-# (default 0.1 s, the largest step docs/crowds.md "The time step" validates) and Verlet skin
-# SKIN · r (`solver.skin_factor`, default 0.3: people walk more than a quarter of the default skin
-# in a step, so the list is built every step whatever the skin, and a thinner one only lists fewer
-# pairs), REPEATS times (default 3); prints per run the simulated seconds per wall second of the
-# time loop (setup and the distance field excluded; the engine's total_seconds), the same with
-# the process's whole wall time, and the engine's phase seconds.
+# (default 0.05 s) and Verlet skin SKIN · r (`solver.skin_factor`, default 1, the engine's),
+# REPEATS times (default 3); prints per run the simulated seconds per wall second of the time
+# loop (setup and the distance field excluded; the engine's total_seconds), the same with the
+# process's whole wall time, the engine's phase seconds and the largest overlap after a step.
 #
 #   bench/crowd_speed.sh [path/to/moreau] [extra --set options ...]
 #   H=0.01 T=2 SKIN=1 bench/crowd_speed.sh build/release/moreau
@@ -21,8 +19,8 @@ moreau=${1:-$here/build/release/moreau}
 shift || true
 threads=${THREADS:-2}
 sim=${T:-10}
-h=${H:-0.1}
-skin=${SKIN:-0.3}
+h=${H:-0.05}
+skin=${SKIN:-1}
 repeats=${REPEATS:-3}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -93,6 +91,6 @@ print(f"{sim / loop:.2f}x real time ({1e3 * loop / steps:.1f} ms per step, "
       f"{1e9 * loop / (steps * 1e5):.0f} ns per person-step); whole process {wall:.1f} s "
       f"({sim / wall:.2f}x); force {d['force_seconds']:.2f} s, sweep {d['sweep_seconds']:.2f} s, "
       f"neighbour {d['neighbour_seconds']:.2f} s ({d['neighbour_list_builds']} builds), "
-      f"setup {d['setup_seconds']:.2f} s")
+      f"setup {d['setup_seconds']:.2f} s; largest overlap {d['max_overlap']:.3f} m")
 PY
 done
