@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 
@@ -85,17 +86,20 @@ EvacuationCount::EvacuationCount(const CrowdGeometry& geometry, int count)
       left_(static_cast<std::size_t>(count), 0),
       per_exit_(geometry.exits.size(), 0) {}
 
+int EvacuationCount::Leaving(double x, double y) const {
+  if (geometry_) {
+    if (walkable_.Contains(x, y)) return 0;
+    return static_cast<int>(1 + geometry_->NearestExit(x, y));
+  }
+  return x > door_line_ ? 1 : 0;
+}
+
 void EvacuationCount::Mark(std::size_t id, double x, double y) {
   if (left_[id]) return;
-  std::size_t exit = 0;
-  if (geometry_) {
-    if (walkable_.Contains(x, y)) return;
-    exit = geometry_->NearestExit(x, y);
-  } else if (!(x > door_line_)) {
-    return;
-  }
-  left_[id] = static_cast<int>(1 + exit);
-  ++per_exit_[exit];
+  const int leaving = Leaving(x, y);
+  if (leaving == 0) return;
+  left_[id] = leaving;
+  ++per_exit_[static_cast<std::size_t>(leaving - 1)];
   ++out_;
 }
 
@@ -104,9 +108,31 @@ int EvacuationCount::Update(std::span<const double> positions) {
   return out_;
 }
 
-int EvacuationCount::Update(std::span<const int> ids, std::span<const double> positions) {
-  for (std::size_t s = 0; s < ids.size(); ++s)
-    Mark(static_cast<std::size_t>(ids[s]), positions[2 * s], positions[2 * s + 1]);
+int EvacuationCount::Update(std::span<const int> ids, std::span<const double> positions,
+                            int threads) {
+  const auto n = static_cast<std::int64_t>(ids.size());
+  // Below a few thousand people a team costs more than the tests it would share.
+  if (threads <= 1 || n < 4096) {
+    for (std::int64_t s = 0; s < n; ++s) {
+      Mark(static_cast<std::size_t>(ids[s]), positions[2 * s], positions[2 * s + 1]);
+    }
+    return out_;
+  }
+  // The tests in parallel (they only read), the counting after them in slot order: the same
+  // ids, exits and totals as the loop above.
+  leaving_.resize(ids.size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t s = 0; s < n; ++s) {
+    leaving_[s] = left_[static_cast<std::size_t>(ids[s])]
+                      ? 0
+                      : Leaving(positions[2 * s], positions[2 * s + 1]);
+  }
+  for (std::int64_t s = 0; s < n; ++s) {
+    if (leaving_[s] == 0) continue;
+    left_[static_cast<std::size_t>(ids[s])] = leaving_[s];
+    ++per_exit_[static_cast<std::size_t>(leaving_[s] - 1)];
+    ++out_;
+  }
   return out_;
 }
 

@@ -71,8 +71,8 @@ class RunRecorder {
     const double t = engine.time();
     if (evacuation_) {
       const particles::StoredPositions stored = engine.Stored();
-      evacuation_csv_ +=
-          fmt::format("{:.9g},{}\n", t, evacuation_->Update(stored.ids, stored.positions));
+      evacuation_csv_ += fmt::format(
+          "{:.9g},{}\n", t, evacuation_->Update(stored.ids, stored.positions, engine.threads()));
     }
     const bool frame = step % stride_ == 0 || step == steps_;
     const bool snapshot =

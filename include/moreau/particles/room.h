@@ -60,8 +60,9 @@ class EvacuationCount {
   int Update(std::span<const double> positions);
   // The same from positions in any slot order: slot s holds particle ids[s] at
   // positions[2s], positions[2s + 1] (Engine::Stored(), no copy). The count does not depend on
-  // the order.
-  int Update(std::span<const int> ids, std::span<const double> positions);
+  // the order. On `threads` OpenMP threads (the inside tests, every person's at every call, split
+  // between them) the count is the same as on one.
+  int Update(std::span<const int> ids, std::span<const double> positions, int threads = 1);
   int out() const { return out_; }
   // The number of exits (1 for a room) and the people out through each.
   std::size_t exits() const { return per_exit_.size(); }
@@ -74,6 +75,8 @@ class EvacuationCount {
   void RestoreOut(std::span<const int> ids, std::span<const int> exits = {});
 
  private:
+  // 0 when (x, y) is inside, else 1 + the exit it left by.
+  int Leaving(double x, double y) const;
   // Counts particle id at (x, y) if it is out.
   void Mark(std::size_t id, double x, double y);
   double door_line_ = 0.0;
@@ -81,6 +84,7 @@ class EvacuationCount {
   PolygonStrips walkable_;  // geometry_->walkable's inside test
   std::vector<int> left_;   // per id: 0 in, 1 + exit out
   std::vector<int> per_exit_;
+  std::vector<int> leaving_;  // per slot, Update's parallel pass
   int out_ = 0;
 };
 
