@@ -66,15 +66,10 @@ class CollisionFreeWalls {
       rep[0] += weight * w.n0;
       rep[1] += weight * w.n1;
     }
-    if (segments_.empty()) return;
-    if (!grid_.active() || !std::isfinite(x[0]) || !std::isfinite(x[1])) {
-      for (const SegmentTerm& g : segments_) AddSegment(g, x, rep);
-      return;
-    }
-    const int* first = nullptr;
-    const int* last = nullptr;
-    grid_.Near(x, &first, &last);
-    for (; first != last; ++first) AddSegment(segments_[static_cast<std::size_t>(*first)], x, rep);
+    grid_.ForEachNear(x, segments_.size(), [&](std::size_t g) {
+      AddSegment(segments_[g], x, rep);
+      return false;
+    });
   }
 
  private:

@@ -65,27 +65,14 @@ std::string FixedSetViolation(const ParticleModel& model, const std::vector<Unit
     const double g = Norm(k, d) - model.spheres[s].radius - r;
     if (g < -tol * r) return fmt::format("particle {} is inside spheres[{}] by {}", i, s, -g);
   }
-  const auto segment = [&](std::size_t s) -> std::string {
+  std::string violation;
+  near.ForEachNear(x, model.segments.size(), [&](std::size_t s) {
     const double g =
         internal::SegmentGap(x, model.segments[s].a.data(), model.segments[s].b.data(), r);
-    if (g < -tol * r) return fmt::format("particle {} is inside segments[{}] by {}", i, s, -g);
-    return {};
-  };
-  if (near.active()) {
-    const int* first = nullptr;
-    const int* last = nullptr;
-    near.Near(x, &first, &last);
-    for (; first != last; ++first) {
-      std::string v = segment(static_cast<std::size_t>(*first));
-      if (!v.empty()) return v;
-    }
-    return {};
-  }
-  for (std::size_t s = 0; s < model.segments.size(); ++s) {
-    std::string v = segment(s);
-    if (!v.empty()) return v;
-  }
-  return {};
+    if (g < -tol * r) violation = fmt::format("particle {} is inside segments[{}] by {}", i, s, -g);
+    return !violation.empty();
+  });
+  return violation;
 }
 
 // Positions wrapped into the periodic domain.

@@ -94,13 +94,15 @@ int EvacuationCount::Leaving(double x, double y) const {
   return x > door_line_ ? 1 : 0;
 }
 
-void EvacuationCount::Mark(std::size_t id, double x, double y) {
-  if (left_[id]) return;
-  const int leaving = Leaving(x, y);
+void EvacuationCount::Count(std::size_t id, int leaving) {
   if (leaving == 0) return;
   left_[id] = leaving;
   ++per_exit_[static_cast<std::size_t>(leaving - 1)];
   ++out_;
+}
+
+void EvacuationCount::Mark(std::size_t id, double x, double y) {
+  if (!left_[id]) Count(id, Leaving(x, y));
 }
 
 int EvacuationCount::Update(std::span<const double> positions) {
@@ -127,12 +129,7 @@ int EvacuationCount::Update(std::span<const int> ids, std::span<const double> po
                       ? 0
                       : Leaving(positions[2 * s], positions[2 * s + 1]);
   }
-  for (std::int64_t s = 0; s < n; ++s) {
-    if (leaving_[s] == 0) continue;
-    left_[static_cast<std::size_t>(ids[s])] = leaving_[s];
-    ++per_exit_[static_cast<std::size_t>(leaving_[s] - 1)];
-    ++out_;
-  }
+  for (std::int64_t s = 0; s < n; ++s) Count(static_cast<std::size_t>(ids[s]), leaving_[s]);
   return out_;
 }
 

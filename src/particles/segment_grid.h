@@ -54,6 +54,24 @@ class SegmentGrid {
   // Whether the grid is in use (else visit every segment).
   bool active() const { return !start_.empty(); }
 
+  // f(s) for the segments that can be near x, in index order, until f returns true: the cell's
+  // list, or every one of the `count` segments when the grid is not in use or x is not finite.
+  template <class F>
+  void ForEachNear(const double* x, std::size_t count, F&& f) const {
+    if (!active() || !std::isfinite(x[0]) || !std::isfinite(x[1])) {
+      for (std::size_t s = 0; s < count; ++s) {
+        if (f(s)) return;
+      }
+      return;
+    }
+    const int* first = nullptr;
+    const int* last = nullptr;
+    Near(x, &first, &last);
+    for (; first != last; ++first) {
+      if (f(static_cast<std::size_t>(*first))) return;
+    }
+  }
+
   // The listed segments of the cell of x into [*first, *last) (empty outside the grid).
   void Near(const double* x, const int** first, const int** last) const {
     const double f0 = (x[0] - origin_[0]) / cell_, f1 = (x[1] - origin_[1]) / cell_;

@@ -77,6 +77,8 @@ class EvacuationCount {
  private:
   // 0 when (x, y) is inside, else 1 + the exit it left by.
   int Leaving(double x, double y) const;
+  // Counts particle id out by exit leaving − 1 (nothing for leaving = 0).
+  void Count(std::size_t id, int leaving);
   // Counts particle id at (x, y) if it is out.
   void Mark(std::size_t id, double x, double y);
   double door_line_ = 0.0;
