@@ -15,7 +15,6 @@ The experiments' specific flows are docs/results/crowds/bottleneck_experiments.c
 usage: scripts/crowd_bottleneck.py MOREAU OUT_DIR [--widths B ...] [--seeds N] [--step H]
                                    [--figure PNG] [--csv CSV]
 """
-import argparse
 import csv
 import json
 import pathlib
@@ -25,6 +24,7 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import crowd_corridor  # noqa: E402
+import crowd_single_file  # noqa: E402
 
 WIDTHS = [0.8, 1.0, 1.2, 1.6, 2.0, 2.4]
 PEOPLE, SKIP = 150, 10
@@ -95,16 +95,11 @@ def experiments():
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("moreau")
-    ap.add_argument("out", type=pathlib.Path)
+    ap = crowd_single_file.study_parser(__doc__, "bottleneck_flow.png",
+                                        "bottleneck_simulated.csv")
     ap.add_argument("--widths", type=float, nargs="+", default=WIDTHS)
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--step", type=float, default=STEP, help="time step h (s)")
-    ap.add_argument("--figure", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/bottleneck_flow.png")
-    ap.add_argument("--csv", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/bottleneck_simulated.csv")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []

@@ -15,7 +15,6 @@ Zhang et al. (2011), docs/results/crowds/corridor_experiments.csv.
 usage: scripts/crowd_corridor.py MOREAU OUT_DIR [--figure PNG] [--csv CSV] [--densities RHO ...]
                                  [--seeds N] [--step H]
 """
-import argparse
 import csv
 import json
 import math
@@ -105,13 +104,7 @@ def run(moreau, out, name, text):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("moreau")
-    ap.add_argument("out", type=pathlib.Path)
-    ap.add_argument("--figure", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/corridor_fd.png")
-    ap.add_argument("--csv", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/corridor_simulated.csv")
+    ap = crowd_single_file.study_parser(__doc__, "corridor_fd.png", "corridor_simulated.csv")
     ap.add_argument("--densities", type=float, nargs="+", default=DENSITIES)
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--step", type=float, default=STEP, help="time step h (s)")

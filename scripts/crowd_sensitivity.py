@@ -11,7 +11,6 @@ scripts/crowd_bottleneck.py, each the mean over three seeds.
 
 usage: scripts/crowd_sensitivity.py MOREAU OUT_DIR [--seeds N] [--figure PNG] [--csv CSV]
 """
-import argparse
 import csv
 import pathlib
 import sys
@@ -21,8 +20,8 @@ import numpy as np
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import crowd_bottleneck  # noqa: E402
 import crowd_corridor  # noqa: E402
+import crowd_single_file  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
 DEFAULTS = {"time_gap": 1.0, "length": 0.3, "repulsion": 5.0, "repulsion_range": 0.1,
             "wall_repulsion_range": 0.02}
 SYMBOLS = {"time_gap": "T", "length": "ℓ", "repulsion": "a", "repulsion_range": "D",
@@ -57,14 +56,8 @@ def measure(moreau, out, key, value, seeds):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("moreau")
-    ap.add_argument("out", type=pathlib.Path)
+    ap = crowd_single_file.study_parser(__doc__, "sensitivity.png", "sensitivity.csv")
     ap.add_argument("--seeds", type=int, default=3)
-    ap.add_argument("--figure", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/sensitivity.png")
-    ap.add_argument("--csv", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/sensitivity.csv")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []

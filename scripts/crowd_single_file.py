@@ -28,6 +28,17 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 EXPERIMENT = ROOT / "docs/results/crowds/seyfried2005_single_file.csv"
 
 
+def study_parser(doc, figure, table):
+    """The crowd studies' command line: MOREAU, OUT, and --figure and --csv defaulting to these
+    names in docs/results/crowds; the description is the first line of doc."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("moreau")
+    ap.add_argument("out", type=pathlib.Path)
+    ap.add_argument("--figure", type=pathlib.Path, default=ROOT / "docs/results/crowds" / figure)
+    ap.add_argument("--csv", type=pathlib.Path, default=ROOT / "docs/results/crowds" / table)
+    return ap
+
+
 def frame_stride(step):
     """The output stride that writes a frame every 0.1 s (at least one a step)."""
     return max(1, round(0.1 / step))
@@ -89,13 +100,7 @@ def theory(rho):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("moreau")
-    ap.add_argument("out", type=pathlib.Path)
-    ap.add_argument("--figure", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/single_file_fd.png")
-    ap.add_argument("--csv", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/single_file_simulated.csv")
+    ap = study_parser(__doc__, "single_file_fd.png", "single_file_simulated.csv")
     ap.add_argument("--step", type=float, default=STEP, help="time step h (s)")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)

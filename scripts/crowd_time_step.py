@@ -12,7 +12,6 @@ steps on the experiments of the three validations and plots the largest overlap 
 usage: scripts/crowd_time_step.py MOREAU OUT_DIR [--steps H ...] [--seeds N] [--figure PNG]
                                   [--csv CSV]
 """
-import argparse
 import csv
 import json
 import pathlib
@@ -25,7 +24,6 @@ import crowd_bottleneck  # noqa: E402
 import crowd_corridor  # noqa: E402
 import crowd_single_file  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
 STEPS = [0.01, 0.02, 0.05, 0.1]
 STUDIES = ("single_file", "corridor", "bottleneck")
 
@@ -60,15 +58,9 @@ def measure(moreau, out, step, seeds):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("moreau")
-    ap.add_argument("out", type=pathlib.Path)
+    ap = crowd_single_file.study_parser(__doc__, "time_step.png", "time_step.csv")
     ap.add_argument("--steps", type=float, nargs="+", default=STEPS)
     ap.add_argument("--seeds", type=int, default=3)
-    ap.add_argument("--figure", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/time_step.png")
-    ap.add_argument("--csv", type=pathlib.Path,
-                    default=ROOT / "docs/results/crowds/time_step.csv")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []
